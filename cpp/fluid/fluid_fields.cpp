@@ -1,0 +1,45 @@
+#include "fluid/fluid_fields.h"
+
+namespace hf::fluid {
+namespace {
+
+glm::ivec3 faceSize(const Grid& g, int axis) {
+  glm::ivec3 s = g.res;
+  s[axis] += 1;
+  return s;
+}
+
+}  // namespace
+
+PingPong::PingPong(const glm::ivec3& size, gl::TexelFormat f, const std::string& label)
+    : tex{gl::Texture3D(size, f, label + " A"), gl::Texture3D(size, f, label + " B")} {}
+
+FluidFields::FluidFields(const Grid& g)
+    : vel{PingPong(faceSize(g, 0), gl::TexelFormat::R32F, "velocity x"),
+          PingPong(faceSize(g, 1), gl::TexelFormat::R32F, "velocity y"),
+          PingPong(faceSize(g, 2), gl::TexelFormat::R32F, "velocity z")},
+      density(g.res, gl::TexelFormat::R32F, "density"),
+      temperature(g.res, gl::TexelFormat::R32F, "temperature"),
+      pressure(g.res, gl::TexelFormat::R32F, "pressure"),
+      rhs(g.res, gl::TexelFormat::R32F, "pressure rhs"),
+      solid(g.res, gl::TexelFormat::R8UI, "solid mask"),
+      solid_velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity"),
+      cell_class(g.res, gl::TexelFormat::R8UI, "cell classes"),
+      nbmask(g.res, gl::TexelFormat::R8UI, "neighbour mask"),
+      vorticity(g.res, gl::TexelFormat::RGBA32F, "vorticity"),
+      cell_force(g.res, gl::TexelFormat::RGBA32F, "cell force") {}
+
+PingPong& FluidFields::scratchFor(int field_kind, const glm::ivec3& size) {
+  auto& s = scratch[static_cast<std::size_t>(field_kind)];
+  if (!s) s = std::make_unique<PingPong>(size, gl::TexelFormat::R32F, "MacCormack scratch");
+  return *s;
+}
+
+std::size_t fieldBytes(const Grid& g) {
+  // Per cell: velocity 3x2x4, MacCormack scratch 4x2x4, density/temperature/pressure 3x2x4,
+  // rhs 4, three R8UI masks, solid velocity + vorticity + cell force 3x16.
+  constexpr std::size_t kBytesPerCell = 24 + 32 + 24 + 4 + 3 + 48;
+  return g.cells() * kBytesPerCell;
+}
+
+}  // namespace hf::fluid

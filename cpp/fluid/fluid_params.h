@@ -1,0 +1,33 @@
+#pragma once
+// Solver settings, SI units. Changing them between steps is allowed.
+#include <glm/glm.hpp>
+
+namespace hf::fluid {
+
+enum class Advection { SemiLagrangian, MacCormack };
+
+struct FluidParams {
+  float density_kg_m3 = 1.2f;                  // rho of the fluid (air 1.2, water 1000)
+  glm::vec3 gravity_m_s2{0.0f, 0.0f, -9.81f};  // its hydrostatic pressure acts on the probe
+  bool open_top = false;                       // +z wall open to 0 Pa, else all walls closed
+  Advection advection = Advection::SemiLagrangian;
+  float vorticity_confinement = 0.0f;          // epsilon (dimensionless), 0 = off
+  float smoke_weight_m_s2 = 0.0f;              // downward acceleration per unit smoke concentration
+  float heat_buoyancy_m_s2_k = 0.0f;           // upward acceleration per kelvin above ambient
+  float density_dissipation_1_s = 0.0f;        // smoke fades as exp(-rate t)
+  float temperature_dissipation_1_s = 0.0f;    // heat fades as exp(-rate t)
+  int pressure_iterations = 40;                // Jacobi sweeps per step
+  bool compute_residual = true;                // measure the pressure solve's relative residual
+};
+
+// Smoke emitter: a sphere where smoke concentration and temperature are held at least at
+// the given values.
+struct SmokeSource {
+  bool enabled = false;
+  glm::vec3 centre_m{0.0f};   // world position, m
+  float radius_m = 0.0f;      // m
+  float density = 1.0f;       // smoke concentration (dimensionless)
+  float temperature_k = 0.0f; // K above ambient
+};
+
+}  // namespace hf::fluid

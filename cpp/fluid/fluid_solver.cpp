@@ -1,0 +1,211 @@
+#include "fluid/fluid_solver.h"
+
+#include <GL/gl.h>
+
+#include <cmath>
+
+#include "fluid/pressure_jacobi.h"
+#include "gl/workgroup.h"
+
+namespace hf::fluid {
+namespace {
+
+glm::ivec3 faceSize(const Grid& g, int axis) {
+  glm::ivec3 s = g.res;
+  s[axis] += 1;
+  return s;
+}
+
+glm::vec3 faceOffset(int axis) {
+  glm::vec3 o(0.5f);
+  o[axis] = 0.0f;
+  return o;
+}
+
+constexpr int kScalarScratch = 3;
+
+}  // namespace
+
+FluidSolver::FluidSolver(const Grid& grid)
+    : grid_(grid),
+      fields_(grid),
+      advect_("advect.comp", gl::cellGroupDefines()),
+      maccormack_("maccormack.comp", gl::cellGroupDefines()),
+      sources_("sources.comp", gl::cellGroupDefines()),
+      vorticity_("vorticity.comp", gl::cellGroupDefines()),
+      cell_forces_("cell_forces.comp", gl::cellGroupDefines()),
+      apply_forces_("apply_forces.comp", gl::cellGroupDefines()),
+      boundaries_("enforce_boundaries.comp", gl::cellGroupDefines()),
+      divergence_("divergence.comp", gl::cellGroupDefines()),
+      residual_("residual.comp", gl::cellGroupDefines()),
+      project_("project.comp", gl::cellGroupDefines()),
+      pressure_(std::make_unique<PressureJacobi>(grid)) {
+  for (gl::ComputeProgram* p : {&advect_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
+                                &boundaries_, &divergence_, &residual_, &project_}) {
+    p->set("u_res", grid.res);
+  }
+  vorticity_.set("u_cell_size", grid.cell_size_m);
+  cell_forces_.set("u_cell_size", grid.cell_size_m);
+}
+
+void FluidSolver::reset() {
+  for (auto& v : fields_.vel) for (auto& t : v.tex) t.clear();
+  for (PingPong* f : {&fields_.density, &fields_.temperature, &fields_.pressure}) {
+    for (auto& t : f->tex) t.clear();
+  }
+}
+
+void FluidSolver::bindVelocitySamplers() {
+  for (int a = 0; a < 3; ++a) fields_.vel[static_cast<std::size_t>(a)].cur().bindSampler(static_cast<unsigned>(a));
+}
+
+void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
+                              const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
+                              const FluidParams& p) {
+  const float dt_over_h = dt_s / grid_.cell_size_m;
+  bindVelocitySamplers();
+  fields_.nbmask.bindSampler(4);
+  advect_.set("u_field_size", size);
+  advect_.set("u_field_offset", offset);
+  if (p.advection == Advection::SemiLagrangian) {
+    src.bindSampler(3);
+    dst.bindImage(0, GL_WRITE_ONLY);
+    advect_.set("u_dt_over_h", dt_over_h);
+    advect_.set("u_decay", decay);
+    advect_.set("u_zero_in_solid", zero_in_solid ? 1 : 0);
+    advect_.dispatch(size);
+    return;
+  }
+  PingPong& scratch = fields_.scratchFor(scratch_kind, size);
+  gl::Texture3D& fwd = scratch.tex[0];
+  gl::Texture3D& bwd = scratch.tex[1];
+  advect_.set("u_decay", 1.0f);
+  advect_.set("u_zero_in_solid", 0);
+  src.bindSampler(3);
+  fwd.bindImage(0, GL_WRITE_ONLY);
+  advect_.set("u_dt_over_h", dt_over_h);
+  advect_.dispatch(size);
+  fwd.bindSampler(3);
+  bwd.bindImage(0, GL_WRITE_ONLY);
+  advect_.set("u_dt_over_h", -dt_over_h);
+  advect_.dispatch(size);
+  src.bindSampler(3);
+  fwd.bindSampler(5);
+  bwd.bindSampler(6);
+  dst.bindImage(0, GL_WRITE_ONLY);
+  maccormack_.set("u_field_size", size);
+  maccormack_.set("u_field_offset", offset);
+  maccormack_.set("u_dt_over_h", dt_over_h);
+  maccormack_.set("u_decay", decay);
+  maccormack_.set("u_zero_in_solid", zero_in_solid ? 1 : 0);
+  maccormack_.dispatch(size);
+}
+
+void FluidSolver::advect(float dt_s, const FluidParams& p) {
+  for (int a = 0; a < 3; ++a) {
+    auto& v = fields_.vel[static_cast<std::size_t>(a)];
+    advectField(v.cur(), v.next(), a, faceSize(grid_, a), faceOffset(a), dt_s, 1.0f, false, p);
+  }
+  const float smoke_decay = std::exp(-p.density_dissipation_1_s * dt_s);
+  const float heat_decay = std::exp(-p.temperature_dissipation_1_s * dt_s);
+  advectField(fields_.density.cur(), fields_.density.next(), kScalarScratch, grid_.res, glm::vec3(0.5f), dt_s,
+              smoke_decay, true, p);
+  advectField(fields_.temperature.cur(), fields_.temperature.next(), kScalarScratch, grid_.res, glm::vec3(0.5f),
+              dt_s, heat_decay, true, p);
+  for (auto& v : fields_.vel) v.swap();
+  fields_.density.swap();
+  fields_.temperature.swap();
+}
+
+void FluidSolver::applySources(const SmokeSource& s) {
+  if (!s.enabled) return;
+  const glm::vec3 c = grid_.toGrid(s.centre_m);
+  const float r = s.radius_m / grid_.cell_size_m;
+  const glm::ivec3 lo = glm::clamp(glm::ivec3(glm::floor(c - r)), glm::ivec3(0), grid_.res - 1);
+  const glm::ivec3 hi = glm::clamp(glm::ivec3(glm::ceil(c + r)), glm::ivec3(0), grid_.res);
+  const glm::ivec3 extent = hi - lo;
+  if (glm::any(glm::lessThanEqual(extent, glm::ivec3(0)))) return;
+  fields_.density.cur().bindImage(0, GL_READ_WRITE);
+  fields_.temperature.cur().bindImage(1, GL_READ_WRITE);
+  fields_.nbmask.bindSampler(0);
+  sources_.set("u_origin", lo);
+  sources_.set("u_centre", c);
+  sources_.set("u_radius", r);
+  sources_.set("u_density_value", s.density);
+  sources_.set("u_temperature_value", s.temperature_k);
+  sources_.dispatch(extent);
+}
+
+void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
+  const bool buoyant = p.smoke_weight_m_s2 != 0.0f || p.heat_buoyancy_m_s2_k != 0.0f;
+  const bool confined = p.vorticity_confinement > 0.0f;
+  if (!buoyant && !confined) return;
+  if (confined) {
+    bindVelocitySamplers();
+    fields_.vorticity.bindImage(0, GL_WRITE_ONLY);
+    vorticity_.dispatch(grid_.res);
+  }
+  const float g = glm::length(p.gravity_m_s2);
+  const glm::vec3 up = g > 0.0f ? -p.gravity_m_s2 / g : glm::vec3(0.0f, 0.0f, 1.0f);
+  fields_.density.cur().bindSampler(0);
+  fields_.temperature.cur().bindSampler(1);
+  fields_.vorticity.bindSampler(2);
+  fields_.nbmask.bindSampler(3);
+  fields_.cell_force.bindImage(0, GL_WRITE_ONLY);
+  cell_forces_.set("u_up", up);
+  cell_forces_.set("u_smoke_weight", p.smoke_weight_m_s2);
+  cell_forces_.set("u_heat_buoyancy", p.heat_buoyancy_m_s2_k);
+  cell_forces_.set("u_confinement", confined ? p.vorticity_confinement : 0.0f);
+  cell_forces_.dispatch(grid_.res);
+  fields_.cell_force.bindSampler(0);
+  apply_forces_.set("u_dt", dt_s);
+  for (int a = 0; a < 3; ++a) {
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    apply_forces_.set("u_axis", a);
+    apply_forces_.dispatch(faceSize(grid_, a));
+  }
+}
+
+void FluidSolver::enforceBoundaries(const FluidParams& p) {
+  fields_.nbmask.bindSampler(0);
+  fields_.solid_velocity.bindSampler(1);
+  boundaries_.set("u_open_top", p.open_top ? 1 : 0);
+  for (int a = 0; a < 3; ++a) {
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    boundaries_.set("u_axis", a);
+    boundaries_.dispatch(faceSize(grid_, a));
+  }
+}
+
+void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
+  bindVelocitySamplers();
+  fields_.nbmask.bindSampler(3);
+  fields_.rhs.bindImage(0, GL_WRITE_ONLY);
+  divergence_.set("u_scale", p.density_kg_m3 * grid_.cell_size_m / dt_s);
+  divergence_.dispatch(grid_.res);
+}
+
+SolveStats FluidSolver::solvePressure(const FluidParams& p) { return pressure_->solve(fields_, p); }
+
+void FluidSolver::measureResidual(gl::GroupReducer& reducer, std::size_t slot) {
+  fields_.pressure.cur().bindSampler(0);
+  fields_.rhs.bindSampler(1);
+  fields_.nbmask.bindSampler(2);
+  reducer.bindPartials(0);
+  residual_.dispatch(grid_.res);
+  reducer.reduce(gl::groupCount(grid_.res), slot);
+}
+
+void FluidSolver::project(float dt_s, const FluidParams& p) {
+  fields_.pressure.cur().bindSampler(0);
+  fields_.nbmask.bindSampler(1);
+  project_.set("u_open_top", p.open_top ? 1 : 0);
+  project_.set("u_scale", dt_s / (p.density_kg_m3 * grid_.cell_size_m));
+  for (int a = 0; a < 3; ++a) {
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    project_.set("u_axis", a);
+    project_.dispatch(faceSize(grid_, a));
+  }
+}
+
+}  // namespace hf::fluid

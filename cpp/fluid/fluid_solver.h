@@ -1,0 +1,59 @@
+#pragma once
+// The smoke solver on the GPU, one method per stage (GPU Gems 3 ch. 30 order):
+//   advect(); applySources(); applyForces(); enforceBoundaries(); computeDivergence();
+//   solvePressure(); project();
+// It reads the solid mask and solid velocity that an obstacle wrote into fields(), without
+// knowing the obstacle's shape.
+#include <memory>
+
+#include "fluid/fluid_fields.h"
+#include "fluid/fluid_params.h"
+#include "fluid/grid.h"
+#include "fluid/pressure_solver.h"
+#include "gl/compute_program.h"
+#include "gl/group_reducer.h"
+
+namespace hf::fluid {
+
+class FluidSolver {
+ public:
+  explicit FluidSolver(const Grid& grid);
+
+  const Grid& grid() const { return grid_; }
+  FluidFields& fields() { return fields_; }
+
+  void advect(float dt_s, const FluidParams& p);
+  void applySources(const SmokeSource& source);
+  void applyForces(float dt_s, const FluidParams& p);  // buoyancy + vorticity confinement
+  void enforceBoundaries(const FluidParams& p);        // walls and solid faces
+  void computeDivergence(float dt_s, const FluidParams& p);
+  SolveStats solvePressure(const FluidParams& p);
+  // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`.
+  void measureResidual(gl::GroupReducer& reducer, std::size_t slot);
+  void project(float dt_s, const FluidParams& p);
+
+  // Zeroes velocity, smoke, heat and pressure.
+  void reset();
+
+ private:
+  void advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
+                   const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
+                   const FluidParams& p);
+  void bindVelocitySamplers();
+
+  Grid grid_;
+  FluidFields fields_;
+  gl::ComputeProgram advect_;
+  gl::ComputeProgram maccormack_;
+  gl::ComputeProgram sources_;
+  gl::ComputeProgram vorticity_;
+  gl::ComputeProgram cell_forces_;
+  gl::ComputeProgram apply_forces_;
+  gl::ComputeProgram boundaries_;
+  gl::ComputeProgram divergence_;
+  gl::ComputeProgram residual_;
+  gl::ComputeProgram project_;
+  std::unique_ptr<PressureSolver> pressure_;
+};
+
+}  // namespace hf::fluid

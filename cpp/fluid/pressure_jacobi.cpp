@@ -1,0 +1,27 @@
+#include "fluid/pressure_jacobi.h"
+
+#include <GL/gl.h>
+
+#include "gl/workgroup.h"
+
+namespace hf::fluid {
+
+PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.comp", gl::cellGroupDefines()) {
+  sweep_.set("u_res", grid.res);
+}
+
+SolveStats PressureJacobi::solve(FluidFields& f, const FluidParams& params) {
+  f.rhs.bindSampler(1);
+  f.nbmask.bindSampler(2);
+  for (int i = 0; i < params.pressure_iterations; ++i) {
+    f.pressure.cur().bindSampler(0);
+    f.pressure.next().bindImage(0, GL_WRITE_ONLY);
+    sweep_.dispatch(grid_.res);
+    f.pressure.swap();
+  }
+  SolveStats stats;
+  stats.iterations = params.pressure_iterations;
+  return stats;
+}
+
+}  // namespace hf::fluid

@@ -1,0 +1,22 @@
+#pragma once
+// The interface every pressure solver shares (Jacobi now; multigrid later): solve
+// sum_nb (p_nb - p) = rhs over the fluid cells into fields.pressure.cur(), warm-started from
+// the previous step's pressure.
+#include "fluid/fluid_fields.h"
+#include "fluid/fluid_params.h"
+
+namespace hf::fluid {
+
+struct SolveStats {
+  int iterations = 0;
+  float relative_residual = -1.0f;  // ||r|| / ||rhs||, filled in after the step's read-back; -1 = not measured
+};
+
+class PressureSolver {
+ public:
+  virtual ~PressureSolver() = default;
+  virtual const char* name() const = 0;
+  virtual SolveStats solve(FluidFields& fields, const FluidParams& params) = 0;
+};
+
+}  // namespace hf::fluid

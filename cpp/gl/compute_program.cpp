@@ -1,0 +1,121 @@
+#include "gl/compute_program.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <regex>
+#include <sstream>
+
+#include "common/error.h"
+#include "gl/gl_check.h"
+#include "gl/shader_sources.h"
+
+namespace hf::gl {
+namespace {
+
+constexpr const char* kCommonFile = "common.glsl";
+
+}  // namespace
+
+std::string composeSource(const std::string& stage_source, const Defines& defines) {
+  std::string s = "#version 450 core\n";
+  for (const auto& [name, value] : defines) s += "#define " + name + " " + value + "\n";
+  s += "#line 1 1\n";
+  s += shaderSource(kCommonFile);
+  s += "\n#line 1 2\n";
+  s += stage_source;
+  return s;
+}
+
+std::string annotateLog(const std::string& log, const std::string& stage_file) {
+  static const std::regex mesa(R"(^(\d+):(\d+)\(\d+\))");
+  static const std::regex nvidia(R"(^(\d+)\((\d+)\))");
+  auto file_of = [&](const std::string& n) {
+    if (n == "1") return std::string(kCommonFile);
+    if (n == "2") return stage_file;
+    return stage_file + " (preamble)";
+  };
+  std::istringstream in(log);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (std::regex_search(line, m, mesa) || std::regex_search(line, m, nvidia)) {
+      line = file_of(m[1]) + ":" + m[2].str() + line.substr(static_cast<std::size_t>(m.length(0)));
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+ComputeProgram::ComputeProgram(const std::string& file, const Defines& defines)
+    : ComputeProgram(file, shaderSource(file), defines) {}
+
+ComputeProgram::ComputeProgram(const std::string& file, const std::string& source, const Defines& defines)
+    : name_(file) {
+  const std::string text = composeSource(source, defines);
+  const char* ptr = text.c_str();
+  GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+  glShaderSource(shader, 1, &ptr, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    GLint len = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
+    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    glDeleteShader(shader);
+    throw GlError("compiling " + file + " failed:\n" + annotateLog(log.c_str(), file));
+  }
+  id_ = glCreateProgram();
+  glAttachShader(id_, shader);
+  glLinkProgram(id_);
+  glDeleteShader(shader);  // flagged; freed with the program
+  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    GLint len = 0;
+    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
+    glGetProgramInfoLog(id_, len, nullptr, log.data());
+    glDeleteProgram(id_);
+    throw GlError("linking " + file + " failed:\n" + annotateLog(log.c_str(), file));
+  }
+  GLint size[3] = {1, 1, 1};
+  glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, size);
+  local_size_ = glm::ivec3(size[0], size[1], size[2]);
+  checkGl("building " + file);
+}
+
+ComputeProgram::~ComputeProgram() {
+  if (id_ != 0) glDeleteProgram(id_);
+}
+
+void ComputeProgram::use() const { glUseProgram(id_); }
+
+int ComputeProgram::location(const char* uniform) {
+  auto it = locations_.find(uniform);
+  if (it != locations_.end()) return it->second;
+  const int loc = glGetUniformLocation(id_, uniform);  // -1 if optimised away: setting is a no-op
+  locations_.emplace(uniform, loc);
+  return loc;
+}
+
+void ComputeProgram::set(const char* uniform, int v) { glProgramUniform1i(id_, location(uniform), v); }
+void ComputeProgram::set(const char* uniform, unsigned v) { glProgramUniform1ui(id_, location(uniform), v); }
+void ComputeProgram::set(const char* uniform, float v) { glProgramUniform1f(id_, location(uniform), v); }
+void ComputeProgram::set(const char* uniform, const glm::ivec3& v) {
+  glProgramUniform3i(id_, location(uniform), v.x, v.y, v.z);
+}
+void ComputeProgram::set(const char* uniform, const glm::vec3& v) {
+  glProgramUniform3f(id_, location(uniform), v.x, v.y, v.z);
+}
+
+void ComputeProgram::dispatch(const glm::ivec3& invocations) const {
+  const glm::ivec3 groups = (invocations + local_size_ - 1) / local_size_;
+  glUseProgram(id_);
+  glDispatchCompute(static_cast<GLuint>(groups.x), static_cast<GLuint>(groups.y), static_cast<GLuint>(groups.z));
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  checkGl("dispatching " + name_);
+}
+
+}  // namespace hf::gl

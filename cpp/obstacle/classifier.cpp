@@ -1,0 +1,22 @@
+#include "obstacle/classifier.h"
+
+#include <GL/gl.h>
+
+#include "gl/workgroup.h"
+
+namespace hf::obstacle {
+
+Classifier::Classifier(const fluid::Grid& grid) : grid_(grid), program_("classify.comp", gl::cellGroupDefines()) {
+  program_.set("u_res", grid.res);
+}
+
+void Classifier::classify(const gl::Texture3D& solid, gl::Texture3D& cell_class, gl::Texture3D& nbmask,
+                          bool open_top) {
+  solid.bindSampler(0);
+  cell_class.bindImage(0, GL_WRITE_ONLY);
+  nbmask.bindImage(1, GL_WRITE_ONLY);
+  program_.set("u_open_top", open_top ? 1 : 0);
+  program_.dispatch(grid_.res);
+}
+
+}  // namespace hf::obstacle

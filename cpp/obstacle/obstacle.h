@@ -1,0 +1,24 @@
+#pragma once
+// A solid body in the grid. Each step it writes which cells it covers (R8UI solid mask) and the
+// rigid velocity at their centres (RGBA32F, m/s); the fluid reads those without knowing the
+// shape. Sphere now; triangle meshes implement the same interface.
+#include <glm/glm.hpp>
+
+#include "gl/texture3d.h"
+
+namespace hf::obstacle {
+
+struct CellBox {
+  glm::ivec3 origin{0};  // first cell
+  glm::ivec3 extent{0};  // cells per axis; empty when any is 0
+};
+
+class Obstacle {
+ public:
+  virtual ~Obstacle() = default;
+  virtual void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) = 0;
+  // Cells that can hold its boundary cells (the force reduction visits only these).
+  virtual CellBox bounds() const = 0;
+};
+
+}  // namespace hf::obstacle

@@ -1,0 +1,33 @@
+#include "obstacle/sphere_probe.h"
+
+#include <GL/gl.h>
+
+#include "gl/workgroup.h"
+
+namespace hf::obstacle {
+
+SphereProbe::SphereProbe(const fluid::Grid& grid)
+    : grid_(grid), program_("voxelize_sphere.comp", gl::cellGroupDefines()) {
+  program_.set("u_res", grid.res);
+  program_.set("u_cell_size", grid.cell_size_m);
+}
+
+void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
+  solid.bindImage(0, GL_WRITE_ONLY);
+  solid_velocity.bindImage(1, GL_WRITE_ONLY);
+  program_.set("u_centre", grid_.toGrid(pose_.centre_m));
+  program_.set("u_radius", pose_.radius_m / grid_.cell_size_m);
+  program_.set("u_velocity", pose_.velocity_m_s);
+  program_.set("u_angular", pose_.angular_velocity_rad_s);
+  program_.dispatch(grid_.res);
+}
+
+CellBox SphereProbe::bounds() const {
+  const glm::vec3 c = grid_.toGrid(pose_.centre_m);
+  const float r = pose_.radius_m / grid_.cell_size_m;
+  const glm::ivec3 lo = glm::clamp(glm::ivec3(glm::floor(c - r)) - 1, glm::ivec3(0), grid_.res);
+  const glm::ivec3 hi = glm::clamp(glm::ivec3(glm::ceil(c + r)) + 1, glm::ivec3(0), grid_.res);
+  return {lo, glm::max(hi - lo, glm::ivec3(0))};
+}
+
+}  // namespace hf::obstacle

@@ -1,0 +1,30 @@
+#pragma once
+// The seed's probe: a rigid sphere, voxelized on the GPU by cell centre.
+#include "fluid/grid.h"
+#include "gl/compute_program.h"
+#include "obstacle/obstacle.h"
+
+namespace hf::obstacle {
+
+struct SpherePose {
+  glm::vec3 centre_m{0.0f};            // world position, m
+  float radius_m = 0.1f;               // m
+  glm::vec3 velocity_m_s{0.0f};        // linear velocity, m/s
+  glm::vec3 angular_velocity_rad_s{0.0f};  // about the centre, rad/s
+};
+
+class SphereProbe : public Obstacle {
+ public:
+  explicit SphereProbe(const fluid::Grid& grid);
+  void setPose(const SpherePose& pose) { pose_ = pose; }
+  const SpherePose& pose() const { return pose_; }
+  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) override;
+  CellBox bounds() const override;
+
+ private:
+  fluid::Grid grid_;
+  SpherePose pose_;
+  gl::ComputeProgram program_;
+};
+
+}  // namespace hf::obstacle

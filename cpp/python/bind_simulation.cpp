@@ -1,0 +1,267 @@
+// hapticfluid._core.Simulation and StepReport: argument conversion, docstrings, GIL release.
+#include <pybind11/stl.h>
+
+#include <string>
+
+#include "common/error.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "session/simulation.h"
+
+namespace py = pybind11;
+
+namespace hf::python {
+namespace {
+
+using session::Field;
+using session::Simulation;
+using Vec3 = std::array<float, 3>;
+using IVec3 = std::array<int, 3>;
+
+fluid::Advection parseAdvection(const std::string& s) {
+  if (s == "semi_lagrangian") return fluid::Advection::SemiLagrangian;
+  if (s == "maccormack") return fluid::Advection::MacCormack;
+  throw InvalidArgument("advection must be 'semi_lagrangian' or 'maccormack', got '" + s + "'");
+}
+
+std::string advectionName(fluid::Advection a) {
+  return a == fluid::Advection::MacCormack ? "maccormack" : "semi_lagrangian";
+}
+
+py::array_t<float> readField(Simulation& sim, Field f) {
+  std::vector<float> data;
+  {
+    py::gil_scoped_release release;
+    data = sim.readFloat(f);
+  }
+  return fieldArray(std::move(data), sim.fieldShape(f));
+}
+
+// A read/write property over one FluidParams member; the setter validates before applying.
+template <class T, class Get, class Set>
+void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set, const char* doc) {
+  c.def_property(
+      name, [get](const Simulation& s) { return get(s.params()); },
+      [set](Simulation& s, T v) {
+        fluid::FluidParams p = s.params();
+        set(p, v);
+        s.setParams(p);
+      },
+      doc);
+}
+
+}  // namespace
+
+void addSimulation(py::module_& m) {
+  py::class_<session::StepReport>(m, "StepReport", "What one step measured.")
+      .def_property_readonly("force", [](const session::StepReport& r) { return vec3Array(r.force_n); },
+                             "Fluid force on the probe (N), numpy array (3,).")
+      .def_readonly("exposed_faces", &session::StepReport::exposed_faces,
+                    "Number of boundary/surrounding faces summed into the force.")
+      .def_readonly("pressure_iterations", &session::StepReport::pressure_iterations, "Jacobi sweeps run.")
+      .def_readonly("relative_residual", &session::StepReport::relative_residual,
+                    "||rhs - A p|| / ||rhs|| of the pressure solve (dimensionless); -1 if not measured.")
+      .def_readonly("wall_ms", &session::StepReport::wall_ms, "Host time of the step (ms).")
+      .def_property_readonly(
+          "gpu_ms",
+          [](const session::StepReport& r) {
+            py::dict d;
+            for (const auto& [k, v] : r.gpu_ms) d[py::str(k)] = v;
+            return d;
+          },
+          "GPU time per stage (ms), in execution order.")
+      .def("__repr__", [](const session::StepReport& r) {
+        return "StepReport(force=(" + std::to_string(r.force_n.x) + ", " + std::to_string(r.force_n.y) + ", " +
+               std::to_string(r.force_n.z) + ") N, residual=" + std::to_string(r.relative_residual) +
+               ", wall_ms=" + std::to_string(r.wall_ms) + ")";
+      });
+
+  py::class_<Simulation> c(m, "Simulation", R"doc(
+A 3D smoke/fluid simulation on the GPU (or Mesa llvmpipe) with a spherical probe.
+
+All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid has cubic cells
+(domain_size / resolution must be equal on every axis), z is up. Arrays come back indexed
+[i, j, k] (x, y, z).
+)doc");
+  c.def(py::init([](const IVec3& resolution, const Vec3& domain_size, const Vec3& origin, float fluid_density,
+                    const Vec3& gravity, bool open_top, const std::string& advection, float vorticity,
+                    float smoke_weight, float heat_buoyancy, float smoke_dissipation, float heat_dissipation,
+                    int pressure_iterations, bool compute_residual, const std::string& device) {
+          session::SimulationConfig cfg;
+          cfg.resolution = glm::ivec3(resolution[0], resolution[1], resolution[2]);
+          cfg.domain_size_m = toVec3(domain_size);
+          cfg.origin_m = toVec3(origin);
+          cfg.params.density_kg_m3 = fluid_density;
+          cfg.params.gravity_m_s2 = toVec3(gravity);
+          cfg.params.open_top = open_top;
+          cfg.params.advection = parseAdvection(advection);
+          cfg.params.vorticity_confinement = vorticity;
+          cfg.params.smoke_weight_m_s2 = smoke_weight;
+          cfg.params.heat_buoyancy_m_s2_k = heat_buoyancy;
+          cfg.params.density_dissipation_1_s = smoke_dissipation;
+          cfg.params.temperature_dissipation_1_s = heat_dissipation;
+          cfg.params.pressure_iterations = pressure_iterations;
+          cfg.params.compute_residual = compute_residual;
+          cfg.device = device;
+          py::gil_scoped_release release;
+          return std::make_unique<Simulation>(cfg);
+        }),
+        py::arg("resolution") = IVec3{64, 64, 64}, py::arg("domain_size") = Vec3{1.0f, 1.0f, 1.0f},
+        py::arg("origin") = Vec3{0.0f, 0.0f, 0.0f}, py::arg("fluid_density") = 1.2f,
+        py::arg("gravity") = Vec3{0.0f, 0.0f, -9.81f}, py::arg("open_top") = false,
+        py::arg("advection") = "semi_lagrangian", py::arg("vorticity") = 0.0f, py::arg("smoke_weight") = 0.0f,
+        py::arg("heat_buoyancy") = 0.0f, py::arg("smoke_dissipation") = 0.0f, py::arg("heat_dissipation") = 0.0f,
+        py::arg("pressure_iterations") = 40, py::arg("compute_residual") = true, py::arg("device") = "",
+        R"doc(
+resolution: cells per axis (nx, ny, nz), each >= 8.
+domain_size: box edges (m); must give cubic cells with the resolution.
+origin: world position of the box's minimum corner (m).
+fluid_density: rho (kg/m^3); 1.2 for air, 1000 for water.
+gravity: acceleration (m/s^2); gives the hydrostatic pressure (buoyancy on the probe).
+open_top: the +z wall is open to 0 Pa instead of closed.
+advection: 'semi_lagrangian' or 'maccormack'.
+vorticity: vorticity confinement epsilon (dimensionless, >= 0).
+smoke_weight: downward acceleration per unit smoke concentration (m/s^2).
+heat_buoyancy: upward acceleration per kelvin above ambient (m/s^2/K).
+smoke_dissipation, heat_dissipation: exponential fade rates (1/s).
+pressure_iterations: Jacobi sweeps per step (1..100000).
+compute_residual: measure the pressure solve's relative residual each step.
+device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or an EGL device number.
+)doc");
+
+  c.def_property_readonly("device", [](const Simulation& s) { return deviceDict(s.deviceInfo()); },
+                          "The GL device in use (renderer, vendor, version, platform, software, ...).");
+  c.def_property_readonly("resolution", [](const Simulation& s) {
+    const auto r = s.grid().res;
+    return py::make_tuple(r.x, r.y, r.z);
+  }, "Cells per axis (nx, ny, nz).");
+  c.def_property_readonly("cell_size", [](const Simulation& s) { return s.grid().cell_size_m; }, "Cell edge (m).");
+  c.def_property_readonly("domain_size", [](const Simulation& s) { return vec3Array(s.grid().sizeM()); },
+                          "Box edges (m).");
+  c.def_property_readonly("origin", [](const Simulation& s) { return vec3Array(s.grid().origin_m); },
+                          "World position of the box's minimum corner (m).");
+  c.def_property_readonly("time", &Simulation::timeS, "Simulated time since the start or reset (s).");
+  c.def_property_readonly("steps", &Simulation::steps, "Steps taken since the start or reset.");
+
+  paramProperty<float>(c, "fluid_density", [](const fluid::FluidParams& p) { return p.density_kg_m3; },
+                       [](fluid::FluidParams& p, float v) { p.density_kg_m3 = v; }, "Fluid density rho (kg/m^3).");
+  paramProperty<Vec3>(c, "gravity", [](const fluid::FluidParams& p) { return fromVec3(p.gravity_m_s2); },
+                      [](fluid::FluidParams& p, const Vec3& v) { p.gravity_m_s2 = toVec3(v); },
+                      "Gravity (m/s^2).");
+  paramProperty<bool>(c, "open_top", [](const fluid::FluidParams& p) { return p.open_top; },
+                      [](fluid::FluidParams& p, bool v) { p.open_top = v; }, "+z wall open to 0 Pa.");
+  paramProperty<std::string>(c, "advection", [](const fluid::FluidParams& p) { return advectionName(p.advection); },
+                             [](fluid::FluidParams& p, const std::string& v) { p.advection = parseAdvection(v); },
+                             "'semi_lagrangian' or 'maccormack'.");
+  paramProperty<float>(c, "vorticity", [](const fluid::FluidParams& p) { return p.vorticity_confinement; },
+                       [](fluid::FluidParams& p, float v) { p.vorticity_confinement = v; },
+                       "Vorticity confinement epsilon (dimensionless).");
+  paramProperty<float>(c, "smoke_weight", [](const fluid::FluidParams& p) { return p.smoke_weight_m_s2; },
+                       [](fluid::FluidParams& p, float v) { p.smoke_weight_m_s2 = v; },
+                       "Downward acceleration per unit smoke concentration (m/s^2).");
+  paramProperty<float>(c, "heat_buoyancy", [](const fluid::FluidParams& p) { return p.heat_buoyancy_m_s2_k; },
+                       [](fluid::FluidParams& p, float v) { p.heat_buoyancy_m_s2_k = v; },
+                       "Upward acceleration per kelvin above ambient (m/s^2/K).");
+  paramProperty<float>(c, "smoke_dissipation", [](const fluid::FluidParams& p) { return p.density_dissipation_1_s; },
+                       [](fluid::FluidParams& p, float v) { p.density_dissipation_1_s = v; },
+                       "Smoke fade rate (1/s).");
+  paramProperty<float>(c, "heat_dissipation",
+                       [](const fluid::FluidParams& p) { return p.temperature_dissipation_1_s; },
+                       [](fluid::FluidParams& p, float v) { p.temperature_dissipation_1_s = v; },
+                       "Heat fade rate (1/s).");
+  paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
+                     [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; }, "Jacobi sweeps per step.");
+  paramProperty<bool>(c, "compute_residual", [](const fluid::FluidParams& p) { return p.compute_residual; },
+                      [](fluid::FluidParams& p, bool v) { p.compute_residual = v; },
+                      "Measure the pressure residual each step.");
+
+  c.def(
+      "set_probe",
+      [](Simulation& s, const Vec3& centre, float radius, const Vec3& velocity, const Vec3& angular_velocity) {
+        obstacle::SpherePose pose;
+        pose.centre_m = toVec3(centre);
+        pose.radius_m = radius;
+        pose.velocity_m_s = toVec3(velocity);
+        pose.angular_velocity_rad_s = toVec3(angular_velocity);
+        s.setSphereProbe(pose);
+      },
+      py::arg("centre"), py::arg("radius"), py::arg("velocity") = Vec3{0, 0, 0},
+      py::arg("angular_velocity") = Vec3{0, 0, 0},
+      "Place the spherical probe: centre (m, world), radius (m, >= one cell), linear velocity (m/s)\n"
+      "and angular velocity (rad/s) imposed on the fluid faces it covers. It must lie inside the domain.");
+  c.def("clear_probe", &Simulation::clearProbe, "Remove the probe from the fluid.");
+  c.def_property_readonly(
+      "probe",
+      [](const Simulation& s) -> py::object {
+        auto p = s.sphereProbe();
+        if (!p) return py::none();
+        py::dict d;
+        d["centre"] = vec3Array(p->centre_m);
+        d["radius"] = p->radius_m;
+        d["velocity"] = vec3Array(p->velocity_m_s);
+        d["angular_velocity"] = vec3Array(p->angular_velocity_rad_s);
+        return std::move(d);
+      },
+      "The probe's pose as a dict (centre m, radius m, velocity m/s, angular_velocity rad/s), or None.");
+  c.def(
+      "set_smoke_source",
+      [](Simulation& s, const Vec3& centre, float radius, float density, float temperature) {
+        fluid::SmokeSource src;
+        src.enabled = true;
+        src.centre_m = toVec3(centre);
+        src.radius_m = radius;
+        src.density = density;
+        src.temperature_k = temperature;
+        s.setSmokeSource(src);
+      },
+      py::arg("centre"), py::arg("radius"), py::arg("density") = 1.0f, py::arg("temperature") = 0.0f,
+      "Emit smoke in a sphere: centre (m), radius (m); its cells are held at least at `density`\n"
+      "(concentration) and `temperature` (K above ambient).");
+  c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); }, "Stop emitting smoke.");
+  c.def("step", &Simulation::step, py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
+        "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
+        "force reduction. Returns a StepReport; blocks until its force is read back.");
+  c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
+  c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
+        "Fluid at rest, no smoke, time 0; probe and settings kept.");
+  c.def("density", [](Simulation& s) { return readField(s, Field::Density); },
+        "Smoke concentration, float32 (nx, ny, nz).");
+  c.def("temperature", [](Simulation& s) { return readField(s, Field::Temperature); },
+        "Temperature above ambient (K), float32 (nx, ny, nz).");
+  c.def(
+      "pressure",
+      [](Simulation& s, bool hydrostatic) {
+        return readField(s, hydrostatic ? Field::Pressure : Field::DynamicPressure);
+      },
+      py::arg("hydrostatic") = true,
+      "Pressure at cell centres (Pa), float32 (nx, ny, nz). With hydrostatic=True it is the\n"
+      "physical pressure (solved dynamic part + rho g.(x - top of the domain)); solid cells hold 0.\n"
+      "In a closed box the dynamic part is defined up to a constant.");
+  c.def(
+      "velocity",
+      [](Simulation& s) {
+        return py::make_tuple(readField(s, Field::VelocityX), readField(s, Field::VelocityY),
+                              readField(s, Field::VelocityZ));
+      },
+      "Staggered face velocities (m/s): u (nx+1, ny, nz), v (nx, ny+1, nz), w (nx, ny, nz+1).");
+  c.def(
+      "cell_classes",
+      [](Simulation& s) {
+        std::vector<std::uint8_t> data;
+        {
+          py::gil_scoped_release release;
+          data = s.readCellClasses();
+        }
+        return fieldArray(std::move(data), s.grid().res);
+      },
+      "Cell classes of the latest step, uint8 (nx, ny, nz): 0 outside, 1 surrounding, 2 boundary, 3 inside.");
+  m.def(
+      "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
+      py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
+  m.attr("CELL_OUTSIDE") = 0;
+  m.attr("CELL_SURROUNDING") = 1;
+  m.attr("CELL_BOUNDARY") = 2;
+  m.attr("CELL_INSIDE") = 3;
+}
+
+}  // namespace hf::python

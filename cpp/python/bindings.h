@@ -1,0 +1,11 @@
+#pragma once
+// Shared declarations of the binding files: each area adds itself to the module.
+#include <pybind11/pybind11.h>
+
+namespace hf::python {
+
+void addErrors(pybind11::module_& m);
+void addDevice(pybind11::module_& m);
+void addSimulation(pybind11::module_& m);
+
+}  // namespace hf::python

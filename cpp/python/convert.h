@@ -1,0 +1,53 @@
+#pragma once
+// Conversions between engine types and Python objects (numpy arrays, tuples, dicts).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <utility>
+#include <vector>
+
+#include "gl/egl_context.h"
+
+namespace hf::python {
+
+namespace py = pybind11;
+
+inline glm::vec3 toVec3(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
+inline std::array<float, 3> fromVec3(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+
+inline py::array_t<float> vec3Array(const glm::vec3& v) {
+  py::array_t<float> a(3);
+  auto r = a.mutable_unchecked<1>();
+  for (int i = 0; i < 3; ++i) r(i) = v[i];
+  return a;
+}
+
+// A field read back x fastest becomes an array indexed [i, j, k] (Fortran-ordered, no copy).
+template <class T>
+py::array_t<T> fieldArray(std::vector<T>&& data, const glm::ivec3& shape) {
+  auto* owned = new std::vector<T>(std::move(data));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  const py::ssize_t s = static_cast<py::ssize_t>(sizeof(T));
+  return py::array_t<T>({static_cast<py::ssize_t>(shape.x), static_cast<py::ssize_t>(shape.y),
+                         static_cast<py::ssize_t>(shape.z)},
+                        {s, s * shape.x, s * shape.x * shape.y}, owned->data(), owner);
+}
+
+inline py::dict deviceDict(const gl::ContextInfo& info) {
+  py::dict d;
+  d["renderer"] = info.renderer;
+  d["vendor"] = info.vendor;
+  d["version"] = info.version;
+  d["egl_vendor"] = info.egl_vendor;
+  d["platform"] = info.platform;
+  d["device_index"] = info.device_index;
+  d["software"] = info.software;
+  d["memory_bytes"] = info.memory_bytes;
+  d["max_3d_texture_size"] = info.max_3d_texture_size;
+  return d;
+}
+
+}  // namespace hf::python

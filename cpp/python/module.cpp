@@ -1,0 +1,9 @@
+// hapticfluid._core: the private native module. Only calls the binding areas in order.
+#include "python/bindings.h"
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "Native engine of hapticfluid (private: import hapticfluid instead).";
+  hf::python::addErrors(m);
+  hf::python::addDevice(m);
+  hf::python::addSimulation(m);
+}

@@ -1,0 +1,331 @@
+#include "session/simulation.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "common/error.h"
+#include "fluid/fluid_solver.h"
+#include "fluid/validate.h"
+#include "force/force_reducer.h"
+#include "gl/gl_worker.h"
+#include "gl/group_reducer.h"
+#include "gl/stage_timer.h"
+#include "gl/workgroup.h"
+#include "obstacle/cell_class.h"
+#include "obstacle/classifier.h"
+
+namespace hf::session {
+namespace {
+
+constexpr int kMinCells = 8;           // per axis: stencils and walls need room
+constexpr double kMemoryShare = 0.8;   // of the device's memory the fields may take
+constexpr std::size_t kForceSlot = 0;
+constexpr std::size_t kResidualSlot = 1;
+constexpr std::size_t kResultSlots = 2;
+
+std::string vecText(const glm::vec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+fluid::Grid makeGrid(const SimulationConfig& c) {
+  for (int a = 0; a < 3; ++a) {
+    if (c.resolution[a] < kMinCells) {
+      throw InvalidArgument("resolution must be at least " + std::to_string(kMinCells) + " cells on every axis, got (" +
+                            std::to_string(c.resolution.x) + ", " + std::to_string(c.resolution.y) + ", " +
+                            std::to_string(c.resolution.z) + ")");
+    }
+    if (!std::isfinite(c.domain_size_m[a]) || c.domain_size_m[a] <= 0.0f) {
+      throw InvalidArgument("domain size must be positive and finite on every axis (m), got " +
+                            vecText(c.domain_size_m));
+    }
+    if (!std::isfinite(c.origin_m[a])) throw InvalidArgument("domain origin must be finite (m), got " + vecText(c.origin_m));
+  }
+  const glm::vec3 h = c.domain_size_m / glm::vec3(c.resolution);
+  const float h0 = h.x;
+  for (int a = 1; a < 3; ++a) {
+    if (std::fabs(h[a] - h0) > 1e-4f * h0) {
+      throw InvalidArgument("cells must be cubic: domain size / resolution gives cell edges " + vecText(h) +
+                            " m; choose a resolution proportional to the domain size, e.g. (" +
+                            std::to_string(c.resolution.x) + ", " +
+                            std::to_string(std::lround(c.domain_size_m.y / h0)) + ", " +
+                            std::to_string(std::lround(c.domain_size_m.z / h0)) + ")");
+    }
+  }
+  fluid::Grid g;
+  g.res = c.resolution;
+  g.cell_size_m = h0;
+  g.origin_m = c.origin_m;
+  return g;
+}
+
+void checkFits(const fluid::Grid& g, const gl::ContextInfo& info) {
+  const int largest = std::max(g.res.x, std::max(g.res.y, g.res.z)) + 1;  // face fields have n+1
+  if (info.max_3d_texture_size > 0 && largest > info.max_3d_texture_size) {
+    throw InvalidArgument("resolution too large for this GPU: " + std::to_string(largest) +
+                          " texels on an axis, the device allows " + std::to_string(info.max_3d_texture_size));
+  }
+  const std::size_t need = fluid::fieldBytes(g);
+  if (info.memory_bytes > 0 && static_cast<double>(need) > kMemoryShare * static_cast<double>(info.memory_bytes)) {
+    throw InvalidArgument("resolution too large for this GPU's memory: the fields need " +
+                          std::to_string(need >> 20) + " MiB, the device (" + info.renderer + ") has " +
+                          std::to_string(info.memory_bytes >> 20) + " MiB; lower the resolution");
+  }
+}
+
+// World point where the hydrostatic pressure is zero: the domain's highest point against gravity.
+glm::vec3 hydrostaticReference(const fluid::Grid& g, const glm::vec3& gravity) {
+  glm::vec3 ref = g.origin_m + 0.5f * g.sizeM();
+  for (int a = 0; a < 3; ++a) {
+    if (gravity[a] < 0.0f) ref[a] = g.origin_m[a] + g.sizeM()[a];
+    if (gravity[a] > 0.0f) ref[a] = g.origin_m[a];
+  }
+  return ref;
+}
+
+void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(p.centre_m[a]) || !std::isfinite(p.velocity_m_s[a]) || !std::isfinite(p.angular_velocity_rad_s[a])) {
+      throw InvalidArgument("probe pose must be finite: centre " + vecText(p.centre_m) + " m, velocity " +
+                            vecText(p.velocity_m_s) + " m/s, angular velocity " + vecText(p.angular_velocity_rad_s) +
+                            " rad/s");
+    }
+  }
+  if (!std::isfinite(p.radius_m) || p.radius_m < g.cell_size_m) {
+    throw InvalidArgument("probe radius must be at least one cell (" + std::to_string(g.cell_size_m) +
+                          " m) to be seen by the grid, got " + std::to_string(p.radius_m) +
+                          " m; raise the radius or the resolution");
+  }
+  const glm::vec3 lo = g.origin_m, hi = g.origin_m + g.sizeM();
+  if (glm::any(glm::lessThan(p.centre_m - p.radius_m, lo)) || glm::any(glm::greaterThan(p.centre_m + p.radius_m, hi))) {
+    throw InvalidArgument("probe sphere (centre " + vecText(p.centre_m) + " m, radius " + std::to_string(p.radius_m) +
+                          " m) is not inside the domain " + vecText(lo) + " .. " + vecText(hi) +
+                          " m; keep it at least one radius from every wall");
+  }
+}
+
+}  // namespace
+
+// Everything that holds GL objects; made, used and destroyed on the worker thread only.
+struct Simulation::Engine {
+  explicit Engine(const fluid::Grid& g)
+      : grid(g), solver(g), probe(g), classifier(g), force(g),
+        reducer(gl::groupCount(g.res + 1), kResultSlots) {}
+
+  StepReport step(float dt, const fluid::FluidParams& p, const std::optional<obstacle::SpherePose>& pose,
+                  const fluid::SmokeSource& source) {
+    auto& f = solver.fields();
+    timer.begin();
+    if (pose) {
+      probe.setPose(*pose);
+      probe.voxelize(f.solid, f.solid_velocity);
+    } else {
+      f.solid.clear();
+      f.solid_velocity.clear();
+    }
+    timer.mark("voxelize");
+    classifier.classify(f.solid, f.cell_class, f.nbmask, p.open_top);
+    timer.mark("classify");
+    solver.advect(dt, p);
+    timer.mark("advect");
+    solver.applySources(source);
+    solver.applyForces(dt, p);
+    timer.mark("forces");
+    solver.enforceBoundaries(p);
+    solver.computeDivergence(dt, p);
+    timer.mark("divergence");
+    const fluid::SolveStats stats = solver.solvePressure(p);
+    timer.mark("pressure");
+    if (p.compute_residual) {
+      solver.measureResidual(reducer, kResidualSlot);
+      timer.mark("residual");
+    }
+    solver.project(dt, p);
+    timer.mark("project");
+    const obstacle::CellBox box = pose ? probe.bounds() : obstacle::CellBox{};
+    force.reduce(f.pressure.cur(), f.cell_class, box, p.density_kg_m3 * p.gravity_m_s2,
+                 hydrostaticReference(grid, p.gravity_m_s2), reducer, kForceSlot);
+    timer.mark("force");
+    const std::vector<glm::vec4> results = reducer.readResults();  // the step's one read-back
+    StepReport r;
+    const force::BodyForce bf = force::ForceReducer::decode(results[kForceSlot]);
+    r.force_n = bf.force_n;
+    r.exposed_faces = bf.exposed_faces;
+    r.pressure_iterations = stats.iterations;
+    if (p.compute_residual) {
+      const glm::vec4 res = results[kResidualSlot];
+      r.relative_residual = res.y > 0.0f ? std::sqrt(res.x / res.y) : 0.0f;
+    }
+    r.gpu_ms = timer.collect();
+    return r;
+  }
+
+  fluid::Grid grid;
+  fluid::FluidSolver solver;
+  obstacle::SphereProbe probe;
+  obstacle::Classifier classifier;
+  force::ForceReducer force;
+  gl::GroupReducer reducer;
+  gl::StageTimer timer;
+};
+
+Simulation::Simulation(const SimulationConfig& config) : grid_(makeGrid(config)), params_(config.params) {
+  fluid::validate(params_);
+  worker_ = std::make_unique<gl::GlWorker>(config.device);
+  checkFits(grid_, worker_->info());
+  engine_ = worker_->call([this] { return std::make_unique<Engine>(grid_); });
+}
+
+Simulation::~Simulation() {
+  if (worker_ && engine_) {
+    try {
+      worker_->call([this] { engine_.reset(); });
+    } catch (...) {
+      // Destruction must not throw; the context goes with the worker regardless.
+    }
+  }
+  worker_.reset();
+}
+
+const gl::ContextInfo& Simulation::deviceInfo() const { return worker_->info(); }
+
+fluid::FluidParams Simulation::params() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return params_;
+}
+
+void Simulation::setParams(const fluid::FluidParams& params) {
+  fluid::validate(params);
+  std::lock_guard<std::mutex> lock(mutex_);
+  params_ = params;
+}
+
+void Simulation::setSmokeSource(const fluid::SmokeSource& source) {
+  fluid::validate(source, grid_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  source_ = source;
+}
+
+fluid::SmokeSource Simulation::smokeSource() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return source_;
+}
+
+void Simulation::setSphereProbe(const obstacle::SpherePose& pose) {
+  validatePose(pose, grid_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  probe_ = pose;
+}
+
+void Simulation::clearProbe() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  probe_.reset();
+}
+
+std::optional<obstacle::SpherePose> Simulation::sphereProbe() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return probe_;
+}
+
+StepReport Simulation::step(float dt_s) {
+  if (!std::isfinite(dt_s) || dt_s <= 0.0f) {
+    throw InvalidArgument("time step must be a positive, finite number of seconds, got " + std::to_string(dt_s));
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto t0 = std::chrono::steady_clock::now();
+  StepReport r = worker_->call([&] { return engine_->step(dt_s, params_, probe_, source_); });
+  r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  time_s_ += dt_s;
+  ++steps_;
+  last_ = r;
+  return r;
+}
+
+StepReport Simulation::lastReport() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_;
+}
+
+double Simulation::timeS() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return time_s_;
+}
+
+std::int64_t Simulation::steps() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return steps_;
+}
+
+void Simulation::reset() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  worker_->call([this] { engine_->solver.reset(); });
+  time_s_ = 0.0;
+  steps_ = 0;
+  last_ = StepReport{};
+}
+
+glm::ivec3 Simulation::fieldShape(Field f) const {
+  glm::ivec3 s = grid_.res;
+  if (f == Field::VelocityX) s.x += 1;
+  if (f == Field::VelocityY) s.y += 1;
+  if (f == Field::VelocityZ) s.z += 1;
+  return s;
+}
+
+std::vector<float> Simulation::readFloat(Field f) {
+  if (f == Field::CellClass) throw InvalidArgument("cell classes are bytes: use readCellClasses()");
+  const glm::ivec3 shape = fieldShape(f);
+  std::vector<float> out(static_cast<std::size_t>(shape.x) * shape.y * shape.z);
+  std::lock_guard<std::mutex> lock(mutex_);
+  worker_->call([&] {
+    auto& fl = engine_->solver.fields();
+    const gl::Texture3D* tex = nullptr;
+    switch (f) {
+      case Field::Density: tex = &fl.density.cur(); break;
+      case Field::Temperature: tex = &fl.temperature.cur(); break;
+      case Field::Pressure:
+      case Field::DynamicPressure: tex = &fl.pressure.cur(); break;
+      case Field::VelocityX: tex = &fl.vel[0].cur(); break;
+      case Field::VelocityY: tex = &fl.vel[1].cur(); break;
+      case Field::VelocityZ: tex = &fl.vel[2].cur(); break;
+      case Field::CellClass: break;
+    }
+    tex->download(out.data(), out.size() * sizeof(float));
+  });
+  if (f == Field::Pressure) {
+    // Physical pressure = solved dynamic part + rho g . (x - reference), solid cells left at 0.
+    const std::vector<std::uint8_t> classes = [&] {
+      std::vector<std::uint8_t> c(out.size());
+      worker_->call([&] { engine_->solver.fields().cell_class.download(c.data(), c.size()); });
+      return c;
+    }();
+    const glm::vec3 rho_g = params_.density_kg_m3 * params_.gravity_m_s2;
+    const glm::vec3 ref = hydrostaticReference(grid_, params_.gravity_m_s2);
+    std::size_t n = 0;
+    for (int k = 0; k < shape.z; ++k) {
+      for (int j = 0; j < shape.y; ++j) {
+        for (int i = 0; i < shape.x; ++i, ++n) {
+          if (classes[n] >= static_cast<std::uint8_t>(obstacle::CellClass::Boundary)) continue;
+          const glm::vec3 x = grid_.toWorld(glm::vec3(i, j, k) + 0.5f);
+          out[n] += glm::dot(rho_g, x - ref);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> Simulation::readCellClasses() {
+  std::vector<std::uint8_t> out(grid_.cells());
+  std::lock_guard<std::mutex> lock(mutex_);
+  worker_->call([&] { engine_->solver.fields().cell_class.download(out.data(), out.size()); });
+  return out;
+}
+
+std::size_t Simulation::estimateBytes(const glm::ivec3& resolution) {
+  fluid::Grid g;
+  g.res = resolution;
+  return fluid::fieldBytes(g);
+}
+
+}  // namespace hf::session

@@ -1,0 +1,92 @@
+#pragma once
+// The engine behind one narrow object. A Simulation owns a thread with its own headless GL
+// context (gl::GlWorker); every method posts its GPU work there and waits, so callers never
+// touch GL. Public methods are safe to call from any one host thread at a time (they are
+// serialised). Units are SI throughout.
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fluid/fluid_params.h"
+#include "fluid/grid.h"
+#include "gl/egl_context.h"
+#include "obstacle/sphere_probe.h"
+
+namespace hf::gl {
+class GlWorker;
+}
+
+namespace hf::session {
+
+struct SimulationConfig {
+  glm::ivec3 resolution{64, 64, 64};   // cells per axis (>= 8 each); cells must be cubic
+  glm::vec3 domain_size_m{1.0f};       // box edge lengths, m
+  glm::vec3 origin_m{0.0f};            // world position of the box's minimum corner, m
+  fluid::FluidParams params;
+  std::string device;                  // EGL device request ("" = HAPTICFLUID_EGL_DEVICE or auto)
+};
+
+struct StepReport {
+  glm::vec3 force_n{0.0f};             // fluid force on the probe, N
+  int exposed_faces = 0;               // faces summed into the force
+  int pressure_iterations = 0;
+  float relative_residual = -1.0f;     // ||rhs - A p|| / ||rhs|| after the solve; -1 = not measured
+  double wall_ms = 0.0;                // host time of the whole step, ms
+  std::vector<std::pair<std::string, double>> gpu_ms;  // GPU time per stage, ms
+};
+
+enum class Field { Density, Temperature, Pressure, DynamicPressure, VelocityX, VelocityY, VelocityZ, CellClass };
+
+class Simulation {
+ public:
+  explicit Simulation(const SimulationConfig& config);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  const gl::ContextInfo& deviceInfo() const;
+  const fluid::Grid& grid() const { return grid_; }
+
+  fluid::FluidParams params() const;
+  void setParams(const fluid::FluidParams& params);
+  void setSmokeSource(const fluid::SmokeSource& source);
+  fluid::SmokeSource smokeSource() const;
+
+  void setSphereProbe(const obstacle::SpherePose& pose);  // throws if outside the domain
+  void clearProbe();
+  std::optional<obstacle::SpherePose> sphereProbe() const;
+
+  StepReport step(float dt_s);  // blocks until the step's force is read back
+  StepReport lastReport() const;
+  double timeS() const;
+  std::int64_t steps() const;
+  void reset();  // fluid at rest, no smoke, time 0; probe and settings kept
+
+  // Whole fields, x fastest (index = i + nx*(j + ny*k)). Face fields are (n+1) on their axis.
+  glm::ivec3 fieldShape(Field f) const;
+  std::vector<float> readFloat(Field f);
+  std::vector<std::uint8_t> readCellClasses();
+
+  // GPU memory the fields of a grid take, bytes.
+  static std::size_t estimateBytes(const glm::ivec3& resolution);
+
+ private:
+  struct Engine;
+
+  mutable std::mutex mutex_;
+  fluid::Grid grid_;
+  fluid::FluidParams params_;
+  fluid::SmokeSource source_;
+  std::optional<obstacle::SpherePose> probe_;
+  StepReport last_;
+  double time_s_ = 0.0;
+  std::int64_t steps_ = 0;
+  std::unique_ptr<gl::GlWorker> worker_;
+  std::unique_ptr<Engine> engine_;  // lives and dies on the worker's thread
+};
+
+}  // namespace hf::session

@@ -1,0 +1,43 @@
+"""Touchable GPU fluids: a 3D smoke/fluid simulation on the GPU with a probe you can feel.
+
+The native engine lives in the private module ``hapticfluid._core``; this package re-exports
+its public API. All quantities are SI (metres, seconds, kilograms, newtons, pascals), z is up.
+
+Example::
+
+    import hapticfluid as hf
+    sim = hf.Simulation(resolution=(64, 64, 64), domain_size=(1.0, 1.0, 1.0))
+    sim.set_probe(centre=(0.5, 0.5, 0.5), radius=0.1, velocity=(0.2, 0.0, 0.0))
+    report = sim.step(1 / 60)
+    print(report.force)   # newtons on the probe
+"""
+
+from hapticfluid._core import (
+    CELL_BOUNDARY,
+    CELL_INSIDE,
+    CELL_OUTSIDE,
+    CELL_SURROUNDING,
+    HapticFluidError,
+    InvalidArgumentError,
+    Simulation,
+    StepReport,
+    estimate_bytes,
+    list_egl_devices,
+    probe_device,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "CELL_BOUNDARY",
+    "CELL_INSIDE",
+    "CELL_OUTSIDE",
+    "CELL_SURROUNDING",
+    "HapticFluidError",
+    "InvalidArgumentError",
+    "Simulation",
+    "StepReport",
+    "estimate_bytes",
+    "list_egl_devices",
+    "probe_device",
+]

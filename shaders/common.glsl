@@ -1,0 +1,56 @@
+// Shared by every stage; prepended after the #version line and the stage's #defines.
+// Grid units: cell (i,j,k) spans [i,i+1]x[j,j+1]x[k,k+1]; its centre is at (i,j,k)+0.5.
+// Staggered (MAC) velocity: u lives on x-faces, (nx+1,ny,nz) texels at offset (0,.5,.5);
+// v on y-faces, offset (.5,0,.5); w on z-faces, offset (.5,.5,0). Scalars sit at (.5,.5,.5).
+
+// Cell classes of the seed paper (values shared with cpp/obstacle/cell_class.h).
+const uint CELL_OUTSIDE = 0u;      // fluid, no solid neighbour
+const uint CELL_SURROUNDING = 1u;  // fluid next to a boundary cell
+const uint CELL_BOUNDARY = 2u;     // solid with at least one fluid neighbour
+const uint CELL_INSIDE = 3u;       // solid, all neighbours solid
+
+// Bits of the per-cell neighbour mask written by classify.comp.
+// Bit d (0..5, order -x,+x,-y,+y,-z,+z): that neighbour is a fluid cell inside the grid.
+// Bit 6: the +z neighbour is the open top (a Dirichlet ghost with pressure 0).
+// Bit 7: this cell is solid.
+const uint NB_OPEN_TOP = 64u;
+const uint NB_SOLID = 128u;
+
+const ivec3 NEIGHBOUR[6] = ivec3[6](ivec3(-1, 0, 0), ivec3(1, 0, 0), ivec3(0, -1, 0),
+                                     ivec3(0, 1, 0), ivec3(0, 0, -1), ivec3(0, 0, 1));
+
+uniform ivec3 u_res;  // cells per axis
+
+bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, u_res)); }
+
+ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
+
+// Texture coordinate of a grid-unit position X in a field of `size` texels at `offset`.
+vec3 fieldCoord(vec3 X, vec3 size, vec3 offset) { return (X - offset + 0.5) / size; }
+
+// Trilinear velocity (grid units per second times h, i.e. m/s) at grid-unit position X.
+vec3 sampleVelocity(sampler3D vx, sampler3D vy, sampler3D vz, vec3 X) {
+  vec3 r = vec3(u_res);
+  return vec3(texture(vx, fieldCoord(X, r + vec3(1, 0, 0), vec3(0.0, 0.5, 0.5))).r,
+              texture(vy, fieldCoord(X, r + vec3(0, 1, 0), vec3(0.5, 0.0, 0.5))).r,
+              texture(vz, fieldCoord(X, r + vec3(0, 0, 1), vec3(0.5, 0.5, 0.0))).r);
+}
+
+// Texel offset of face component `axis` (0=u, 1=v, 2=w).
+vec3 faceOffset(int axis) {
+  vec3 o = vec3(0.5);
+  o[axis] = 0.0;
+  return o;
+}
+
+ivec3 faceSize(int axis) {
+  ivec3 s = u_res;
+  s[axis] += 1;
+  return s;
+}
+
+ivec3 unitAxis(int axis) {
+  ivec3 e = ivec3(0);
+  e[axis] = 1;
+  return e;
+}

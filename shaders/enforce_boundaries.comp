@@ -1,0 +1,34 @@
+// Stage "enforce_boundaries": on one velocity component, closed domain walls get zero normal
+// velocity (the +z wall stays free when the top is open), and every face touching a solid cell
+// gets the solid's velocity (the average over the solid cells on its two sides).
+layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+
+layout(binding = 0) uniform usampler3D u_nbmask;
+layout(binding = 1) uniform sampler3D u_solid_velocity;
+layout(r32f, binding = 0) uniform image3D u_vel;
+
+uniform int u_axis;
+uniform int u_open_top;
+
+void main() {
+  ivec3 idx = ivec3(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(idx, faceSize(u_axis)))) return;
+  int i = idx[u_axis];
+  if (i == 0 || i == u_res[u_axis]) {
+    bool open = u_open_top != 0 && u_axis == 2 && i == u_res.z;
+    if (!open) {
+      imageStore(u_vel, idx, vec4(0.0));
+      return;
+    }
+  }
+  // Clamping makes both sides of an open-top face the cell below it.
+  ivec3 lo = clampCell(idx - unitAxis(u_axis));
+  ivec3 hi = clampCell(idx);
+  bool slo = (texelFetch(u_nbmask, lo, 0).r & NB_SOLID) != 0u;
+  bool shi = (texelFetch(u_nbmask, hi, 0).r & NB_SOLID) != 0u;
+  if (!slo && !shi) return;
+  float sum = 0.0;
+  if (slo) sum += texelFetch(u_solid_velocity, lo, 0)[u_axis];
+  if (shi) sum += texelFetch(u_solid_velocity, hi, 0)[u_axis];
+  imageStore(u_vel, idx, vec4(sum / float(int(slo) + int(shi))));
+}

@@ -1,0 +1,51 @@
+// Stage "force_faces": the first level of the force reduction. Over a box of cells, every
+// exposed face between a boundary cell and a fluid (surrounding) cell adds the fluid's pressure
+// times the face area along the inward normal: F = -sum p n_out h^2 (N). The pressure on a face
+// is the surrounding cell's solved (dynamic) pressure plus the hydrostatic pressure at the
+// face's centre. Each workgroup writes its sum to partials[] (w = number of faces).
+layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+
+layout(binding = 0) uniform sampler3D u_pressure;
+layout(binding = 1) uniform usampler3D u_class;
+layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
+
+uniform ivec3 u_origin;         // first cell of the box
+uniform ivec3 u_extent;         // cells in the box
+uniform float u_face_area;      // h^2, m^2
+uniform float u_cell_size;      // h, m
+uniform vec3 u_rho_g;           // fluid density times gravity, N/m^3
+uniform vec3 u_reference;       // grid-unit point where the hydrostatic pressure is 0
+
+const uint GROUP = uint(WG_X * WG_Y * WG_Z);
+shared vec4 s_sum[GROUP];
+
+void main() {
+  ivec3 local = ivec3(gl_GlobalInvocationID);
+  ivec3 c = u_origin + local;
+  vec4 mine = vec4(0.0);
+  if (all(lessThan(local, u_extent)) && inGrid(c) && texelFetch(u_class, c, 0).r == CELL_BOUNDARY) {
+    vec3 centre = vec3(c) + 0.5;
+    for (int d = 0; d < 6; ++d) {
+      ivec3 q = c + NEIGHBOUR[d];
+      if (!inGrid(q)) continue;
+      uint k = texelFetch(u_class, q, 0).r;
+      if (k != CELL_SURROUNDING && k != CELL_OUTSIDE) continue;
+      vec3 n_out = vec3(NEIGHBOUR[d]);
+      vec3 face = centre + 0.5 * n_out;
+      float p = texelFetch(u_pressure, q, 0).r + dot(u_rho_g, (face - u_reference) * u_cell_size);
+      mine += vec4(-p * u_face_area * n_out, 1.0);
+    }
+  }
+  s_sum[gl_LocalInvocationIndex] = mine;
+  barrier();
+  for (uint stride = GROUP / 2u; stride > 0u; stride >>= 1u) {
+    if (gl_LocalInvocationIndex < stride) {
+      s_sum[gl_LocalInvocationIndex] += s_sum[gl_LocalInvocationIndex + stride];
+    }
+    barrier();
+  }
+  if (gl_LocalInvocationIndex == 0u) {
+    uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
+    partials[group] = s_sum[0];
+  }
+}

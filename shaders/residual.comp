@@ -1,0 +1,43 @@
+// Stage "residual": per workgroup, the sums of r^2 and rhs^2 of the pressure equation
+// (r = rhs - sum_nb (p_nb - p)), written to partials[] for reduce.comp.
+layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+
+layout(binding = 0) uniform sampler3D u_pressure;
+layout(binding = 1) uniform sampler3D u_rhs;
+layout(binding = 2) uniform usampler3D u_nbmask;
+layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
+
+const uint GROUP = uint(WG_X * WG_Y * WG_Z);
+shared vec4 s_sum[GROUP];
+
+void main() {
+  ivec3 c = ivec3(gl_GlobalInvocationID);
+  vec4 mine = vec4(0.0);
+  if (inGrid(c)) {
+    uint m = texelFetch(u_nbmask, c, 0).r;
+    if ((m & NB_SOLID) == 0u) {
+      float p = texelFetch(u_pressure, c, 0).r;
+      float lap = 0.0;
+      for (int d = 0; d < 6; ++d) {
+        float use = float((m >> uint(d)) & 1u);
+        lap += use * (texelFetch(u_pressure, clampCell(c + NEIGHBOUR[d]), 0).r - p);
+      }
+      if ((m & NB_OPEN_TOP) != 0u) lap -= p;
+      float b = texelFetch(u_rhs, c, 0).r;
+      float r = b - lap;
+      mine = vec4(r * r, b * b, 0.0, 0.0);
+    }
+  }
+  s_sum[gl_LocalInvocationIndex] = mine;
+  barrier();
+  for (uint stride = GROUP / 2u; stride > 0u; stride >>= 1u) {
+    if (gl_LocalInvocationIndex < stride) {
+      s_sum[gl_LocalInvocationIndex] += s_sum[gl_LocalInvocationIndex + stride];
+    }
+    barrier();
+  }
+  if (gl_LocalInvocationIndex == 0u) {
+    uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
+    partials[group] = s_sum[0];
+  }
+}
