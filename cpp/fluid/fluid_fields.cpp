@@ -1,23 +1,14 @@
 #include "fluid/fluid_fields.h"
 
 namespace hf::fluid {
-namespace {
-
-glm::ivec3 faceSize(const Grid& g, int axis) {
-  glm::ivec3 s = g.res;
-  s[axis] += 1;
-  return s;
-}
-
-}  // namespace
 
 PingPong::PingPong(const glm::ivec3& size, gl::TexelFormat f, const std::string& label)
     : tex{gl::Texture3D(size, f, label + " A"), gl::Texture3D(size, f, label + " B")} {}
 
 FluidFields::FluidFields(const Grid& g)
-    : vel{PingPong(faceSize(g, 0), gl::TexelFormat::R32F, "velocity x"),
-          PingPong(faceSize(g, 1), gl::TexelFormat::R32F, "velocity y"),
-          PingPong(faceSize(g, 2), gl::TexelFormat::R32F, "velocity z")},
+    : vel{PingPong(g.faceSize(0), gl::TexelFormat::R32F, "velocity x"),
+          PingPong(g.faceSize(1), gl::TexelFormat::R32F, "velocity y"),
+          PingPong(g.faceSize(2), gl::TexelFormat::R32F, "velocity z")},
       density(g.res, gl::TexelFormat::R32F, "density"),
       temperature(g.res, gl::TexelFormat::R32F, "temperature"),
       pressure(g.res, gl::TexelFormat::R32F, "pressure"),

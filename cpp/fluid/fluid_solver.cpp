@@ -10,18 +10,6 @@
 namespace hf::fluid {
 namespace {
 
-glm::ivec3 faceSize(const Grid& g, int axis) {
-  glm::ivec3 s = g.res;
-  s[axis] += 1;
-  return s;
-}
-
-glm::vec3 faceOffset(int axis) {
-  glm::vec3 o(0.5f);
-  o[axis] = 0.0f;
-  return o;
-}
-
 constexpr int kScalarScratch = 3;
 
 }  // namespace
@@ -104,7 +92,7 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
 void FluidSolver::advect(float dt_s, const FluidParams& p) {
   for (int a = 0; a < 3; ++a) {
     auto& v = fields_.vel[static_cast<std::size_t>(a)];
-    advectField(v.cur(), v.next(), a, faceSize(grid_, a), faceOffset(a), dt_s, 1.0f, false, p);
+    advectField(v.cur(), v.next(), a, grid_.faceSize(a), Grid::faceOffset(a), dt_s, 1.0f, false, p);
   }
   const float smoke_decay = std::exp(-p.density_dissipation_1_s * dt_s);
   const float heat_decay = std::exp(-p.temperature_dissipation_1_s * dt_s);
@@ -162,7 +150,7 @@ void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
   for (int a = 0; a < 3; ++a) {
     fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
     apply_forces_.set("u_axis", a);
-    apply_forces_.dispatch(faceSize(grid_, a));
+    apply_forces_.dispatch(grid_.faceSize(a));
   }
 }
 
@@ -173,7 +161,7 @@ void FluidSolver::enforceBoundaries(const FluidParams& p) {
   for (int a = 0; a < 3; ++a) {
     fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
     boundaries_.set("u_axis", a);
-    boundaries_.dispatch(faceSize(grid_, a));
+    boundaries_.dispatch(grid_.faceSize(a));
   }
 }
 
@@ -204,7 +192,7 @@ void FluidSolver::project(float dt_s, const FluidParams& p) {
   for (int a = 0; a < 3; ++a) {
     fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
     project_.set("u_axis", a);
-    project_.dispatch(faceSize(grid_, a));
+    project_.dispatch(grid_.faceSize(a));
   }
 }
 

@@ -15,6 +15,18 @@ struct Grid {
   // World metres <-> grid units (cell i spans [i, i+1]).
   glm::vec3 toGrid(const glm::vec3& world_m) const { return (world_m - origin_m) / cell_size_m; }
   glm::vec3 toWorld(const glm::vec3& grid) const { return origin_m + grid * cell_size_m; }
+  // Texels of the staggered velocity component on `axis`'s faces: one more along that axis.
+  glm::ivec3 faceSize(int axis) const {
+    glm::ivec3 s = res;
+    s[axis] += 1;
+    return s;
+  }
+  // Grid-unit position of that component's texel (0,0,0): the centre of cell 0's low face.
+  static glm::vec3 faceOffset(int axis) {
+    glm::vec3 o(0.5f);
+    o[axis] = 0.0f;
+    return o;
+  }
 };
 
 }  // namespace hf::fluid

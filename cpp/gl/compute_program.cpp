@@ -15,6 +15,16 @@ namespace {
 
 constexpr const char* kCommonFile = "common.glsl";
 
+// The info log of a shader (glGetShaderiv/InfoLog) or program (glGetProgramiv/InfoLog).
+template <class GetIv, class GetLog>
+std::string infoLog(GLuint id, GetIv get_iv, GetLog get_log) {
+  GLint len = 0;
+  get_iv(id, GL_INFO_LOG_LENGTH, &len);
+  std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
+  get_log(id, len, nullptr, log.data());
+  return log.c_str();
+}
+
 }  // namespace
 
 std::string composeSource(const std::string& stage_source, const Defines& defines) {
@@ -60,12 +70,9 @@ ComputeProgram::ComputeProgram(const std::string& file, const std::string& sourc
   GLint ok = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (ok != GL_TRUE) {
-    GLint len = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
-    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
-    throw GlError("compiling " + file + " failed:\n" + annotateLog(log.c_str(), file));
+    throw GlError("compiling " + file + " failed:\n" + annotateLog(log, file));
   }
   id_ = glCreateProgram();
   glAttachShader(id_, shader);
@@ -73,12 +80,9 @@ ComputeProgram::ComputeProgram(const std::string& file, const std::string& sourc
   glDeleteShader(shader);  // flagged; freed with the program
   glGetProgramiv(id_, GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {
-    GLint len = 0;
-    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
-    glGetProgramInfoLog(id_, len, nullptr, log.data());
+    const std::string log = infoLog(id_, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(id_);
-    throw GlError("linking " + file + " failed:\n" + annotateLog(log.c_str(), file));
+    throw GlError("linking " + file + " failed:\n" + annotateLog(log, file));
   }
   GLint size[3] = {1, 1, 1};
   glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, size);

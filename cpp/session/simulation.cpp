@@ -265,11 +265,10 @@ void Simulation::reset() {
 }
 
 glm::ivec3 Simulation::fieldShape(Field f) const {
-  glm::ivec3 s = grid_.res;
-  if (f == Field::VelocityX) s.x += 1;
-  if (f == Field::VelocityY) s.y += 1;
-  if (f == Field::VelocityZ) s.z += 1;
-  return s;
+  if (f == Field::VelocityX) return grid_.faceSize(0);
+  if (f == Field::VelocityY) return grid_.faceSize(1);
+  if (f == Field::VelocityZ) return grid_.faceSize(2);
+  return grid_.res;
 }
 
 std::vector<float> Simulation::readFloat(Field f) {

@@ -1,0 +1,44 @@
+# Sourced by the README's commands: installs what is missing, then builds.
+# Debian packages only (PyPI is not reachable); Python is Debian's /usr/bin/python3 (3.11),
+# the interpreter Debian's Blender 3.4 embeds.
+set -euo pipefail
+
+HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+HF_BUILD="${HF_BUILD:-$HF_ROOT/build}"
+
+HF_PACKAGES=(
+  cmake g++ make
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+  libglm-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  libgtest-dev
+  blender
+)
+
+hf_install_missing() {
+  local missing=()
+  for pkg in "${HF_PACKAGES[@]}"; do
+    dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    echo "== dependencies: all ${#HF_PACKAGES[@]} Debian packages present"
+    return 0
+  fi
+  echo "== dependencies: installing ${missing[*]}"
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null 2>&1; then sudo=(sudo); else
+      echo "error: these packages are missing and this user cannot install them: ${missing[*]}" >&2
+      echo "       run as root: apt-get install -y --no-install-recommends ${missing[*]}" >&2
+      return 1
+    fi
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -q
+  "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+hf_build() {
+  echo "== build: $HF_BUILD"
+  cmake -S "$HF_ROOT" -B "$HF_BUILD" -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3 >/dev/null
+  cmake --build "$HF_BUILD" -j "$(nproc)" "$@"
+}
