@@ -224,6 +224,15 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
   c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
         "Fluid at rest, no smoke, time 0; probe and settings kept.");
+  c.def("close", &Simulation::close, py::call_guard<py::gil_scoped_release>(),
+        "Free the GPU fields and end the GL thread now (also done when the object is collected).\n"
+        "Later calls that need the GPU raise HapticFluidError.");
+  c.def_property_readonly("closed", &Simulation::closed, "True after close().");
+  c.def("__enter__", [](Simulation& s) -> Simulation& { return s; }, py::return_value_policy::reference);
+  c.def("__exit__", [](Simulation& s, py::args) {
+    py::gil_scoped_release release;
+    s.close();
+  });
   c.def("density", [](Simulation& s) { return readField(s, Field::Density); },
         "Smoke concentration, float32 (nx, ny, nz).");
   c.def("temperature", [](Simulation& s) { return readField(s, Field::Temperature); },

@@ -172,22 +172,38 @@ struct Simulation::Engine {
 Simulation::Simulation(const SimulationConfig& config) : grid_(makeGrid(config)), params_(config.params) {
   fluid::validate(params_);
   worker_ = std::make_unique<gl::GlWorker>(config.device);
-  checkFits(grid_, worker_->info());
+  info_ = worker_->info();
+  checkFits(grid_, info_);
   engine_ = worker_->call([this] { return std::make_unique<Engine>(grid_); });
 }
 
-Simulation::~Simulation() {
+Simulation::~Simulation() { close(); }
+
+template <class F>
+auto Simulation::onGl(F&& fn) {
+  if (!engine_) throw Error("this simulation was closed; make a new one");
+  return worker_->call([&] { return fn(*engine_); });
+}
+
+void Simulation::close() {
+  std::lock_guard<std::mutex> lock(mutex_);
   if (worker_ && engine_) {
     try {
       worker_->call([this] { engine_.reset(); });
     } catch (...) {
-      // Destruction must not throw; the context goes with the worker regardless.
+      // Closing must not throw; the context goes with the worker regardless.
     }
   }
+  engine_.reset();
   worker_.reset();
 }
 
-const gl::ContextInfo& Simulation::deviceInfo() const { return worker_->info(); }
+bool Simulation::closed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return !engine_;
+}
+
+const gl::ContextInfo& Simulation::deviceInfo() const { return info_; }
 
 fluid::FluidParams Simulation::params() const {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -233,7 +249,7 @@ StepReport Simulation::step(float dt_s) {
   }
   std::lock_guard<std::mutex> lock(mutex_);
   const auto t0 = std::chrono::steady_clock::now();
-  StepReport r = worker_->call([&] { return engine_->step(dt_s, params_, probe_, source_); });
+  StepReport r = onGl([&](Engine& e) { return e.step(dt_s, params_, probe_, source_); });
   r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   time_s_ += dt_s;
   ++steps_;
@@ -258,7 +274,7 @@ std::int64_t Simulation::steps() const {
 
 void Simulation::reset() {
   std::lock_guard<std::mutex> lock(mutex_);
-  worker_->call([this] { engine_->solver.reset(); });
+  onGl([](Engine& e) { e.solver.reset(); });
   time_s_ = 0.0;
   steps_ = 0;
   last_ = StepReport{};
@@ -276,8 +292,8 @@ std::vector<float> Simulation::readFloat(Field f) {
   const glm::ivec3 shape = fieldShape(f);
   std::vector<float> out(static_cast<std::size_t>(shape.x) * shape.y * shape.z);
   std::lock_guard<std::mutex> lock(mutex_);
-  worker_->call([&] {
-    auto& fl = engine_->solver.fields();
+  onGl([&](Engine& e) {
+    auto& fl = e.solver.fields();
     const gl::Texture3D* tex = nullptr;
     switch (f) {
       case Field::Density: tex = &fl.density.cur(); break;
@@ -295,7 +311,7 @@ std::vector<float> Simulation::readFloat(Field f) {
     // Physical pressure = solved dynamic part + rho g . (x - reference), solid cells left at 0.
     const std::vector<std::uint8_t> classes = [&] {
       std::vector<std::uint8_t> c(out.size());
-      worker_->call([&] { engine_->solver.fields().cell_class.download(c.data(), c.size()); });
+      onGl([&](Engine& e) { e.solver.fields().cell_class.download(c.data(), c.size()); });
       return c;
     }();
     const glm::vec3 rho_g = params_.density_kg_m3 * params_.gravity_m_s2;
@@ -317,7 +333,7 @@ std::vector<float> Simulation::readFloat(Field f) {
 std::vector<std::uint8_t> Simulation::readCellClasses() {
   std::vector<std::uint8_t> out(grid_.cells());
   std::lock_guard<std::mutex> lock(mutex_);
-  worker_->call([&] { engine_->solver.fields().cell_class.download(out.data(), out.size()); });
+  onGl([&](Engine& e) { e.solver.fields().cell_class.download(out.data(), out.size()); });
   return out;
 }
 

@@ -65,6 +65,9 @@ class Simulation {
   double timeS() const;
   std::int64_t steps() const;
   void reset();  // fluid at rest, no smoke, time 0; probe and settings kept
+  // Frees the GPU fields and ends the GL thread now; later GPU calls throw hf::Error.
+  void close();
+  bool closed() const;
 
   // Whole fields, x fastest (index = i + nx*(j + ny*k)). Face fields are (n+1) on their axis.
   glm::ivec3 fieldShape(Field f) const;
@@ -76,6 +79,9 @@ class Simulation {
 
  private:
   struct Engine;
+  // Runs fn on the GL thread with the engine; throws if the simulation is closed.
+  template <class F>
+  auto onGl(F&& fn);
 
   mutable std::mutex mutex_;
   fluid::Grid grid_;
@@ -85,6 +91,7 @@ class Simulation {
   StepReport last_;
   double time_s_ = 0.0;
   std::int64_t steps_ = 0;
+  gl::ContextInfo info_;
   std::unique_ptr<gl::GlWorker> worker_;
   std::unique_ptr<Engine> engine_;  // lives and dies on the worker's thread
 };

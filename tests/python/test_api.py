@@ -149,3 +149,16 @@ def test_step_releases_the_gil():
         time.sleep(0.001)
     t.join()
     assert ticks > 5  # the main thread ran Python while the steps ran
+
+
+def test_close_frees_and_later_calls_are_explained():
+    with hf.Simulation(resolution=(8, 8, 8)) as sim:
+        sim.step(0.01)
+        assert not sim.closed
+    assert sim.closed
+    with pytest.raises(hf.HapticFluidError, match="closed"):
+        sim.step(0.01)
+    with pytest.raises(hf.HapticFluidError, match="closed"):
+        sim.density()
+    assert sim.device["renderer"]  # what it ran on stays known
+    sim.close()  # closing twice is harmless
