@@ -88,11 +88,14 @@ std::vector<Candidate> candidatesFor(const std::string& request, const std::vect
   }
   char* end = nullptr;
   const long index = std::strtol(request.c_str(), &end, 10);
-  if (end == request.c_str() || *end != '\0' || index < 0 ||
-      index >= static_cast<long>(devices.size())) {
+  if (end == request.c_str() || *end != '\0' || index < 0) {
     throw InvalidArgument("EGL device request '" + request + "' (from " + kEnvDevice +
                           " or the device argument) is not 'auto', 'software' or a device number; "
                           "devices found:\n" + listDevices());
+  }
+  if (index >= static_cast<long>(devices.size())) {
+    throw InvalidArgument("EGL device " + request + " does not exist (from " + kEnvDevice +
+                          " or the device argument); devices found:\n" + listDevices());
   }
   order.push_back(devices[static_cast<std::size_t>(index)]);
   return order;
