@@ -14,6 +14,11 @@ namespace hf::gl {
 namespace {
 
 constexpr const char* kCommonFile = "common.glsl";
+// Line numbers the parts of the composed source are compiled with. Mesa reports errors found
+// after parsing (undeclared names, type mismatches) with source string 0 whatever #line set,
+// so the part is told from the line's range; the source string number only breaks ties.
+constexpr long kCommonLineBase = 100000;    // common.glsl line n is compiled as 100000 + n
+constexpr long kPreambleLineBase = 200000;  // the n-th #define line is compiled as 200000 + n
 
 // The info log of a shader (glGetShaderiv/InfoLog) or program (glGetProgramiv/InfoLog).
 template <class GetIv, class GetLog>
@@ -29,8 +34,9 @@ std::string infoLog(GLuint id, GetIv get_iv, GetLog get_log) {
 
 std::string composeSource(const std::string& stage_source, const Defines& defines) {
   std::string s = "#version 450 core\n";
+  s += "#line " + std::to_string(kPreambleLineBase + 1) + " 0\n";
   for (const auto& [name, value] : defines) s += "#define " + name + " " + value + "\n";
-  s += "#line 1 1\n";
+  s += "#line " + std::to_string(kCommonLineBase + 1) + " 1\n";
   s += shaderSource(kCommonFile);
   s += "\n#line 1 2\n";
   s += stage_source;
@@ -39,18 +45,19 @@ std::string composeSource(const std::string& stage_source, const Defines& define
 
 std::string annotateLog(const std::string& log, const std::string& stage_file) {
   static const std::regex mesa(R"(^(\d+):(\d+)\(\d+\))");
-  static const std::regex nvidia(R"(^(\d+)\((\d+)\))");
-  auto file_of = [&](const std::string& n) {
-    if (n == "1") return std::string(kCommonFile);
-    if (n == "2") return stage_file;
-    return stage_file + " (preamble)";
+  static const std::regex nvidia(R"(^(\d+)\((\d+)\) ?)");  // "0(12) : error" -> "<file>:12: error"
+  auto locate = [&](const std::string& source, long line) {
+    if (line > kPreambleLineBase) return stage_file + " (preamble):" + std::to_string(line - kPreambleLineBase);
+    if (line > kCommonLineBase) return std::string(kCommonFile) + ":" + std::to_string(line - kCommonLineBase);
+    if (source == "1") return std::string(kCommonFile) + ":" + std::to_string(line);
+    return stage_file + ":" + std::to_string(line);  // string 2, or Mesa's 0 after parsing
   };
   std::istringstream in(log);
   std::string line, out;
   while (std::getline(in, line)) {
     std::smatch m;
     if (std::regex_search(line, m, mesa) || std::regex_search(line, m, nvidia)) {
-      line = file_of(m[1]) + ":" + m[2].str() + line.substr(static_cast<std::size_t>(m.length(0)));
+      line = locate(m[1].str(), std::stol(m[2].str())) + line.substr(static_cast<std::size_t>(m.length(0)));
     }
     out += line + "\n";
   }

@@ -3,11 +3,15 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
+
 #include "common/error.h"
 #include "gl/gl_check.h"
 
 namespace hf::gl {
 namespace {
+
+constexpr std::size_t kMaxReadBytes = std::size_t(1) << 30;  // per glGetTextureSubImage call
 
 struct FormatInfo {
   GLenum internal, format, type;
@@ -96,7 +100,16 @@ void Texture3D::download(void* dst, std::size_t bytes) const {
   if (bytes != texels() * bytesPerTexel()) throw Error("download of '" + label_ + "': wrong buffer size");
   const FormatInfo fi = formatInfo(format_);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(id_, 0, fi.format, fi.type, static_cast<GLsizei>(bytes), dst);
+  // In z-slabs of at most kMaxReadBytes: GL sizes are GLsizei, and 2 GiB fields exist.
+  const std::size_t slice = static_cast<std::size_t>(size_.x) * size_.y * bytesPerTexel();
+  const int slab = static_cast<int>(std::max<std::size_t>(1, kMaxReadBytes / slice));
+  auto* out = static_cast<unsigned char*>(dst);
+  for (int z = 0; z < size_.z; z += slab) {
+    const int depth = std::min(slab, size_.z - z);
+    const std::size_t n = slice * static_cast<std::size_t>(depth);
+    glGetTextureSubImage(id_, 0, 0, 0, z, size_.x, size_.y, depth, fi.format, fi.type, static_cast<GLsizei>(n),
+                         out + slice * static_cast<std::size_t>(z));
+  }
   checkGl("reading back texture '" + label_ + "'");
 }
 

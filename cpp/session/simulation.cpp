@@ -60,7 +60,7 @@ fluid::Grid makeGrid(const SimulationConfig& c) {
 }
 
 void checkFits(const fluid::Grid& g, const gl::ContextInfo& info) {
-  const int largest = std::max(g.res.x, std::max(g.res.y, g.res.z)) + 1;  // face fields have n+1
+  const long long largest = static_cast<long long>(std::max(g.res.x, std::max(g.res.y, g.res.z))) + 1;  // faces: n+1
   if (info.max_3d_texture_size > 0 && largest > info.max_3d_texture_size) {
     throw InvalidArgument("resolution too large for this GPU: " + std::to_string(largest) +
                           " texels on an axis, the device allows " + std::to_string(info.max_3d_texture_size));
@@ -191,10 +191,11 @@ void Simulation::close() {
     try {
       worker_->call([this] { engine_.reset(); });
     } catch (...) {
-      // Closing must not throw; the context goes with the worker regardless.
+      // Closing must not throw. GL objects may only die on the GL thread, so if that failed
+      // they are abandoned here and freed with the context when the worker ends.
+      static_cast<void>(engine_.release());
     }
   }
-  engine_.reset();
   worker_.reset();
 }
 
