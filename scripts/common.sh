@@ -9,7 +9,7 @@ HF_BUILD="${HF_BUILD:-$HF_ROOT/build}"
 HF_PACKAGES=(
   cmake g++ make
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
-  libglm-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
   blender
 )
