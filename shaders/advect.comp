@@ -7,7 +7,7 @@ layout(binding = 0) uniform sampler3D u_vel_x;
 layout(binding = 1) uniform sampler3D u_vel_y;
 layout(binding = 2) uniform sampler3D u_vel_z;
 layout(binding = 3) uniform sampler3D u_src;
-layout(binding = 4) uniform usampler3D u_nbmask;
+layout(r8ui, binding = 1) readonly uniform uimage3D u_nbmask;
 layout(r32f, binding = 0) uniform writeonly image3D u_dst;
 
 uniform ivec3 u_field_size;   // texels of this field
@@ -19,7 +19,7 @@ uniform int u_zero_in_solid;  // 1: cells covered by the solid get 0 (scalars on
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(idx, u_field_size))) return;
-  if (u_zero_in_solid != 0 && (texelFetch(u_nbmask, idx, 0).r & NB_SOLID) != 0u) {
+  if (u_zero_in_solid != 0 && (imageLoad(u_nbmask, idx).r & NB_SOLID) != 0u) {
     imageStore(u_dst, idx, vec4(0.0));
     return;
   }

@@ -2,13 +2,13 @@
 // pressure stages, each cell's neighbour mask (see common.glsl).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(binding = 0) uniform usampler3D u_solid;
+layout(r8ui, binding = 2) readonly uniform uimage3D u_solid;
 layout(r8ui, binding = 0) uniform writeonly uimage3D u_class;
 layout(r8ui, binding = 1) uniform writeonly uimage3D u_nbmask;
 
 uniform int u_open_top;  // 1: the +z wall is open (pressure 0 beyond it)
 
-bool solidAt(ivec3 c) { return texelFetch(u_solid, c, 0).r != 0u; }
+bool solidAt(ivec3 c) { return imageLoad(u_solid, c).r != 0u; }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);

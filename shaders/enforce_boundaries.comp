@@ -3,8 +3,8 @@
 // gets the solid's velocity (the average over the solid cells on its two sides).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(binding = 0) uniform usampler3D u_nbmask;
-layout(binding = 1) uniform sampler3D u_solid_velocity;
+layout(r8ui, binding = 1) readonly uniform uimage3D u_nbmask;
+layout(rgba32f, binding = 2) readonly uniform image3D u_solid_velocity;
 layout(r32f, binding = 0) uniform image3D u_vel;
 
 uniform int u_axis;
@@ -24,11 +24,11 @@ void main() {
   // Clamping makes both sides of an open-top face the cell below it.
   ivec3 lo = clampCell(idx - unitAxis(u_axis));
   ivec3 hi = clampCell(idx);
-  bool slo = (texelFetch(u_nbmask, lo, 0).r & NB_SOLID) != 0u;
-  bool shi = (texelFetch(u_nbmask, hi, 0).r & NB_SOLID) != 0u;
+  bool slo = (imageLoad(u_nbmask, lo).r & NB_SOLID) != 0u;
+  bool shi = (imageLoad(u_nbmask, hi).r & NB_SOLID) != 0u;
   if (!slo && !shi) return;
   float sum = 0.0;
-  if (slo) sum += texelFetch(u_solid_velocity, lo, 0)[u_axis];
-  if (shi) sum += texelFetch(u_solid_velocity, hi, 0)[u_axis];
+  if (slo) sum += imageLoad(u_solid_velocity, lo)[u_axis];
+  if (shi) sum += imageLoad(u_solid_velocity, hi)[u_axis];
   imageStore(u_vel, idx, vec4(sum / float(int(slo) + int(shi))));
 }

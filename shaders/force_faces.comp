@@ -5,8 +5,8 @@
 // face's centre. Each workgroup writes its sum to partials[] (w = number of faces).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(binding = 0) uniform sampler3D u_pressure;
-layout(binding = 1) uniform usampler3D u_class;
+layout(r32f, binding = 0) readonly uniform image3D u_pressure;
+layout(r8ui, binding = 1) readonly uniform uimage3D u_class;
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 
 uniform ivec3 u_origin;         // first cell of the box
@@ -23,16 +23,16 @@ void main() {
   ivec3 local = ivec3(gl_GlobalInvocationID);
   ivec3 c = u_origin + local;
   vec4 mine = vec4(0.0);
-  if (all(lessThan(local, u_extent)) && inGrid(c) && texelFetch(u_class, c, 0).r == CELL_BOUNDARY) {
+  if (all(lessThan(local, u_extent)) && inGrid(c) && imageLoad(u_class, c).r == CELL_BOUNDARY) {
     vec3 centre = vec3(c) + 0.5;
     for (int d = 0; d < 6; ++d) {
       ivec3 q = c + NEIGHBOUR[d];
       if (!inGrid(q)) continue;
-      uint k = texelFetch(u_class, q, 0).r;
+      uint k = imageLoad(u_class, q).r;
       if (k != CELL_SURROUNDING && k != CELL_OUTSIDE) continue;
       vec3 n_out = vec3(NEIGHBOUR[d]);
       vec3 face = centre + 0.5 * n_out;
-      float p = texelFetch(u_pressure, q, 0).r + dot(u_rho_g, (face - u_reference) * u_cell_size);
+      float p = imageLoad(u_pressure, q).r + dot(u_rho_g, (face - u_reference) * u_cell_size);
       mine += vec4(-p * u_face_area * n_out, 1.0);
     }
   }

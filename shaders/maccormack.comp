@@ -6,10 +6,10 @@ layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 layout(binding = 0) uniform sampler3D u_vel_x;
 layout(binding = 1) uniform sampler3D u_vel_y;
 layout(binding = 2) uniform sampler3D u_vel_z;
-layout(binding = 3) uniform sampler3D u_phi;       // field before advection
-layout(binding = 4) uniform usampler3D u_nbmask;
-layout(binding = 5) uniform sampler3D u_forward;   // semi-Lagrangian result
-layout(binding = 6) uniform sampler3D u_backward;  // forward result traced back
+layout(r8ui, binding = 1) readonly uniform uimage3D u_nbmask;
+layout(r32f, binding = 2) readonly uniform image3D u_forward;   // semi-Lagrangian result
+layout(r32f, binding = 3) readonly uniform image3D u_backward;  // forward result traced back
+layout(r32f, binding = 4) readonly uniform image3D u_phi;       // field before advection
 layout(r32f, binding = 0) uniform writeonly image3D u_dst;
 
 uniform ivec3 u_field_size;
@@ -21,7 +21,7 @@ uniform int u_zero_in_solid;
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(idx, u_field_size))) return;
-  if (u_zero_in_solid != 0 && (texelFetch(u_nbmask, idx, 0).r & NB_SOLID) != 0u) {
+  if (u_zero_in_solid != 0 && (imageLoad(u_nbmask, idx).r & NB_SOLID) != 0u) {
     imageStore(u_dst, idx, vec4(0.0));
     return;
   }
@@ -36,13 +36,13 @@ void main() {
   float hi = -3.0e38;
   for (int n = 0; n < 8; ++n) {
     ivec3 q = min(base + ivec3(n & 1, (n >> 1) & 1, (n >> 2) & 1), u_field_size - 1);
-    float s = texelFetch(u_phi, q, 0).r;
+    float s = imageLoad(u_phi, q).r;
     lo = min(lo, s);
     hi = max(hi, s);
   }
-  float fwd = texelFetch(u_forward, idx, 0).r;
-  float bwd = texelFetch(u_backward, idx, 0).r;
-  float phi = texelFetch(u_phi, idx, 0).r;
+  float fwd = imageLoad(u_forward, idx).r;
+  float bwd = imageLoad(u_backward, idx).r;
+  float phi = imageLoad(u_phi, idx).r;
   float value = clamp(fwd + 0.5 * (phi - bwd), lo, hi) * u_decay;
   imageStore(u_dst, idx, vec4(value));
 }

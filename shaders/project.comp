@@ -3,8 +3,8 @@
 // velocity and closed walls stay at 0 (set by enforce_boundaries); per-texel update only.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(binding = 0) uniform sampler3D u_pressure;
-layout(binding = 1) uniform usampler3D u_nbmask;
+layout(r32f, binding = 1) readonly uniform image3D u_pressure;
+layout(r8ui, binding = 2) readonly uniform uimage3D u_nbmask;
 layout(r32f, binding = 0) uniform image3D u_vel;
 
 uniform int u_axis;
@@ -18,13 +18,13 @@ void main() {
   bool top = u_open_top != 0 && u_axis == 2 && i == u_res.z;
   if ((i == 0 || i == u_res[u_axis]) && !top) return;
   ivec3 lo = idx - unitAxis(u_axis);
-  uint mlo = texelFetch(u_nbmask, lo, 0).r;
+  uint mlo = imageLoad(u_nbmask, lo).r;
   if ((mlo & NB_SOLID) != 0u) return;
-  float p_lo = texelFetch(u_pressure, lo, 0).r;
+  float p_lo = imageLoad(u_pressure, lo).r;
   float p_hi = 0.0;
   if (!top) {
-    if ((texelFetch(u_nbmask, idx, 0).r & NB_SOLID) != 0u) return;
-    p_hi = texelFetch(u_pressure, idx, 0).r;
+    if ((imageLoad(u_nbmask, idx).r & NB_SOLID) != 0u) return;
+    p_hi = imageLoad(u_pressure, idx).r;
   }
   float v = imageLoad(u_vel, idx).r;
   imageStore(u_vel, idx, vec4(v - u_scale * (p_hi - p_lo)));

@@ -2,9 +2,9 @@
 // (r = rhs - sum_nb (p_nb - p)), written to partials[] for reduce.comp.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(binding = 0) uniform sampler3D u_pressure;
-layout(binding = 1) uniform sampler3D u_rhs;
-layout(binding = 2) uniform usampler3D u_nbmask;
+layout(r32f, binding = 1) readonly uniform image3D u_pressure;
+layout(r32f, binding = 2) readonly uniform image3D u_rhs;
+layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 
 const uint GROUP = uint(WG_X * WG_Y * WG_Z);
@@ -14,16 +14,16 @@ void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   vec4 mine = vec4(0.0);
   if (inGrid(c)) {
-    uint m = texelFetch(u_nbmask, c, 0).r;
+    uint m = imageLoad(u_nbmask, c).r;
     if ((m & NB_SOLID) == 0u) {
-      float p = texelFetch(u_pressure, c, 0).r;
+      float p = imageLoad(u_pressure, c).r;
       float lap = 0.0;
       for (int d = 0; d < 6; ++d) {
         float use = float((m >> uint(d)) & 1u);
-        lap += use * (texelFetch(u_pressure, clampCell(c + NEIGHBOUR[d]), 0).r - p);
+        lap += use * (imageLoad(u_pressure, c + NEIGHBOUR[d]).r - p);
       }
       if ((m & NB_OPEN_TOP) != 0u) lap -= p;
-      float b = texelFetch(u_rhs, c, 0).r;
+      float b = imageLoad(u_rhs, c).r;
       float r = b - lap;
       mine = vec4(r * r, b * b, 0.0, 0.0);
     }

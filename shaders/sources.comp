@@ -4,7 +4,7 @@ layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r32f, binding = 0) uniform image3D u_density;
 layout(r32f, binding = 1) uniform image3D u_temperature;
-layout(binding = 0) uniform usampler3D u_nbmask;
+layout(r8ui, binding = 2) readonly uniform uimage3D u_nbmask;
 
 uniform ivec3 u_origin;       // first cell of the dispatched box
 uniform vec3 u_centre;        // emitter centre, grid units
@@ -17,7 +17,7 @@ void main() {
   if (!inGrid(c)) return;
   vec3 r = vec3(c) + 0.5 - u_centre;
   if (dot(r, r) > u_radius * u_radius) return;
-  if ((texelFetch(u_nbmask, c, 0).r & NB_SOLID) != 0u) return;
+  if ((imageLoad(u_nbmask, c).r & NB_SOLID) != 0u) return;
   float d = imageLoad(u_density, c).r;
   float t = imageLoad(u_temperature, c).r;
   imageStore(u_density, c, vec4(max(d, u_density_value)));

@@ -2,18 +2,18 @@
 // w holds its magnitude for the confinement stage.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(binding = 0) uniform sampler3D u_vel_x;
-layout(binding = 1) uniform sampler3D u_vel_y;
-layout(binding = 2) uniform sampler3D u_vel_z;
+layout(r32f, binding = 1) readonly uniform image3D u_vel_x;
+layout(r32f, binding = 2) readonly uniform image3D u_vel_y;
+layout(r32f, binding = 3) readonly uniform image3D u_vel_z;
 layout(rgba32f, binding = 0) uniform writeonly image3D u_vorticity;
 
 uniform float u_cell_size;  // m
 
 vec3 centred(ivec3 c) {
   c = clampCell(c);
-  return 0.5 * vec3(texelFetch(u_vel_x, c, 0).r + texelFetch(u_vel_x, c + ivec3(1, 0, 0), 0).r,
-                    texelFetch(u_vel_y, c, 0).r + texelFetch(u_vel_y, c + ivec3(0, 1, 0), 0).r,
-                    texelFetch(u_vel_z, c, 0).r + texelFetch(u_vel_z, c + ivec3(0, 0, 1), 0).r);
+  return 0.5 * vec3(imageLoad(u_vel_x, c).r + imageLoad(u_vel_x, c + ivec3(1, 0, 0)).r,
+                    imageLoad(u_vel_y, c).r + imageLoad(u_vel_y, c + ivec3(0, 1, 0)).r,
+                    imageLoad(u_vel_z, c).r + imageLoad(u_vel_z, c + ivec3(0, 0, 1)).r);
 }
 
 void main() {

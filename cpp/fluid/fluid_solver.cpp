@@ -47,12 +47,16 @@ void FluidSolver::bindVelocitySamplers() {
   for (int a = 0; a < 3; ++a) fields_.vel[static_cast<std::size_t>(a)].cur().bindSampler(static_cast<unsigned>(a));
 }
 
+void FluidSolver::bindVelocityImages(unsigned first) {
+  for (unsigned a = 0; a < 3; ++a) fields_.vel[a].cur().bindImage(first + a, GL_READ_ONLY);
+}
+
 void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
                               const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
                               const FluidParams& p) {
   const float dt_over_h = dt_s / grid_.cell_size_m;
   bindVelocitySamplers();
-  fields_.nbmask.bindSampler(4);
+  fields_.nbmask.bindImage(1, GL_READ_ONLY);
   advect_.set("u_field_size", size);
   advect_.set("u_field_offset", offset);
   if (p.advection == Advection::SemiLagrangian) {
@@ -77,9 +81,9 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
   bwd.bindImage(0, GL_WRITE_ONLY);
   advect_.set("u_dt_over_h", -dt_over_h);
   advect_.dispatch(size);
-  src.bindSampler(3);
-  fwd.bindSampler(5);
-  bwd.bindSampler(6);
+  src.bindImage(4, GL_READ_ONLY);
+  fwd.bindImage(2, GL_READ_ONLY);
+  bwd.bindImage(3, GL_READ_ONLY);
   dst.bindImage(0, GL_WRITE_ONLY);
   maccormack_.set("u_field_size", size);
   maccormack_.set("u_field_offset", offset);
@@ -115,7 +119,7 @@ void FluidSolver::applySources(const SmokeSource& s) {
   if (glm::any(glm::lessThanEqual(extent, glm::ivec3(0)))) return;
   fields_.density.cur().bindImage(0, GL_READ_WRITE);
   fields_.temperature.cur().bindImage(1, GL_READ_WRITE);
-  fields_.nbmask.bindSampler(0);
+  fields_.nbmask.bindImage(2, GL_READ_ONLY);
   sources_.set("u_origin", lo);
   sources_.set("u_centre", c);
   sources_.set("u_radius", r);
@@ -129,23 +133,23 @@ void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
   const bool confined = p.vorticity_confinement > 0.0f;
   if (!buoyant && !confined) return;
   if (confined) {
-    bindVelocitySamplers();
+    bindVelocityImages(1);
     fields_.vorticity.bindImage(0, GL_WRITE_ONLY);
     vorticity_.dispatch(grid_.res);
   }
   const float g = glm::length(p.gravity_m_s2);
   const glm::vec3 up = g > 0.0f ? -p.gravity_m_s2 / g : glm::vec3(0.0f, 0.0f, 1.0f);
-  fields_.density.cur().bindSampler(0);
-  fields_.temperature.cur().bindSampler(1);
-  fields_.vorticity.bindSampler(2);
-  fields_.nbmask.bindSampler(3);
+  fields_.density.cur().bindImage(1, GL_READ_ONLY);
+  fields_.temperature.cur().bindImage(2, GL_READ_ONLY);
+  fields_.vorticity.bindImage(3, GL_READ_ONLY);
+  fields_.nbmask.bindImage(4, GL_READ_ONLY);
   fields_.cell_force.bindImage(0, GL_WRITE_ONLY);
   cell_forces_.set("u_up", up);
   cell_forces_.set("u_smoke_weight", p.smoke_weight_m_s2);
   cell_forces_.set("u_heat_buoyancy", p.heat_buoyancy_m_s2_k);
   cell_forces_.set("u_confinement", confined ? p.vorticity_confinement : 0.0f);
   cell_forces_.dispatch(grid_.res);
-  fields_.cell_force.bindSampler(0);
+  fields_.cell_force.bindImage(1, GL_READ_ONLY);
   apply_forces_.set("u_dt", dt_s);
   for (int a = 0; a < 3; ++a) {
     fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
@@ -155,8 +159,8 @@ void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
 }
 
 void FluidSolver::enforceBoundaries(const FluidParams& p) {
-  fields_.nbmask.bindSampler(0);
-  fields_.solid_velocity.bindSampler(1);
+  fields_.nbmask.bindImage(1, GL_READ_ONLY);
+  fields_.solid_velocity.bindImage(2, GL_READ_ONLY);
   boundaries_.set("u_open_top", p.open_top ? 1 : 0);
   for (int a = 0; a < 3; ++a) {
     fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
@@ -166,8 +170,8 @@ void FluidSolver::enforceBoundaries(const FluidParams& p) {
 }
 
 void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
-  bindVelocitySamplers();
-  fields_.nbmask.bindSampler(3);
+  bindVelocityImages(1);
+  fields_.nbmask.bindImage(4, GL_READ_ONLY);
   fields_.rhs.bindImage(0, GL_WRITE_ONLY);
   divergence_.set("u_scale", p.density_kg_m3 * grid_.cell_size_m / dt_s);
   divergence_.dispatch(grid_.res);
@@ -176,17 +180,17 @@ void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
 SolveStats FluidSolver::solvePressure(const FluidParams& p) { return pressure_->solve(fields_, p); }
 
 void FluidSolver::measureResidual(gl::GroupReducer& reducer, std::size_t slot) {
-  fields_.pressure.cur().bindSampler(0);
-  fields_.rhs.bindSampler(1);
-  fields_.nbmask.bindSampler(2);
+  fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
+  fields_.rhs.bindImage(2, GL_READ_ONLY);
+  fields_.nbmask.bindImage(3, GL_READ_ONLY);
   reducer.bindPartials(0);
   residual_.dispatch(grid_.res);
   reducer.reduce(gl::groupCount(grid_.res), slot);
 }
 
 void FluidSolver::project(float dt_s, const FluidParams& p) {
-  fields_.pressure.cur().bindSampler(0);
-  fields_.nbmask.bindSampler(1);
+  fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
+  fields_.nbmask.bindImage(2, GL_READ_ONLY);
   project_.set("u_open_top", p.open_top ? 1 : 0);
   project_.set("u_scale", dt_s / (p.density_kg_m3 * grid_.cell_size_m));
   for (int a = 0; a < 3; ++a) {

@@ -39,7 +39,8 @@ class FluidSolver {
   void advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
                    const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
                    const FluidParams& p);
-  void bindVelocitySamplers();
+  void bindVelocitySamplers();           // texture units 0-2, for trilinear sampling
+  void bindVelocityImages(unsigned first);  // read-only image units first..first+2
 
   Grid grid_;
   FluidFields fields_;

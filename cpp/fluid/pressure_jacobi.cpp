@@ -11,10 +11,10 @@ PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.c
 }
 
 SolveStats PressureJacobi::solve(FluidFields& f, const FluidParams& params) {
-  f.rhs.bindSampler(1);
-  f.nbmask.bindSampler(2);
+  f.rhs.bindImage(2, GL_READ_ONLY);
+  f.nbmask.bindImage(3, GL_READ_ONLY);
   for (int i = 0; i < params.pressure_iterations; ++i) {
-    f.pressure.cur().bindSampler(0);
+    f.pressure.cur().bindImage(1, GL_READ_ONLY);
     f.pressure.next().bindImage(0, GL_WRITE_ONLY);
     sweep_.dispatch(grid_.res);
     f.pressure.swap();

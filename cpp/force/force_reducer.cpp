@@ -1,5 +1,7 @@
 #include "force/force_reducer.h"
 
+#include <GL/gl.h>
+
 #include <cmath>
 
 #include "gl/workgroup.h"
@@ -20,8 +22,8 @@ void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& ce
     reducer.reduce(0, slot);  // an empty box gives a zero force
     return;
   }
-  pressure.bindSampler(0);
-  cell_class.bindSampler(1);
+  pressure.bindImage(0, GL_READ_ONLY);
+  cell_class.bindImage(1, GL_READ_ONLY);
   reducer.bindPartials(0);
   faces_.set("u_origin", box.origin);
   faces_.set("u_extent", box.extent);

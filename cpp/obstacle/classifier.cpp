@@ -12,7 +12,7 @@ Classifier::Classifier(const fluid::Grid& grid) : grid_(grid), program_("classif
 
 void Classifier::classify(const gl::Texture3D& solid, gl::Texture3D& cell_class, gl::Texture3D& nbmask,
                           bool open_top) {
-  solid.bindSampler(0);
+  solid.bindImage(2, GL_READ_ONLY);
   cell_class.bindImage(0, GL_WRITE_ONLY);
   nbmask.bindImage(1, GL_WRITE_ONLY);
   program_.set("u_open_top", open_top ? 1 : 0);
