@@ -23,24 +23,22 @@ from hapticfluid import demo as _demo
 # ---------------------------------------------------------------------------- argument types
 
 
-def _positive_int(text: str) -> int:
+def _int_at_least(text: str, minimum: int, expected: str, too_small: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"{too_small}, got {value}")
     return value
+
+
+def _positive_int(text: str) -> int:
+    return _int_at_least(text, 1, "a positive integer", "must be a positive integer")
 
 
 def _cells(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a cell count, got {text!r}") from None
-    if value < 8:
-        raise argparse.ArgumentTypeError(f"need at least 8 cells per axis, got {value}")
-    return value
+    return _int_at_least(text, 8, "a cell count", "need at least 8 cells per axis")
 
 
 def _positive_float(text: str) -> float:
