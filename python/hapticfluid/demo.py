@@ -140,6 +140,12 @@ def _check_positive(name: str, value: float) -> float:
     return number
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def _atomic_write(path: Path, write: Callable, mode: str = "w") -> None:
     """Write ``path`` through a temporary file in the same directory, then rename it into place."""
     kwargs = {"newline": "", "encoding": "utf-8"} if "b" not in mode else {}
@@ -147,6 +153,7 @@ def _atomic_write(path: Path, write: Callable, mode: str = "w") -> None:
     try:
         with os.fdopen(fd, mode, **kwargs) as f:
             write(f)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual file mode
         os.replace(tmp, path)
     except BaseException:
         try:

@@ -3,6 +3,7 @@
 import csv
 import math
 import os
+import stat
 import subprocess
 import sys
 
@@ -177,3 +178,10 @@ def test_cli_info(capsys):
     assert cli.main(["info"]) == 0
     text = capsys.readouterr().out
     assert "renderer" in text and "EGL devices:" in text
+
+
+def test_outputs_have_the_usual_file_mode(tmp_path):
+    result = demo.run_demo(resolution=(16, 16, 16), steps=2, out_dir=tmp_path, plot=False, log=lambda line: None)
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(result.csv_path.stat().st_mode) == 0o666 & ~mask
