@@ -19,9 +19,13 @@ vec3 centred(ivec3 c) {
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  vec3 dx = centred(c + ivec3(1, 0, 0)) - centred(c - ivec3(1, 0, 0));
-  vec3 dy = centred(c + ivec3(0, 1, 0)) - centred(c - ivec3(0, 1, 0));
-  vec3 dz = centred(c + ivec3(0, 0, 1)) - centred(c - ivec3(0, 0, 1));
-  vec3 w = vec3(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x) / (2.0 * u_cell_size);
+  // Central differences inside, one-sided at the walls (divided by the cells actually spanned).
+  ivec3 hi = clampCell(c + 1);
+  ivec3 lo = clampCell(c - 1);
+  vec3 span = vec3(max(hi - lo, ivec3(1))) * u_cell_size;
+  vec3 dx = (centred(ivec3(hi.x, c.y, c.z)) - centred(ivec3(lo.x, c.y, c.z))) / span.x;
+  vec3 dy = (centred(ivec3(c.x, hi.y, c.z)) - centred(ivec3(c.x, lo.y, c.z))) / span.y;
+  vec3 dz = (centred(ivec3(c.x, c.y, hi.z)) - centred(ivec3(c.x, c.y, lo.z))) / span.z;
+  vec3 w = vec3(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x);
   imageStore(u_vorticity, c, vec4(w, length(w)));
 }

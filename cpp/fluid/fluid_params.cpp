@@ -4,19 +4,21 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "fluid/validate.h"
 
 namespace hf::fluid {
 namespace {
 
 void requireFinite(float v, const char* name) {
-  if (!std::isfinite(v)) throw InvalidArgument(std::string(name) + " must be a finite number, got " + std::to_string(v));
+  if (!std::isfinite(v)) throw InvalidArgument(std::string(name) + " must be a finite number, got " + num(v));
 }
 
-void requireNonNegative(float v, const char* name, const char* unit) {
+void requireInRange(float v, float lo, float hi, const char* name, const char* unit) {
   requireFinite(v, name);
-  if (v < 0.0f) {
-    throw InvalidArgument(std::string(name) + " must be >= 0 " + unit + ", got " + std::to_string(v));
+  if (v < lo || v > hi) {
+    throw InvalidArgument(std::string(name) + " must be between " + num(lo) + " and " + num(hi) + " " + unit +
+                          ", got " + num(v));
   }
 }
 
@@ -24,16 +26,24 @@ void requireNonNegative(float v, const char* name, const char* unit) {
 
 void validate(const FluidParams& p) {
   requireFinite(p.density_kg_m3, "fluid density");
-  if (p.density_kg_m3 <= 0.0f) {
-    throw InvalidArgument("fluid density must be > 0 kg/m^3 (air is 1.2, water 1000), got " +
-                          std::to_string(p.density_kg_m3));
+  if (p.density_kg_m3 < kMinFluidDensity || p.density_kg_m3 > kMaxFluidDensity) {
+    throw InvalidArgument("fluid density must be between " + num(kMinFluidDensity) + " and " + num(kMaxFluidDensity) +
+                          " kg/m^3 (air is 1.2, water 1000), got " + num(p.density_kg_m3));
   }
   for (int a = 0; a < 3; ++a) requireFinite(p.gravity_m_s2[a], "gravity (m/s^2)");
-  requireNonNegative(p.vorticity_confinement, "vorticity confinement", "(dimensionless)");
-  requireFinite(p.smoke_weight_m_s2, "smoke weight (m/s^2)");
-  requireFinite(p.heat_buoyancy_m_s2_k, "heat buoyancy (m/s^2/K)");
-  requireNonNegative(p.density_dissipation_1_s, "smoke dissipation", "1/s");
-  requireNonNegative(p.temperature_dissipation_1_s, "heat dissipation", "1/s");
+  if (glm::length(p.gravity_m_s2) > kMaxGravity) {
+    throw InvalidArgument("gravity must be at most " + num(kMaxGravity) + " m/s^2 in magnitude, got " +
+                          vecText(p.gravity_m_s2));
+  }
+  if (p.open_top && (p.gravity_m_s2.x != 0.0f || p.gravity_m_s2.y != 0.0f || p.gravity_m_s2.z > 0.0f)) {
+    throw InvalidArgument("an open top needs gravity along -z (or none): the opening must be a surface of "
+                          "constant pressure; got gravity " + vecText(p.gravity_m_s2) + " m/s^2");
+  }
+  requireInRange(p.vorticity_confinement, 0.0f, kMaxFactor, "vorticity confinement", "(dimensionless)");
+  requireInRange(p.smoke_weight_m_s2, -kMaxGravity, kMaxGravity, "smoke weight", "m/s^2");
+  requireInRange(p.heat_buoyancy_m_s2_k, -kMaxGravity, kMaxGravity, "heat buoyancy", "m/s^2/K");
+  requireInRange(p.density_dissipation_1_s, 0.0f, kMaxFactor, "smoke dissipation", "1/s");
+  requireInRange(p.temperature_dissipation_1_s, 0.0f, kMaxFactor, "heat dissipation", "1/s");
   if (p.pressure_iterations < 1 || p.pressure_iterations > kMaxPressureIterations) {
     throw InvalidArgument("pressure iterations must be between 1 and " + std::to_string(kMaxPressureIterations) +
                           ", got " + std::to_string(p.pressure_iterations));
@@ -44,9 +54,9 @@ void validate(const SmokeSource& s, const Grid& g) {
   if (!s.enabled) return;
   for (int a = 0; a < 3; ++a) requireFinite(s.centre_m[a], "smoke source centre (m)");
   requireFinite(s.radius_m, "smoke source radius (m)");
-  if (s.radius_m <= 0.0f) throw InvalidArgument("smoke source radius must be > 0 m, got " + std::to_string(s.radius_m));
-  requireNonNegative(s.density, "smoke source density", "(concentration)");
-  requireNonNegative(s.temperature_k, "smoke source temperature", "K above ambient");
+  if (s.radius_m <= 0.0f) throw InvalidArgument("smoke source radius must be > 0 m, got " + num(s.radius_m));
+  requireInRange(s.density, 0.0f, kMaxFactor, "smoke source density", "(concentration)");
+  requireInRange(s.temperature_k, 0.0f, kMaxTemperature, "smoke source temperature", "K above ambient");
   const glm::vec3 lo = g.origin_m, hi = g.origin_m + g.sizeM();
   if (glm::any(glm::lessThan(s.centre_m + s.radius_m, lo)) || glm::any(glm::greaterThan(s.centre_m - s.radius_m, hi))) {
     throw InvalidArgument("smoke source lies entirely outside the domain; move its centre inside the box");

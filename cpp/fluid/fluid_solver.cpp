@@ -27,9 +27,12 @@ FluidSolver::FluidSolver(const Grid& grid)
       divergence_("divergence.comp", gl::cellGroupDefines()),
       residual_("residual.comp", gl::cellGroupDefines()),
       project_("project.comp", gl::cellGroupDefines()),
+      pressure_sum_("pressure_sum.comp", gl::cellGroupDefines()),
+      pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
       pressure_(std::make_unique<PressureJacobi>(grid)) {
   for (gl::ComputeProgram* p : {&advect_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
-                                &boundaries_, &divergence_, &residual_, &project_}) {
+                                &boundaries_, &divergence_, &residual_, &project_, &pressure_sum_,
+                                &pressure_shift_}) {
     p->set("u_res", grid.res);
   }
   vorticity_.set("u_cell_size", grid.cell_size_m);
@@ -113,8 +116,10 @@ void FluidSolver::applySources(const SmokeSource& s) {
   if (!s.enabled) return;
   const glm::vec3 c = grid_.toGrid(s.centre_m);
   const float r = s.radius_m / grid_.cell_size_m;
-  const glm::ivec3 lo = glm::clamp(glm::ivec3(glm::floor(c - r)), glm::ivec3(0), grid_.res - 1);
-  const glm::ivec3 hi = glm::clamp(glm::ivec3(glm::ceil(c + r)), glm::ivec3(0), grid_.res);
+  // Clamped as floats first: a huge radius must not overflow the integer conversion.
+  const glm::vec3 res(grid_.res);
+  const glm::ivec3 lo(glm::clamp(glm::floor(c - r), glm::vec3(0.0f), res - 1.0f));
+  const glm::ivec3 hi(glm::clamp(glm::ceil(c + r), glm::vec3(0.0f), res));
   const glm::ivec3 extent = hi - lo;
   if (glm::any(glm::lessThanEqual(extent, glm::ivec3(0)))) return;
   fields_.density.cur().bindImage(0, GL_READ_WRITE);
@@ -186,6 +191,18 @@ void FluidSolver::measureResidual(gl::GroupReducer& reducer, std::size_t slot) {
   reducer.bindPartials(0);
   residual_.dispatch(grid_.res);
   reducer.reduce(gl::groupCount(grid_.res), slot);
+}
+
+void FluidSolver::removePressureMean(gl::GroupReducer& reducer, std::size_t slot) {
+  fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
+  fields_.nbmask.bindImage(2, GL_READ_ONLY);
+  reducer.bindPartials(0);
+  pressure_sum_.dispatch(grid_.res);
+  reducer.reduce(gl::groupCount(grid_.res), slot);
+  fields_.pressure.cur().bindImage(0, GL_READ_WRITE);
+  reducer.bindResults(1);
+  pressure_shift_.set("u_slot", static_cast<unsigned>(slot));
+  pressure_shift_.dispatch(grid_.res);
 }
 
 void FluidSolver::project(float dt_s, const FluidParams& p) {

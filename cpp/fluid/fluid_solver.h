@@ -30,6 +30,8 @@ class FluidSolver {
   SolveStats solvePressure(const FluidParams& p);
   // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`.
   void measureResidual(gl::GroupReducer& reducer, std::size_t slot);
+  // Closed box only: shifts the pressure so its mean over fluid cells is 0 (sum into `slot`).
+  void removePressureMean(gl::GroupReducer& reducer, std::size_t slot);
   void project(float dt_s, const FluidParams& p);
 
   // Zeroes velocity, smoke, heat and pressure.
@@ -54,6 +56,8 @@ class FluidSolver {
   gl::ComputeProgram divergence_;
   gl::ComputeProgram residual_;
   gl::ComputeProgram project_;
+  gl::ComputeProgram pressure_sum_;
+  gl::ComputeProgram pressure_shift_;
   std::unique_ptr<PressureSolver> pressure_;
 };
 

@@ -1,11 +1,25 @@
 #pragma once
 // Checks of user-supplied settings; each throws hf::InvalidArgument saying what to change.
+// The ranges keep every derived quantity (rho h / dt, rho g L, face forces) a normal float;
+// they are wide enough for any smoke or liquid a person can move a probe through.
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
 
 namespace hf::fluid {
 
 inline constexpr int kMaxPressureIterations = 100000;
+inline constexpr float kMinFluidDensity = 1e-3f;  // kg/m^3
+inline constexpr float kMaxFluidDensity = 1e5f;   // kg/m^3 (mercury is 1.35e4)
+inline constexpr float kMaxGravity = 1e3f;        // m/s^2, also for buoyancy coefficients
+inline constexpr float kMaxFactor = 1e3f;         // confinement, dissipation rates, concentration
+inline constexpr float kMaxTemperature = 1e4f;    // K above ambient
+inline constexpr float kMinCellSize = 1e-5f;      // m
+inline constexpr float kMaxCellSize = 1e3f;       // m
+inline constexpr float kMaxOriginOffset = 1e6f;   // m from the world origin
+inline constexpr float kMinTimeStep = 1e-6f;      // s
+inline constexpr float kMaxTimeStep = 10.0f;      // s
+inline constexpr float kMaxProbeSpeed = 1e3f;     // m/s (incompressible flow is long gone by then)
+inline constexpr float kMaxProbeSpin = 1e4f;      // rad/s
 
 void validate(const FluidParams& params);
 void validate(const SmokeSource& source, const Grid& grid);

@@ -94,7 +94,12 @@ ComputeProgram::ComputeProgram(const std::string& file, const std::string& sourc
   GLint size[3] = {1, 1, 1};
   glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, size);
   local_size_ = glm::ivec3(size[0], size[1], size[2]);
-  checkGl("building " + file);
+  try {
+    checkGl("building " + file);
+  } catch (...) {
+    glDeleteProgram(id_);  // the destructor does not run for a constructor that throws
+    throw;
+  }
 }
 
 ComputeProgram::~ComputeProgram() {

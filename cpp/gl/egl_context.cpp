@@ -174,35 +174,46 @@ EglContext::EglContext(const std::string& request_arg) {
     auto fail = [&](const std::string& what) {
       failures += "  " + label + ": " + what + " (" + eglErrorText(eglGetError()) + ")\n";
     };
+    // Displays are never eglTerminate()d, on failure either: EGL shares one per device in the
+    // process, and another simulation (or Blender) may be using it.
     if (dpy == EGL_NO_DISPLAY) { fail("eglGetPlatformDisplay failed"); continue; }
     EGLint major = 0, minor = 0;
     if (!eglInitialize(dpy, &major, &minor)) { fail("eglInitialize failed"); continue; }
     const char* dpy_ext = eglQueryString(dpy, EGL_EXTENSIONS);
     if (!hasToken(dpy_ext, "EGL_KHR_surfaceless_context")) {
       failures += "  " + label + ": no EGL_KHR_surfaceless_context\n";
-      eglTerminate(dpy);
       continue;
     }
-    if (!eglBindAPI(EGL_OPENGL_API)) { fail("eglBindAPI(OpenGL) failed"); eglTerminate(dpy); continue; }
+    if (!eglBindAPI(EGL_OPENGL_API)) { fail("eglBindAPI(OpenGL) failed"); continue; }
     EGLConfig config = EGL_NO_CONFIG_KHR;
     if (!hasToken(dpy_ext, "EGL_KHR_no_config_context")) {
       const EGLint cfg_attr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
       EGLint n = 0;
       if (!eglChooseConfig(dpy, cfg_attr, &config, 1, &n) || n < 1) {
-        fail("no OpenGL EGL config"); eglTerminate(dpy); continue;
+        fail("no OpenGL EGL config"); continue;
       }
     }
     EGLContext ctx = EGL_NO_CONTEXT;
-    for (int gl_minor : {6, 5, 3}) {
-      const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, gl_minor,
+    for (int want_minor : {6, 5}) {
+      const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, want_minor,
                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                  EGL_NONE};
       ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attr);
       if (ctx != EGL_NO_CONTEXT) break;
     }
-    if (ctx == EGL_NO_CONTEXT) { fail("no OpenGL 4.3+ core context"); eglTerminate(dpy); continue; }
+    if (ctx == EGL_NO_CONTEXT) { fail("no OpenGL 4.5 core context"); continue; }
     if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-      fail("eglMakeCurrent failed"); eglDestroyContext(dpy, ctx); eglTerminate(dpy); continue;
+      fail("eglMakeCurrent failed"); eglDestroyContext(dpy, ctx); continue;
+    }
+    GLint gl_major = 0, gl_minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &gl_major);
+    glGetIntegerv(GL_MINOR_VERSION, &gl_minor);
+    if (gl_major < 4 || (gl_major == 4 && gl_minor < 5)) {
+      failures += "  " + label + ": OpenGL " + std::to_string(gl_major) + "." + std::to_string(gl_minor) +
+                  " only; the engine needs 4.5\n";
+      eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+      eglDestroyContext(dpy, ctx);
+      continue;
     }
     display_ = dpy;
     context_ = ctx;
@@ -220,7 +231,7 @@ EglContext::EglContext(const std::string& request_arg) {
     glGetError();
     return;
   }
-  throw GlError("EGL context: no device gave an OpenGL 4.3 core context (request '" +
+  throw GlError("EGL context: no device gave an OpenGL 4.5 core context (request '" +
                 (request.empty() ? std::string("auto") : request) + "'):\n" + failures +
                 "Install Mesa's EGL and llvmpipe (packages libegl-mesa0 libgl1-mesa-dri) or a GPU driver.");
 }

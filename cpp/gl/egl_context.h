@@ -23,7 +23,7 @@ struct ContextInfo {
 //
 // Device choice (`request`, or the environment variable HAPTICFLUID_EGL_DEVICE when
 // `request` is empty):
-//   ""/"auto"  first hardware EGL device that gives a 4.3+ core context, else software
+//   ""/"auto"  first hardware EGL device that gives a 4.5 core context, else software
 //   "software" Mesa's software rasterizer (llvmpipe)
 //   "<N>"      EGL device number N (as listed by listDevices())
 class EglContext {

@@ -19,6 +19,7 @@ class GroupReducer {
 
   std::size_t maxGroups() const { return max_groups_; }
   void bindPartials(unsigned binding) const { partials_.bind(binding); }
+  void bindResults(unsigned binding) const { results_.bind(binding); }  // for GPU-side use of a sum
   void clearResults() { results_.clear(); }
   void reduce(std::size_t count, std::size_t slot);
   std::vector<glm::vec4> readResults() const;

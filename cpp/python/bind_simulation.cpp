@@ -4,6 +4,8 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/format.h"
+#include "fluid/validate.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "session/simulation.h"
@@ -42,11 +44,7 @@ template <class T, class Get, class Set>
 void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set, const char* doc) {
   c.def_property(
       name, [get](const Simulation& s) { return get(s.params()); },
-      [set](Simulation& s, T v) {
-        fluid::FluidParams p = s.params();
-        set(p, v);
-        s.setParams(p);
-      },
+      [set](Simulation& s, T v) { s.updateParams([&](fluid::FluidParams& p) { set(p, v); }); },
       doc);
 }
 
@@ -145,7 +143,10 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
 
   paramProperty<float>(c, "fluid_density", [](const fluid::FluidParams& p) { return p.density_kg_m3; },
                        [](fluid::FluidParams& p, float v) { p.density_kg_m3 = v; }, "Fluid density rho (kg/m^3).");
-  paramProperty<Vec3>(c, "gravity", [](const fluid::FluidParams& p) { return fromVec3(p.gravity_m_s2); },
+  paramProperty<Vec3>(c, "gravity",
+                      [](const fluid::FluidParams& p) {
+                        return py::make_tuple(p.gravity_m_s2.x, p.gravity_m_s2.y, p.gravity_m_s2.z);
+                      },
                       [](fluid::FluidParams& p, const Vec3& v) { p.gravity_m_s2 = toVec3(v); },
                       "Gravity (m/s^2).");
   paramProperty<bool>(c, "open_top", [](const fluid::FluidParams& p) { return p.open_top; },
@@ -218,7 +219,18 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
       "Emit smoke in a sphere: centre (m), radius (m); its cells are held at least at `density`\n"
       "(concentration) and `temperature` (K above ambient).");
   c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); }, "Stop emitting smoke.");
-  c.def("step", &Simulation::step, py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
+  c.def(
+      "step",
+      [](Simulation& s, double dt) {
+        // Checked in double first so a value float cannot hold is reported as given.
+        if (!(dt >= fluid::kMinTimeStep && dt <= fluid::kMaxTimeStep)) {
+          throw InvalidArgument("time step must be between " + num(fluid::kMinTimeStep) + " and " +
+                                num(fluid::kMaxTimeStep) + " s, got " + num(dt) + " s");
+        }
+        py::gil_scoped_release release;
+        return s.step(static_cast<float>(dt));
+      },
+      py::arg("dt"),
         "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
         "force reduction. Returns a StepReport; blocks until its force is read back.");
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");

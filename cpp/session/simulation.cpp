@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "fluid/fluid_solver.h"
 #include "fluid/validate.h"
 #include "force/force_reducer.h"
@@ -22,24 +23,33 @@ constexpr int kMinCells = 8;           // per axis: stencils and walls need room
 constexpr double kMemoryShare = 0.8;   // of the device's memory the fields may take
 constexpr std::size_t kForceSlot = 0;
 constexpr std::size_t kResidualSlot = 1;
-constexpr std::size_t kResultSlots = 2;
+constexpr std::size_t kPressureMeanSlot = 2;
+constexpr std::size_t kResultSlots = 3;
 
-std::string vecText(const glm::vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+std::string resText(const glm::ivec3& r) {
+  return "(" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.z) + ")";
+}
+
+void checkResolution(const glm::ivec3& r) {
+  for (int a = 0; a < 3; ++a) {
+    if (r[a] < kMinCells) {
+      throw InvalidArgument("resolution must be at least " + std::to_string(kMinCells) +
+                            " cells on every axis, got " + resText(r));
+    }
+  }
 }
 
 fluid::Grid makeGrid(const SimulationConfig& c) {
+  checkResolution(c.resolution);
   for (int a = 0; a < 3; ++a) {
-    if (c.resolution[a] < kMinCells) {
-      throw InvalidArgument("resolution must be at least " + std::to_string(kMinCells) + " cells on every axis, got (" +
-                            std::to_string(c.resolution.x) + ", " + std::to_string(c.resolution.y) + ", " +
-                            std::to_string(c.resolution.z) + ")");
-    }
     if (!std::isfinite(c.domain_size_m[a]) || c.domain_size_m[a] <= 0.0f) {
       throw InvalidArgument("domain size must be positive and finite on every axis (m), got " +
                             vecText(c.domain_size_m));
     }
-    if (!std::isfinite(c.origin_m[a])) throw InvalidArgument("domain origin must be finite (m), got " + vecText(c.origin_m));
+    if (!std::isfinite(c.origin_m[a]) || std::fabs(c.origin_m[a]) > fluid::kMaxOriginOffset) {
+      throw InvalidArgument("domain origin must be finite and within " + num(fluid::kMaxOriginOffset) +
+                            " m of the world origin (float precision), got " + vecText(c.origin_m));
+    }
   }
   const glm::vec3 h = c.domain_size_m / glm::vec3(c.resolution);
   const float h0 = h.x;
@@ -51,6 +61,10 @@ fluid::Grid makeGrid(const SimulationConfig& c) {
                             std::to_string(std::lround(c.domain_size_m.y / h0)) + ", " +
                             std::to_string(std::lround(c.domain_size_m.z / h0)) + ")");
     }
+  }
+  if (h0 < fluid::kMinCellSize || h0 > fluid::kMaxCellSize) {
+    throw InvalidArgument("cell size " + num(h0) + " m is outside " + num(fluid::kMinCellSize) + " .. " +
+                          num(fluid::kMaxCellSize) + " m; change the domain size or the resolution");
   }
   fluid::Grid g;
   g.res = c.resolution;
@@ -91,16 +105,45 @@ void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
                             " rad/s");
     }
   }
-  if (!std::isfinite(p.radius_m) || p.radius_m < g.cell_size_m) {
-    throw InvalidArgument("probe radius must be at least one cell (" + std::to_string(g.cell_size_m) +
-                          " m) to be seen by the grid, got " + std::to_string(p.radius_m) +
-                          " m; raise the radius or the resolution");
+  if (glm::length(p.velocity_m_s) > fluid::kMaxProbeSpeed) {
+    throw InvalidArgument("probe speed must be at most " + num(fluid::kMaxProbeSpeed) + " m/s, got " +
+                          vecText(p.velocity_m_s) + " m/s");
   }
-  const glm::vec3 lo = g.origin_m, hi = g.origin_m + g.sizeM();
+  if (glm::length(p.angular_velocity_rad_s) > fluid::kMaxProbeSpin) {
+    throw InvalidArgument("probe angular speed must be at most " + num(fluid::kMaxProbeSpin) + " rad/s, got " +
+                          vecText(p.angular_velocity_rad_s) + " rad/s");
+  }
+  if (!std::isfinite(p.radius_m) || p.radius_m < g.cell_size_m) {
+    throw InvalidArgument("probe radius must be at least one cell (" + num(g.cell_size_m) +
+                          " m) to be seen by the grid, got " + num(p.radius_m) + " m; raise the radius or the resolution");
+  }
+  // At least one whole fluid cell between the body and every wall, so the faces summed into the
+  // force enclose it and the force does not depend on the pressure's arbitrary constant.
+  const glm::vec3 lo = g.origin_m + g.cell_size_m, hi = g.origin_m + g.sizeM() - g.cell_size_m;
+  const std::string what = "probe sphere (centre " + vecText(p.centre_m) + " m, radius " + num(p.radius_m) +
+                           " m) is not inside the domain with at least one cell (" + num(g.cell_size_m) +
+                           " m) of fluid between it and every wall";
+  if (glm::any(glm::greaterThan(lo + p.radius_m, hi - p.radius_m))) {
+    throw InvalidArgument(what + "; with this radius it cannot fit: the radius must be at most " +
+                          num(0.5f * glm::min(glm::min(g.sizeM().x, g.sizeM().y), g.sizeM().z) - g.cell_size_m) + " m");
+  }
   if (glm::any(glm::lessThan(p.centre_m - p.radius_m, lo)) || glm::any(glm::greaterThan(p.centre_m + p.radius_m, hi))) {
-    throw InvalidArgument("probe sphere (centre " + vecText(p.centre_m) + " m, radius " + std::to_string(p.radius_m) +
-                          " m) is not inside the domain " + vecText(lo) + " .. " + vecText(hi) +
-                          " m; keep it at least one radius from every wall");
+    throw InvalidArgument(what + "; its centre must stay within " + vecText(lo + p.radius_m) + " .. " +
+                          vecText(hi - p.radius_m) + " m");
+  }
+}
+
+void validateStep(float dt_s, const fluid::FluidParams& p, const fluid::Grid& g) {
+  if (!std::isfinite(dt_s) || dt_s < fluid::kMinTimeStep || dt_s > fluid::kMaxTimeStep) {
+    throw InvalidArgument("time step must be between " + num(fluid::kMinTimeStep) + " and " +
+                          num(fluid::kMaxTimeStep) + " s, got " + num(dt_s) + " s");
+  }
+  // The scales the stages use must be ordinary floats (no overflow or underflow).
+  const float to_pa = p.density_kg_m3 * g.cell_size_m / dt_s;
+  const float to_velocity = dt_s / (p.density_kg_m3 * g.cell_size_m);
+  if (!std::isnormal(to_pa) || !std::isnormal(to_velocity)) {
+    throw InvalidArgument("time step " + num(dt_s) + " s with fluid density " + num(p.density_kg_m3) +
+                          " kg/m^3 and cell size " + num(g.cell_size_m) + " m is outside float range");
   }
 }
 
@@ -113,7 +156,7 @@ struct Simulation::Engine {
         reducer(gl::groupCount(g.res + 1), kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<obstacle::SpherePose>& pose,
-                  const fluid::SmokeSource& source) {
+                  const fluid::SmokeSource& source, const glm::vec3& rho_g, const glm::vec3& reference_m) {
     auto& f = solver.fields();
     timer.begin();
     if (pose) {
@@ -135,6 +178,7 @@ struct Simulation::Engine {
     solver.computeDivergence(dt, p);
     timer.mark("divergence");
     const fluid::SolveStats stats = solver.solvePressure(p);
+    if (!p.open_top) solver.removePressureMean(reducer, kPressureMeanSlot);
     timer.mark("pressure");
     if (p.compute_residual) {
       solver.measureResidual(reducer, kResidualSlot);
@@ -143,8 +187,7 @@ struct Simulation::Engine {
     solver.project(dt, p);
     timer.mark("project");
     const obstacle::CellBox box = pose ? probe.bounds() : obstacle::CellBox{};
-    force.reduce(f.pressure.cur(), f.cell_class, box, p.density_kg_m3 * p.gravity_m_s2,
-                 hydrostaticReference(grid, p.gravity_m_s2), reducer, kForceSlot);
+    force.reduce(f.pressure.cur(), f.cell_class, box, rho_g, reference_m, reducer, kForceSlot);
     timer.mark("force");
     const std::vector<glm::vec4> results = reducer.readResults();  // the step's one read-back
     StepReport r;
@@ -154,9 +197,15 @@ struct Simulation::Engine {
     r.pressure_iterations = stats.iterations;
     if (p.compute_residual) {
       const glm::vec4 res = results[kResidualSlot];
-      r.relative_residual = res.y > 0.0f ? std::sqrt(res.x / res.y) : 0.0f;
+      r.relative_residual = res.y > 0.0f ? std::sqrt(res.x / res.y) : (res.x == 0.0f ? 0.0f : NAN);
     }
     r.gpu_ms = timer.collect();
+    const glm::vec4 mean = results[kPressureMeanSlot];
+    if (!std::isfinite(r.force_n.x) || !std::isfinite(r.force_n.y) || !std::isfinite(r.force_n.z) ||
+        (p.compute_residual && !std::isfinite(r.relative_residual)) || (!p.open_top && !std::isfinite(mean.x))) {
+      throw Error("the solver's state became non-finite (force " + vecText(r.force_n) +
+                  " N); call reset() and use a smaller time step or probe speed");
+    }
     return r;
   }
 
@@ -175,18 +224,21 @@ Simulation::Simulation(const SimulationConfig& config) : grid_(makeGrid(config))
   info_ = worker_->info();
   checkFits(grid_, info_);
   engine_ = worker_->call([this] { return std::make_unique<Engine>(grid_); });
+  last_rho_g_ = params_.density_kg_m3 * params_.gravity_m_s2;
+  last_reference_m_ = hydrostaticReference(grid_, params_.gravity_m_s2);
 }
 
 Simulation::~Simulation() { close(); }
 
 template <class F>
 auto Simulation::onGl(F&& fn) {
+  std::lock_guard<std::mutex> lock(gpu_mutex_);
   if (!engine_) throw Error("this simulation was closed; make a new one");
   return worker_->call([&] { return fn(*engine_); });
 }
 
 void Simulation::close() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(gpu_mutex_);
   if (worker_ && engine_) {
     try {
       worker_->call([this] { engine_.reset(); });
@@ -197,85 +249,98 @@ void Simulation::close() {
     }
   }
   worker_.reset();
+  closed_ = true;
 }
-
-bool Simulation::closed() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return !engine_;
-}
-
-const gl::ContextInfo& Simulation::deviceInfo() const { return info_; }
 
 fluid::FluidParams Simulation::params() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return params_;
 }
 
 void Simulation::setParams(const fluid::FluidParams& params) {
   fluid::validate(params);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   params_ = params;
 }
 
 void Simulation::setSmokeSource(const fluid::SmokeSource& source) {
   fluid::validate(source, grid_);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   source_ = source;
 }
 
+void Simulation::updateParams(const std::function<void(fluid::FluidParams&)>& edit) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  fluid::FluidParams p = params_;
+  edit(p);
+  fluid::validate(p);
+  params_ = p;
+}
+
 fluid::SmokeSource Simulation::smokeSource() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return source_;
 }
 
 void Simulation::setSphereProbe(const obstacle::SpherePose& pose) {
   validatePose(pose, grid_);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   probe_ = pose;
 }
 
 void Simulation::clearProbe() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   probe_.reset();
 }
 
 std::optional<obstacle::SpherePose> Simulation::sphereProbe() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return probe_;
 }
 
 StepReport Simulation::step(float dt_s) {
-  if (!std::isfinite(dt_s) || dt_s <= 0.0f) {
-    throw InvalidArgument("time step must be a positive, finite number of seconds, got " + std::to_string(dt_s));
+  fluid::FluidParams params;
+  fluid::SmokeSource source;
+  std::optional<obstacle::SpherePose> pose;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    params = params_;
+    source = source_;
+    pose = probe_;
   }
-  std::lock_guard<std::mutex> lock(mutex_);
+  validateStep(dt_s, params, grid_);
+  const glm::vec3 rho_g = params.density_kg_m3 * params.gravity_m_s2;
+  const glm::vec3 reference = hydrostaticReference(grid_, params.gravity_m_s2);
   const auto t0 = std::chrono::steady_clock::now();
-  StepReport r = onGl([&](Engine& e) { return e.step(dt_s, params_, probe_, source_); });
+  StepReport r = onGl([&](Engine& e) { return e.step(dt_s, params, pose, source, rho_g, reference); });
   r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::lock_guard<std::mutex> lock(state_mutex_);
   time_s_ += dt_s;
   ++steps_;
   last_ = r;
+  last_rho_g_ = rho_g;
+  last_reference_m_ = reference;
   return r;
 }
 
 StepReport Simulation::lastReport() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return last_;
 }
 
 double Simulation::timeS() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return time_s_;
 }
 
 std::int64_t Simulation::steps() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return steps_;
 }
 
 void Simulation::reset() {
-  std::lock_guard<std::mutex> lock(mutex_);
   onGl([](Engine& e) { e.solver.reset(); });
+  std::lock_guard<std::mutex> lock(state_mutex_);
   time_s_ = 0.0;
   steps_ = 0;
   last_ = StepReport{};
@@ -292,7 +357,8 @@ std::vector<float> Simulation::readFloat(Field f) {
   if (f == Field::CellClass) throw InvalidArgument("cell classes are bytes: use readCellClasses()");
   const glm::ivec3 shape = fieldShape(f);
   std::vector<float> out(static_cast<std::size_t>(shape.x) * shape.y * shape.z);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::uint8_t> classes;
+  if (f == Field::Pressure) classes.resize(out.size());
   onGl([&](Engine& e) {
     auto& fl = e.solver.fields();
     const gl::Texture3D* tex = nullptr;
@@ -307,16 +373,16 @@ std::vector<float> Simulation::readFloat(Field f) {
       case Field::CellClass: break;
     }
     tex->download(out.data(), out.size() * sizeof(float));
+    if (!classes.empty()) fl.cell_class.download(classes.data(), classes.size());
   });
   if (f == Field::Pressure) {
-    // Physical pressure = solved dynamic part + rho g . (x - reference), solid cells left at 0.
-    const std::vector<std::uint8_t> classes = [&] {
-      std::vector<std::uint8_t> c(out.size());
-      onGl([&](Engine& e) { e.solver.fields().cell_class.download(c.data(), c.size()); });
-      return c;
-    }();
-    const glm::vec3 rho_g = params_.density_kg_m3 * params_.gravity_m_s2;
-    const glm::vec3 ref = hydrostaticReference(grid_, params_.gravity_m_s2);
+    // Physical pressure = solved dynamic part + the last step's rho g . (x - reference); solids 0.
+    glm::vec3 rho_g, ref;
+    {
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      rho_g = last_rho_g_;
+      ref = last_reference_m_;
+    }
     std::size_t n = 0;
     for (int k = 0; k < shape.z; ++k) {
       for (int j = 0; j < shape.y; ++j) {
@@ -333,12 +399,19 @@ std::vector<float> Simulation::readFloat(Field f) {
 
 std::vector<std::uint8_t> Simulation::readCellClasses() {
   std::vector<std::uint8_t> out(grid_.cells());
-  std::lock_guard<std::mutex> lock(mutex_);
   onGl([&](Engine& e) { e.solver.fields().cell_class.download(out.data(), out.size()); });
   return out;
 }
 
 std::size_t Simulation::estimateBytes(const glm::ivec3& resolution) {
+  checkResolution(resolution);
+  constexpr long long kMaxCellsPerAxis = 1 << 16;
+  for (int a = 0; a < 3; ++a) {
+    if (resolution[a] > kMaxCellsPerAxis) {
+      throw InvalidArgument("resolution must be at most " + std::to_string(kMaxCellsPerAxis) +
+                            " cells per axis, got " + resText(resolution));
+    }
+  }
   fluid::Grid g;
   g.res = resolution;
   return fluid::fieldBytes(g);

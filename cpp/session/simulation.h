@@ -3,7 +3,9 @@
 // context (gl::GlWorker); every method posts its GPU work there and waits, so callers never
 // touch GL. Public methods are safe to call from any one host thread at a time (they are
 // serialised). Units are SI throughout.
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -41,6 +43,9 @@ struct StepReport {
 
 enum class Field { Density, Temperature, Pressure, DynamicPressure, VelocityX, VelocityY, VelocityZ, CellClass };
 
+// Thread use: the setters and getters touch only host-side state under a short lock, so they
+// never wait for the GPU; step(), reset(), the read-backs and close() run GPU work one at a
+// time under a second lock. The state a step uses is copied when the step starts.
 class Simulation {
  public:
   explicit Simulation(const SimulationConfig& config);
@@ -48,50 +53,62 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  const gl::ContextInfo& deviceInfo() const;
+  const gl::ContextInfo& deviceInfo() const { return info_; }
   const fluid::Grid& grid() const { return grid_; }
 
   fluid::FluidParams params() const;
   void setParams(const fluid::FluidParams& params);
+  // Edits a copy of the settings and applies it if it validates, as one atomic change.
+  void updateParams(const std::function<void(fluid::FluidParams&)>& edit);
   void setSmokeSource(const fluid::SmokeSource& source);
   fluid::SmokeSource smokeSource() const;
 
-  void setSphereProbe(const obstacle::SpherePose& pose);  // throws if outside the domain
+  void setSphereProbe(const obstacle::SpherePose& pose);  // throws if not inside the domain
   void clearProbe();
   std::optional<obstacle::SpherePose> sphereProbe() const;
 
-  StepReport step(float dt_s);  // blocks until the step's force is read back
+  // Blocks until the step's force is read back. Throws InvalidArgument for a bad dt, and
+  // hf::Error if the solver's state became non-finite (then reset() recovers).
+  StepReport step(float dt_s);
   StepReport lastReport() const;
   double timeS() const;
   std::int64_t steps() const;
   void reset();  // fluid at rest, no smoke, time 0; probe and settings kept
   // Frees the GPU fields and ends the GL thread now; later GPU calls throw hf::Error.
   void close();
-  bool closed() const;
+  bool closed() const { return closed_; }
 
   // Whole fields, x fastest (index = i + nx*(j + ny*k)). Face fields are (n+1) on their axis.
   glm::ivec3 fieldShape(Field f) const;
   std::vector<float> readFloat(Field f);
   std::vector<std::uint8_t> readCellClasses();
 
-  // GPU memory the fields of a grid take, bytes.
+  // GPU memory the fields of a grid take, bytes; throws InvalidArgument for a bad resolution.
   static std::size_t estimateBytes(const glm::ivec3& resolution);
 
  private:
   struct Engine;
-  // Runs fn on the GL thread with the engine; throws if the simulation is closed.
+  // Runs fn(engine) on the GL thread, holding gpu_mutex_; throws if the simulation is closed.
   template <class F>
   auto onGl(F&& fn);
 
-  mutable std::mutex mutex_;
-  fluid::Grid grid_;
+  fluid::Grid grid_;       // fixed at construction
+  gl::ContextInfo info_;   // fixed at construction
+
+  // Host-side state, guarded by state_mutex_ (held only to copy in or out).
+  mutable std::mutex state_mutex_;
   fluid::FluidParams params_;
   fluid::SmokeSource source_;
   std::optional<obstacle::SpherePose> probe_;
   StepReport last_;
   double time_s_ = 0.0;
   std::int64_t steps_ = 0;
-  gl::ContextInfo info_;
+  glm::vec3 last_rho_g_{0.0f};       // rho g of the last step (N/m^3), for pressure read-back
+  glm::vec3 last_reference_m_{0.0f};  // where its hydrostatic pressure was 0
+
+  // GPU side, guarded by gpu_mutex_.
+  std::mutex gpu_mutex_;
+  std::atomic<bool> closed_{false};
   std::unique_ptr<gl::GlWorker> worker_;
   std::unique_ptr<Engine> engine_;  // lives and dies on the worker's thread
 };

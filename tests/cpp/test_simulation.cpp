@@ -142,8 +142,9 @@ TEST(SimulationConfigs, SmallestAndNonCubicBoxesAreAccepted) {
   EXPECT_EQ(box.fieldShape(Field::Pressure), glm::ivec3(32, 16, 8));
   EXPECT_EQ(box.readFloat(Field::VelocityY).size(), 32u * 17u * 8u);
   EXPECT_EQ(box.readCellClasses().size(), 32u * 16u * 8u);
-  // A sphere is placed relative to the box's origin.
-  EXPECT_NO_THROW(box.setSphereProbe(sphere(glm::vec3(0.0f, 3.5f, 0.5f), 0.2f)));
+  // A sphere is placed relative to the box's origin (a cell of fluid around it: r <= 0.25 - h).
+  EXPECT_NO_THROW(box.setSphereProbe(sphere(glm::vec3(0.0f, 3.5f, 0.5f), 0.15f)));
+  EXPECT_THROW(box.setSphereProbe(sphere(glm::vec3(0.0f, 3.5f, 0.5f), 0.2f)), InvalidArgument);
   EXPECT_THROW(box.setSphereProbe(sphere(glm::vec3(0.5f, 0.5f, 0.5f), 0.2f)), InvalidArgument);
   EXPECT_NO_THROW(box.step(0.01f));
 }

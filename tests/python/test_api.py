@@ -51,6 +51,8 @@ def test_hydrostatic_pressure_is_physical():
     # 0 Pa at the top of the box, rho g depth below it, at cell centres.
     depth = 1.0 - (np.arange(16) + 0.5) / 16
     np.testing.assert_allclose(p[3, 7, :], 1000.0 * 9.81 * depth, rtol=1e-4, atol=1e-2)
+    sim.fluid_density = 1.0  # a later setting does not rewrite the pressure of the last step
+    np.testing.assert_allclose(sim.pressure()[3, 7, :], 1000.0 * 9.81 * depth, rtol=1e-4, atol=1e-2)
     np.testing.assert_allclose(sim.pressure(hydrostatic=False), 0.0, atol=1e-3)
 
 
@@ -79,6 +81,10 @@ def test_time_and_reset(small_sim):
         ({"gravity": (0.0, 0.0, math.inf), "resolution": (16, 16, 16)}, "gravity"),
         ({"resolution": (2047, 2047, 2047)}, "too large"),
         ({"device": "banana", "resolution": (16, 16, 16)}, "banana"),
+        ({"fluid_density": 1e38, "resolution": (16, 16, 16)}, "density"),
+        ({"domain_size": (1e20, 1e20, 1e20), "resolution": (16, 16, 16)}, "cell size"),
+        ({"origin": (1e30, 0.0, 0.0), "resolution": (16, 16, 16)}, "origin"),
+        ({"open_top": True, "gravity": (1.0, 0.0, -9.81), "resolution": (16, 16, 16)}, "open top"),
     ],
 )
 def test_bad_construction_is_explained(kwargs, words):
@@ -98,9 +104,27 @@ def test_bad_probe_and_step_are_explained(small_sim):
         sim.set_probe((5.0, 0.5, 0.5), 0.1)
     with pytest.raises(hf.InvalidArgumentError, match="at least one cell"):
         sim.set_probe((0.5, 0.5, 0.5), 0.01)
-    for dt in (0.0, -0.01, math.nan, math.inf):
+    with pytest.raises(hf.InvalidArgumentError, match="at least one cell"):
+        sim.set_probe((0.1, 0.5, 0.5), 0.1)  # touching the -x wall: no fluid face there
+    with pytest.raises(hf.InvalidArgumentError, match="cannot fit"):
+        sim.set_probe((0.5, 0.5, 0.5), 0.48)
+    sim.set_probe((0.17, 0.5, 0.5), 0.1)  # a little over one cell of fluid between it and the wall
+    with pytest.raises(hf.InvalidArgumentError, match="speed"):
+        sim.set_probe((0.5, 0.5, 0.5), 0.1, velocity=(1e37, 0, 0))
+    for dt in (0.0, -0.01, math.nan, math.inf, 1e-40, 1e300, 100.0):
         with pytest.raises(hf.InvalidArgumentError, match="time step"):
             sim.step(dt)
+    with pytest.raises(hf.InvalidArgumentError, match="1e-40"):
+        sim.step(1e-40)  # reported as given, not rounded to 0
+    with pytest.raises(hf.InvalidArgumentError, match="open top"):
+        sim.gravity = (0.0, 0.0, -9.81)
+        sim.open_top = True
+        sim.gravity = (0.0, 9.81, 0.0)
+    sim.open_top = False
+    sim.gravity = (0.0, 0.0, -9.81)
+    for resolution in ((-8, 8, 8), (4, 16, 16), (1 << 20, 8, 8)):
+        with pytest.raises(hf.InvalidArgumentError, match="resolution"):
+            hf.estimate_bytes(resolution)
     with pytest.raises(hf.InvalidArgumentError, match="iterations"):
         sim.pressure_iterations = -3
     with pytest.raises(hf.InvalidArgumentError, match="outside the domain"):
@@ -162,3 +186,46 @@ def test_close_frees_and_later_calls_are_explained():
         sim.density()
     assert sim.device["renderer"]  # what it ran on stays known
     sim.close()  # closing twice is harmless
+
+
+def test_closed_box_pressure_keeps_zero_mean():
+    """In a closed box the pressure is defined up to a constant; the engine pins its mean at 0 so
+    it does not drift over a long session."""
+    sim = hf.Simulation(resolution=(16, 16, 16), heat_buoyancy=2.0, vorticity=0.3, pressure_iterations=20)
+    sim.set_smoke_source((0.5, 0.5, 0.25), 0.15, temperature=2.0)
+    for i in range(300):
+        x = 0.5 + 0.2 * math.sin(i * 0.05)
+        sim.set_probe((x, 0.5, 0.6), 0.15, velocity=(0.2 * 0.05 / 0.02 * math.cos(i * 0.05), 0, 0),
+                      angular_velocity=(0, 0, 3.0))
+        sim.step(0.02)
+    p = sim.pressure(hydrostatic=False)
+    fluid = sim.cell_classes() < hf.CELL_BOUNDARY
+    spread = float(p[fluid].max() - p[fluid].min())
+    assert spread > 0
+    assert abs(float(p[fluid].mean())) < 1e-4 * spread + 1e-6
+
+
+def test_getters_do_not_wait_for_a_running_step():
+    """Host-side state is read under its own short lock: Blender's UI thread (or a haptic loop)
+    can read and set it while a long GPU step runs."""
+    sim = hf.Simulation(resolution=(48, 48, 48), pressure_iterations=1500)
+    sim.set_probe((0.5, 0.5, 0.5), 0.15, velocity=(0.2, 0, 0))
+    sim.step(0.01)
+    started, done = threading.Event(), threading.Event()
+
+    def work():
+        started.set()
+        sim.step(0.01)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    time.sleep(0.05)  # let the step take the GPU lock
+    assert not done.is_set(), "the step finished too soon for this check"
+    observed = (sim.time, sim.steps, sim.pressure_iterations, sim.probe["radius"], sim.closed)
+    sim.set_probe((0.55, 0.5, 0.5), 0.15)
+    sim.vorticity = 0.1
+    finished_during_reads = done.is_set()
+    t.join()
+    assert observed[1] == 1 and not finished_during_reads

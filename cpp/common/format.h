@@ -1,0 +1,18 @@
+#pragma once
+// Numbers in error messages: shortest round-trip-ish form ("1e-40", "0.5"), never "0.000000".
+#include <cstdio>
+#include <string>
+
+#include <glm/glm.hpp>
+
+namespace hf {
+
+inline std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.7g", v);
+  return buf;
+}
+
+inline std::string vecText(const glm::vec3& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
+
+}  // namespace hf
