@@ -54,3 +54,24 @@ ivec3 unitAxis(int axis) {
   e[axis] = 1;
   return e;
 }
+
+#ifdef GROUP_SUM
+// First level of a parallel reduction: every invocation of a workgroup calls writeGroupSum with
+// its value; the workgroup's sum lands in partials[workgroup index] for reduce.comp.
+layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
+const uint GROUP = uint(WG_X * WG_Y * WG_Z);  // a power of two
+shared vec4 s_sum[GROUP];
+
+void writeGroupSum(vec4 mine) {
+  s_sum[gl_LocalInvocationIndex] = mine;
+  barrier();
+  for (uint stride = GROUP / 2u; stride > 0u; stride >>= 1u) {
+    if (gl_LocalInvocationIndex < stride) s_sum[gl_LocalInvocationIndex] += s_sum[gl_LocalInvocationIndex + stride];
+    barrier();
+  }
+  if (gl_LocalInvocationIndex == 0u) {
+    uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
+    partials[group] = s_sum[0];
+  }
+}
+#endif

@@ -7,7 +7,6 @@ layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r32f, binding = 0) readonly uniform image3D u_pressure;
 layout(r8ui, binding = 1) readonly uniform uimage3D u_class;
-layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 
 uniform ivec3 u_origin;         // first cell of the box
 uniform ivec3 u_extent;         // cells in the box
@@ -15,9 +14,6 @@ uniform float u_face_area;      // h^2, m^2
 uniform float u_cell_size;      // h, m
 uniform vec3 u_rho_g;           // fluid density times gravity, N/m^3
 uniform vec3 u_reference;       // grid-unit point where the hydrostatic pressure is 0
-
-const uint GROUP = uint(WG_X * WG_Y * WG_Z);
-shared vec4 s_sum[GROUP];
 
 void main() {
   ivec3 local = ivec3(gl_GlobalInvocationID);
@@ -36,16 +32,5 @@ void main() {
       mine += vec4(-p * u_face_area * n_out, 1.0);
     }
   }
-  s_sum[gl_LocalInvocationIndex] = mine;
-  barrier();
-  for (uint stride = GROUP / 2u; stride > 0u; stride >>= 1u) {
-    if (gl_LocalInvocationIndex < stride) {
-      s_sum[gl_LocalInvocationIndex] += s_sum[gl_LocalInvocationIndex + stride];
-    }
-    barrier();
-  }
-  if (gl_LocalInvocationIndex == 0u) {
-    uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
-    partials[group] = s_sum[0];
-  }
+  writeGroupSum(mine);
 }

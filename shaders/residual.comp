@@ -5,10 +5,6 @@ layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 layout(r32f, binding = 1) readonly uniform image3D u_pressure;
 layout(r32f, binding = 2) readonly uniform image3D u_rhs;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
-layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
-
-const uint GROUP = uint(WG_X * WG_Y * WG_Z);
-shared vec4 s_sum[GROUP];
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
@@ -28,16 +24,5 @@ void main() {
       mine = vec4(r * r, b * b, 0.0, 0.0);
     }
   }
-  s_sum[gl_LocalInvocationIndex] = mine;
-  barrier();
-  for (uint stride = GROUP / 2u; stride > 0u; stride >>= 1u) {
-    if (gl_LocalInvocationIndex < stride) {
-      s_sum[gl_LocalInvocationIndex] += s_sum[gl_LocalInvocationIndex + stride];
-    }
-    barrier();
-  }
-  if (gl_LocalInvocationIndex == 0u) {
-    uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
-    partials[group] = s_sum[0];
-  }
+  writeGroupSum(mine);
 }

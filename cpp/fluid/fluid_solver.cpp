@@ -25,9 +25,9 @@ FluidSolver::FluidSolver(const Grid& grid)
       apply_forces_("apply_forces.comp", gl::cellGroupDefines()),
       boundaries_("enforce_boundaries.comp", gl::cellGroupDefines()),
       divergence_("divergence.comp", gl::cellGroupDefines()),
-      residual_("residual.comp", gl::cellGroupDefines()),
+      residual_("residual.comp", gl::groupSumDefines()),
       project_("project.comp", gl::cellGroupDefines()),
-      pressure_sum_("pressure_sum.comp", gl::cellGroupDefines()),
+      pressure_sum_("pressure_sum.comp", gl::groupSumDefines()),
       pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
       pressure_(std::make_unique<PressureJacobi>(grid)) {
   for (gl::ComputeProgram* p : {&advect_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,

@@ -8,7 +8,7 @@
 
 namespace hf::force {
 
-ForceReducer::ForceReducer(const fluid::Grid& grid) : grid_(grid), faces_("force_faces.comp", gl::cellGroupDefines()) {
+ForceReducer::ForceReducer(const fluid::Grid& grid) : grid_(grid), faces_("force_faces.comp", gl::groupSumDefines()) {
   faces_.set("u_res", grid.res);
   faces_.set("u_face_area", grid.cell_size_m * grid.cell_size_m);
   faces_.set("u_cell_size", grid.cell_size_m);

@@ -16,6 +16,13 @@ inline Defines cellGroupDefines() {
           {"WG_Z", std::to_string(kCellGroup.z)}};
 }
 
+// The same, for stages that end in writeGroupSum() (the first level of a reduction).
+inline Defines groupSumDefines() {
+  Defines d = cellGroupDefines();
+  d.emplace_back("GROUP_SUM", "1");
+  return d;
+}
+
 // Workgroups needed to cover `cells` with kCellGroup.
 inline glm::ivec3 groupsFor(const glm::ivec3& cells) { return (cells + kCellGroup - 1) / kCellGroup; }
 

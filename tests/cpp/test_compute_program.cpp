@@ -233,8 +233,12 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
       const std::string file = s.file;
       if (file.size() < 5 || file.substr(file.size() - 5) != ".comp") continue;
       const bool reduce = file == "reduce.comp";
+      // Stages that end in writeGroupSum() need common.glsl's GROUP_SUM part.
+      const bool group_sum = std::string(s.source).find("writeGroupSum(") != std::string::npos;
+      const Defines defines = reduce ? Defines{{"REDUCE_SIZE", "256"}}
+                                     : group_sum ? groupSumDefines() : cellGroupDefines();
       try {
-        ComputeProgram p(file, reduce ? Defines{{"REDUCE_SIZE", "256"}} : cellGroupDefines());
+        ComputeProgram p(file, defines);
         const glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : kCellGroup;
         if (p.localSize() != want) out += file + ": wrong local size\n";
         if (p.name() != file) out += file + ": wrong name\n";
