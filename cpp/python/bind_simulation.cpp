@@ -4,8 +4,6 @@
 #include <string>
 
 #include "common/error.h"
-#include "common/format.h"
-#include "fluid/validate.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "session/simulation.h"
@@ -219,18 +217,7 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
       "Emit smoke in a sphere: centre (m), radius (m); its cells are held at least at `density`\n"
       "(concentration) and `temperature` (K above ambient).");
   c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); }, "Stop emitting smoke.");
-  c.def(
-      "step",
-      [](Simulation& s, double dt) {
-        // Checked in double first so a value float cannot hold is reported as given.
-        if (!(dt >= fluid::kMinTimeStep && dt <= fluid::kMaxTimeStep)) {
-          throw InvalidArgument("time step must be between " + num(fluid::kMinTimeStep) + " and " +
-                                num(fluid::kMaxTimeStep) + " s, got " + num(dt) + " s");
-        }
-        py::gil_scoped_release release;
-        return s.step(static_cast<float>(dt));
-      },
-      py::arg("dt"),
+  c.def("step", &Simulation::step, py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
         "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
         "force reduction. Returns a StepReport; blocks until its force is read back.");
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");

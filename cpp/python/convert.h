@@ -16,7 +16,6 @@ namespace hf::python {
 namespace py = pybind11;
 
 inline glm::vec3 toVec3(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
-inline std::array<float, 3> fromVec3(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
 inline py::array_t<float> vec3Array(const glm::vec3& v) {
   py::array_t<float> a(3);

@@ -133,14 +133,16 @@ void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
   }
 }
 
-void validateStep(float dt_s, const fluid::FluidParams& p, const fluid::Grid& g) {
+// In double, so a value float cannot hold (1e-40, 1e300) is reported as given.
+void validateStep(double dt_s, const fluid::FluidParams& p, const fluid::Grid& g) {
   if (!std::isfinite(dt_s) || dt_s < fluid::kMinTimeStep || dt_s > fluid::kMaxTimeStep) {
     throw InvalidArgument("time step must be between " + num(fluid::kMinTimeStep) + " and " +
                           num(fluid::kMaxTimeStep) + " s, got " + num(dt_s) + " s");
   }
   // The scales the stages use must be ordinary floats (no overflow or underflow).
-  const float to_pa = p.density_kg_m3 * g.cell_size_m / dt_s;
-  const float to_velocity = dt_s / (p.density_kg_m3 * g.cell_size_m);
+  const float dt = static_cast<float>(dt_s);
+  const float to_pa = p.density_kg_m3 * g.cell_size_m / dt;
+  const float to_velocity = dt / (p.density_kg_m3 * g.cell_size_m);
   if (!std::isnormal(to_pa) || !std::isnormal(to_velocity)) {
     throw InvalidArgument("time step " + num(dt_s) + " s with fluid density " + num(p.density_kg_m3) +
                           " kg/m^3 and cell size " + num(g.cell_size_m) + " m is outside float range");
@@ -152,7 +154,7 @@ void validateStep(float dt_s, const fluid::FluidParams& p, const fluid::Grid& g)
 // Everything that holds GL objects; made, used and destroyed on the worker thread only.
 struct Simulation::Engine {
   explicit Engine(const fluid::Grid& g)
-      : grid(g), solver(g), probe(g), classifier(g), force(g),
+      : solver(g), probe(g), classifier(g), force(g),
         reducer(gl::groupCount(g.res + 1), kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<obstacle::SpherePose>& pose,
@@ -209,7 +211,6 @@ struct Simulation::Engine {
     return r;
   }
 
-  fluid::Grid grid;
   fluid::FluidSolver solver;
   obstacle::SphereProbe probe;
   obstacle::Classifier classifier;
@@ -298,7 +299,7 @@ std::optional<obstacle::SpherePose> Simulation::sphereProbe() const {
   return probe_;
 }
 
-StepReport Simulation::step(float dt_s) {
+StepReport Simulation::step(double dt_in_s) {
   fluid::FluidParams params;
   fluid::SmokeSource source;
   std::optional<obstacle::SpherePose> pose;
@@ -308,7 +309,8 @@ StepReport Simulation::step(float dt_s) {
     source = source_;
     pose = probe_;
   }
-  validateStep(dt_s, params, grid_);
+  validateStep(dt_in_s, params, grid_);
+  const float dt_s = static_cast<float>(dt_in_s);
   const glm::vec3 rho_g = params.density_kg_m3 * params.gravity_m_s2;
   const glm::vec3 reference = hydrostaticReference(grid_, params.gravity_m_s2);
   const auto t0 = std::chrono::steady_clock::now();

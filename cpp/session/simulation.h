@@ -69,7 +69,7 @@ class Simulation {
 
   // Blocks until the step's force is read back. Throws InvalidArgument for a bad dt, and
   // hf::Error if the solver's state became non-finite (then reset() recovers).
-  StepReport step(float dt_s);
+  StepReport step(double dt_s);
   StepReport lastReport() const;
   double timeS() const;
   std::int64_t steps() const;
