@@ -1,0 +1,51 @@
+#pragma once
+// The one interface every haptic device implements (Novint Falcon over libusb, the simulated
+// Falcon, scripted trajectory, host-driven, null). Positions and velocities are in the device's
+// own workspace frame, SI units (m, m/s, N); the haptic loop maps that workspace onto the fluid
+// domain. A device is used by one thread at a time: the haptic loop calls read() then
+// writeForce() once per period (1 kHz), and neither may block for longer than about a period.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <glm/glm.hpp>
+
+namespace hf::haptics {
+
+struct DeviceInfo {
+  std::string name;                       // e.g. "Novint Falcon", "scripted", "null"
+  std::string kind;                       // "falcon", "simulated_falcon", "scripted", "host", "null"
+  std::string serial;                     // empty when the device has none
+  glm::vec3 workspace_min_m{-0.05f};      // reachable box, device frame, m
+  glm::vec3 workspace_max_m{0.05f};
+  float max_force_n = 0.0f;               // the safety stage never commands more than this
+  float max_stiffness_n_m = 0.0f;         // N/m, informative (virtual springs)
+  float max_damping_n_s_m = 0.0f;         // N s/m, informative
+};
+
+struct DeviceState {
+  glm::vec3 position_m{0.0f};             // end effector, device frame
+  glm::vec3 velocity_m_s{0.0f};           // estimated by the device or its driver
+  std::uint32_t buttons = 0;              // bit i = button i pressed
+  bool homed = false;                     // false: no force may be commanded yet
+  double time_s = 0.0;                    // steady-clock time of the reading
+};
+
+class Device {
+ public:
+  virtual ~Device() = default;
+  virtual DeviceInfo info() const = 0;
+  // Latest state. Throws hf::Error (naming the device and what failed) if the device is gone;
+  // after that the device is unusable and writeForce() does nothing.
+  virtual DeviceState read() = 0;
+  // Commands a force (N, device frame). The caller has already applied safety limits; a device
+  // still never exceeds info().max_force_n.
+  virtual void writeForce(const glm::vec3& force_n) = 0;
+  // Zero force, release the hardware. Idempotent; never throws.
+  virtual void close() = 0;
+};
+
+// Python holds devices through this holder type (bindings use py::class_<Device, DevicePtr>).
+using DevicePtr = std::shared_ptr<Device>;
+
+}  // namespace hf::haptics
