@@ -1,5 +1,6 @@
-// Stage "pressure_sum": per workgroup, the sum of the pressure over fluid cells and their count
-// (x, y of partials[]), the first level of the mean that pressure_shift removes.
+// Stage "pressure_sum": per workgroup, the sum of a cell-centred scalar (the pressure, or the
+// rhs for the compatibility condition of a closed box) over fluid cells and their count (x, y of
+// partials[]), the first level of the mean that pressure_shift removes.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r32f, binding = 1) readonly uniform image3D u_pressure;

@@ -178,6 +178,7 @@ struct Simulation::Engine {
     timer.mark("forces");
     solver.enforceBoundaries(p);
     solver.computeDivergence(dt, p);
+    if (!p.open_top) solver.removeRhsMean(reducer, kPressureMeanSlot);  // compatibility condition
     timer.mark("divergence");
     const fluid::SolveStats stats = solver.solvePressure(p);
     if (!p.open_top) solver.removePressureMean(reducer, kPressureMeanSlot);
@@ -197,9 +198,12 @@ struct Simulation::Engine {
     r.force_n = bf.force_n;
     r.exposed_faces = bf.exposed_faces;
     r.pressure_iterations = stats.iterations;
+    r.initial_relative_residual = stats.initial_relative_residual;
     if (p.compute_residual) {
       const glm::vec4 res = results[kResidualSlot];
       r.relative_residual = res.y > 0.0f ? std::sqrt(res.x / res.y) : (res.x == 0.0f ? 0.0f : NAN);
+    } else {
+      r.relative_residual = stats.relative_residual;  // the solver's own estimate in tolerance mode, else -1
     }
     r.gpu_ms = timer.collect();
     const glm::vec4 mean = results[kPressureMeanSlot];
