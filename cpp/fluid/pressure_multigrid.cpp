@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "fluid/row_reduction.h"
 #include "gl/workgroup.h"
 
 namespace hf::fluid {
@@ -32,13 +33,13 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
       z_(grid.res, gl::TexelFormat::R32F, "CG preconditioned residual"),
       s_(grid.res, gl::TexelFormat::R32F, "CG direction"),
       q_(grid.res, gl::TexelFormat::R32F, "CG A direction"),
-      init_("pcg_init.comp", gl::groupSumDefines()),
-      apply_("pcg_apply.comp", gl::groupSumDefines()),
-      dot_("pcg_dot.comp", gl::groupSumDefines()),
-      update_("pcg_update.comp", gl::groupSumDefines()),
+      init_("pcg_init.comp", rowGroupDefines()),
+      apply_("pcg_apply.comp", rowGroupDefines()),
+      dot_("pcg_dot.comp", rowGroupDefines()),
+      update_("pcg_update.comp", rowGroupDefines()),
       direction_("pcg_direction.comp", gl::cellGroupDefines()),
       shift_("pressure_shift.comp", gl::cellGroupDefines()),
-      reducer_(gl::groupCount(grid.res), kSlots) {
+      reducer_(rowCount(grid.res), kSlots) {
   for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_}) p->set("u_res", grid.res);
 }
 
@@ -48,8 +49,8 @@ void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::
   z_.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
   reducer_.bindPartials(0);
-  dot_.dispatch(grid_.res);
-  reducer_.reduce(gl::groupCount(grid_.res), rz_slot);
+  dot_.dispatch(rowInvocations(grid_.res));
+  reducer_.reduce(rowCount(grid_.res), rz_slot);
   s_.bindImage(0, GL_READ_WRITE);
   z_.bindImage(1, GL_READ_ONLY);
   f.nbmask.bindImage(2, GL_READ_ONLY);
@@ -74,13 +75,13 @@ void PressureMultigrid::startResidual(FluidFields& f, bool closed) {
   f.nbmask.bindImage(3, GL_READ_ONLY);
   r_.bindImage(0, GL_WRITE_ONLY);
   reducer_.bindPartials(0);
-  init_.dispatch(grid_.res);
-  reducer_.reduce(gl::groupCount(grid_.res), kInitSlot);
+  init_.dispatch(rowInvocations(grid_.res));
+  reducer_.reduce(rowCount(grid_.res), kInitSlot);
   if (closed) removeResidualMean(f, kInitSlot);
 }
 
 SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
-  const std::size_t groups = gl::groupCount(grid_.res);
+  const std::size_t groups = rowCount(grid_.res);
   const float tolerance = params.pressure_tolerance;
   const bool closed = !params.open_top;
   vcycle_.buildMasks(f.nbmask);
@@ -104,7 +105,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     f.nbmask.bindImage(3, GL_READ_ONLY);
     q_.bindImage(0, GL_WRITE_ONLY);
     reducer_.bindPartials(0);
-    apply_.dispatch(grid_.res);
+    apply_.dispatch(rowInvocations(grid_.res));
     reducer_.reduce(groups, kSqSlot);
     // p += alpha s, r -= alpha q, and r.r
     f.pressure.cur().bindImage(0, GL_READ_WRITE);
@@ -116,7 +117,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     reducer_.bindResults(1);
     update_.set("u_slot_rz", static_cast<unsigned>(rz_new));
     update_.set("u_slot_sq", static_cast<unsigned>(kSqSlot));
-    update_.dispatch(grid_.res);
+    update_.dispatch(rowInvocations(grid_.res));
     reducer_.reduce(groups, kRrSlot);
     if (closed) removeResidualMean(f, kRrSlot);
     stats.iterations = k + 1;
