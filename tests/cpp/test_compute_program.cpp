@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/row_reduction.h"
 #include "gl/compute_program.h"
 #include "gl/shader_sources.h"
 #include "gl/storage_buffer.h"
@@ -235,11 +236,16 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
       const bool reduce = file == "reduce.comp";
       // Stages that end in writeGroupSum() need common.glsl's GROUP_SUM part.
       const bool group_sum = std::string(s.source).find("writeGroupSum(") != std::string::npos;
+      // Stages that reduce by rows of cells (fluid/row_reduction.h) take ROW_X, ROW_Y.
+      const bool rows = std::string(s.source).find("ROW_X") != std::string::npos;
       const Defines defines = reduce ? Defines{{"REDUCE_SIZE", "256"}}
+                              : rows ? fluid::rowGroupDefines()
                                      : group_sum ? groupSumDefines() : cellGroupDefines();
       try {
         ComputeProgram p(file, defines);
-        const glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : kCellGroup;
+        const glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1)
+                                : rows ? glm::ivec3(fluid::kRowGroup, 1)
+                                       : kCellGroup;
         if (p.localSize() != want) out += file + ": wrong local size\n";
         if (p.name() != file) out += file + ": wrong name\n";
       } catch (const std::exception& e) {
