@@ -6,6 +6,7 @@
 
 #include "fluid/pressure_jacobi.h"
 #include "fluid/pressure_multigrid.h"
+#include "fluid/row_reduction.h"
 #include "gl/workgroup.h"
 
 namespace hf::fluid {
@@ -26,9 +27,9 @@ FluidSolver::FluidSolver(const Grid& grid)
       apply_forces_("apply_forces.comp", gl::cellGroupDefines()),
       boundaries_("enforce_boundaries.comp", gl::cellGroupDefines()),
       divergence_("divergence.comp", gl::cellGroupDefines()),
-      residual_("residual.comp", gl::groupSumDefines()),
+      residual_("residual.comp", rowGroupDefines()),
       project_("project.comp", gl::cellGroupDefines()),
-      pressure_sum_("pressure_sum.comp", gl::groupSumDefines()),
+      pressure_sum_("pressure_sum.comp", rowGroupDefines()),
       pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
       jacobi_(std::make_unique<PressureJacobi>(grid)) {
   for (gl::ComputeProgram* p : {&advect_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
@@ -198,8 +199,8 @@ void FluidSolver::measureResidual(gl::GroupReducer& reducer, std::size_t slot) {
   fields_.rhs.bindImage(2, GL_READ_ONLY);
   fields_.nbmask.bindImage(3, GL_READ_ONLY);
   reducer.bindPartials(0);
-  residual_.dispatch(grid_.res);
-  reducer.reduce(gl::groupCount(grid_.res), slot);
+  residual_.dispatch(rowInvocations(grid_.res));
+  reducer.reduce(rowCount(grid_.res), slot);
 }
 
 void FluidSolver::removePressureMean(gl::GroupReducer& reducer, std::size_t slot) {
@@ -211,8 +212,8 @@ void FluidSolver::removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, st
   field.bindImage(1, GL_READ_ONLY);
   fields_.nbmask.bindImage(2, GL_READ_ONLY);
   reducer.bindPartials(0);
-  pressure_sum_.dispatch(grid_.res);
-  reducer.reduce(gl::groupCount(grid_.res), slot);
+  pressure_sum_.dispatch(rowInvocations(grid_.res));
+  reducer.reduce(rowCount(grid_.res), slot);
   field.bindImage(0, GL_READ_WRITE);
   reducer.bindResults(1);
   pressure_shift_.set("u_slot", static_cast<unsigned>(slot));

@@ -32,7 +32,8 @@ class FluidSolver {
   void removeRhsMean(gl::GroupReducer& reducer, std::size_t slot);
   // Runs the solver p.pressure_solver names (made on first use).
   SolveStats solvePressure(const FluidParams& p);
-  // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`.
+  // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`. This
+  // and the mean removals write rowCount(res) partials (fluid/row_reduction.h).
   void measureResidual(gl::GroupReducer& reducer, std::size_t slot);
   // Closed box only: shifts the pressure so its mean over fluid cells is 0 (sum into `slot`).
   void removePressureMean(gl::GroupReducer& reducer, std::size_t slot);

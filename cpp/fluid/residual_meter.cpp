@@ -9,7 +9,7 @@
 namespace hf::fluid {
 
 ResidualMeter::ResidualMeter(const Grid& grid)
-    : grid_(grid), residual_("residual_rows.comp", rowGroupDefines()), reducer_(rowCount(grid.res), 1) {
+    : grid_(grid), residual_("residual.comp", rowGroupDefines()), reducer_(rowCount(grid.res), 1) {
   residual_.set("u_res", grid.res);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Measures the pressure equation's relative residual ||rhs - A p|| / ||rhs|| over the fluid
-// cells now (residual_rows.comp + a two-level reduction + a 16-byte read-back): the stopping test
+// cells now (residual.comp + a two-level reduction + a 16-byte read-back): the stopping test
 // of the Jacobi solver's tolerance mode.
 #include "fluid/fluid_fields.h"
 #include "gl/compute_program.h"

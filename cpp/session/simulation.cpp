@@ -1,5 +1,6 @@
 #include "session/simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -7,6 +8,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "fluid/fluid_solver.h"
+#include "fluid/row_reduction.h"
 #include "fluid/validate.h"
 #include "force/force_reducer.h"
 #include "gl/gl_worker.h"
@@ -155,7 +157,7 @@ void validateStep(double dt_s, const fluid::FluidParams& p, const fluid::Grid& g
 struct Simulation::Engine {
   explicit Engine(const fluid::Grid& g)
       : solver(g), probe(g), classifier(g), force(g),
-        reducer(gl::groupCount(g.res + 1), kResultSlots) {}
+        reducer(std::max(gl::groupCount(g.res + 1), fluid::rowCount(g.res)), kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<obstacle::SpherePose>& pose,
                   const fluid::SmokeSource& source, const glm::vec3& rho_g, const glm::vec3& reference_m) {
