@@ -25,8 +25,6 @@ class PressureMultigrid : public PressureSolver {
   const char* name() const override { return "multigrid"; }
   SolveStats solve(FluidFields& fields, const FluidParams& params) override;
 
-  MultigridVCycle& vcycle() { return vcycle_; }
-
  private:
   // r = -rhs - A p, its sums into the init slot; in a closed box r's mean is then removed.
   void startResidual(FluidFields& f, bool closed);
