@@ -78,7 +78,8 @@ void addSimulation(py::module_& m) {
           "GPU time per stage (ms), in execution order.")
       .def("__repr__", [](const session::StepReport& r) {
         return "StepReport(force=(" + std::to_string(r.force_n.x) + ", " + std::to_string(r.force_n.y) + ", " +
-               std::to_string(r.force_n.z) + ") N, residual=" + std::to_string(r.relative_residual) +
+               std::to_string(r.force_n.z) + ") N, torque=(" + std::to_string(r.torque_n_m.x) + ", " +
+               std::to_string(r.torque_n_m.y) + ", " + std::to_string(r.torque_n_m.z) + ") N m, residual=" + std::to_string(r.relative_residual) +
                ", wall_ms=" + std::to_string(r.wall_ms) + ")";
       });
 

@@ -180,7 +180,7 @@ void validateStep(double dt_s, const fluid::FluidParams& p, const fluid::Grid& g
 // Everything that holds GL objects; made, used and destroyed on the worker thread only.
 struct Simulation::Engine {
   explicit Engine(const fluid::Grid& g)
-      : solver(g), probe(g), mesh_probe(g), classifier(g), force(g),
+      : grid(g), solver(g), probe(g), classifier(g), force(g),
         reducer(std::max(gl::groupCount(g.res + 1), force::ForceReducer::partialsNeeded(g)), kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<ProbeState>& pose,
@@ -192,9 +192,10 @@ struct Simulation::Engine {
       probe.setPose(pose->sphere);
       body = &probe;
     } else if (pose) {
-      mesh_probe.setMesh(pose->mesh);
-      mesh_probe.setPose(pose->pose);
-      body = &mesh_probe;
+      if (!mesh_probe) mesh_probe = std::make_unique<obstacle::MeshProbe>(grid);  // its programs on first use
+      mesh_probe->setMesh(pose->mesh);
+      mesh_probe->setPose(pose->pose);
+      body = mesh_probe.get();
     }
     if (body) {
       body->voxelize(f.solid, f.solid_velocity);
@@ -250,9 +251,10 @@ struct Simulation::Engine {
     return r;
   }
 
+  fluid::Grid grid;
   fluid::FluidSolver solver;
   obstacle::SphereProbe probe;
-  obstacle::MeshProbe mesh_probe;
+  std::unique_ptr<obstacle::MeshProbe> mesh_probe;
   obstacle::Classifier classifier;
   force::ForceReducer force;
   gl::GroupReducer reducer;

@@ -58,6 +58,31 @@ def icosphere(levels: int, radius: float) -> Mesh:
     return (np.array(verts) * radius).astype(np.float32), np.array(faces, dtype=np.int32)
 
 
+def uv_sphere(slices: int, rings: int, radius: float) -> Mesh:
+    """A sphere of ``radius`` (m) at the origin from ``slices`` meridians and ``rings`` parallels
+    (plus the two poles): exactly ``2 * slices * rings`` triangles (slices >= 3, rings >= 1)."""
+    if slices < 3 or rings < 1:
+        raise ValueError(f"a UV sphere needs slices >= 3 and rings >= 1, got {slices}, {rings}")
+    if not np.isfinite(radius) or radius <= 0:
+        raise ValueError(f"radius must be positive and finite (m), got {radius}")
+    theta = np.pi * np.arange(1, rings + 1) / (rings + 1)  # polar angle of each parallel
+    phi = 2.0 * np.pi * np.arange(slices) / slices
+    ring = np.stack([np.outer(np.sin(theta), np.cos(phi)), np.outer(np.sin(theta), np.sin(phi)),
+                     np.outer(np.cos(theta), np.ones(slices))], axis=-1).reshape(-1, 3)
+    vertices = np.vstack([[0.0, 0.0, 1.0], ring, [0.0, 0.0, -1.0]]) * radius
+    north, south = 0, 1 + rings * slices
+    s = np.arange(slices)
+    s1 = (s + 1) % slices
+    tris = [np.stack([np.full(slices, north), 1 + s, 1 + s1], axis=1)]
+    for r in range(rings - 1):
+        a, b = 1 + r * slices, 1 + (r + 1) * slices
+        tris.append(np.stack([a + s, b + s, b + s1], axis=1))
+        tris.append(np.stack([a + s, b + s1, a + s1], axis=1))
+    last = 1 + (rings - 1) * slices
+    tris.append(np.stack([np.full(slices, south), last + s1, last + s], axis=1))
+    return vertices.astype(np.float32), np.vstack(tris).astype(np.int32)
+
+
 def volume(vertices: npt.ArrayLike, triangles: npt.ArrayLike) -> float:
     """Enclosed volume (m^3) of a closed mesh, by the divergence theorem (signed tetrahedra)."""
     v = np.asarray(vertices, dtype=np.float64)
