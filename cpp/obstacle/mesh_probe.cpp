@@ -12,20 +12,16 @@
 namespace hf::obstacle {
 namespace {
 
-constexpr int kLinearGroup = 256;      // invocations per workgroup of the per-vertex/triangle stages
 constexpr int kFixedPointRange = 1 << 14;  // largest fixed-point coordinate: keeps edge functions in int32
-
-gl::Defines linearDefines() { return {{"WG_LINEAR", std::to_string(kLinearGroup)}}; }
-gl::Defines columnDefines() { return {{"WG_X", "8"}, {"WG_Y", "8"}}; }
 
 }  // namespace
 
 MeshProbe::MeshProbe(const fluid::Grid& grid)
     : grid_(grid),
       crossings_(grid.cells() * sizeof(std::int32_t), "mesh crossings"),
-      transform_("voxelize_mesh_transform.comp", linearDefines()),
-      crossings_program_("voxelize_mesh_crossings.comp", linearDefines()),
-      fill_("voxelize_mesh_fill.comp", columnDefines()) {
+      transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
+      crossings_program_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
+      fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()) {
   const int widest = std::max(grid.res.x, grid.res.y);
   while (widest * subcell_ * 2 <= kFixedPointRange) subcell_ *= 2;
   if (widest * subcell_ > kFixedPointRange) {
