@@ -2,6 +2,8 @@
 (InvalidArgumentError saying what to change) for every kind of bad input, which changes nothing."""
 
 import math
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -146,3 +148,34 @@ def test_bad_probe_pose_is_explained_and_changes_nothing(sim):
     with pytest.raises(hf.InvalidArgumentError, match="not inside the domain"):
         sim.set_probe_pose(moved(0.1, 0.5, 0.5))
     np.testing.assert_allclose(sim.probe["centre"], (0.5, 0.5, 0.5))
+
+
+def test_probe_pose_does_not_wait_for_a_running_step():
+    """A haptic loop or bake driver moves the mesh while a long GPU step runs; the next step
+    takes the latest pose."""
+    sim = hf.Simulation(resolution=(32, 32, 32), pressure_iterations=1000, gravity=(0, 0, 0))
+    vertices, triangles = meshes.icosphere(2, 0.15)
+    sim.set_mesh_probe(vertices, triangles, moved(0.5, 0.5, 0.5))
+    sim.step(0.01)
+    started, done = threading.Event(), threading.Event()
+
+    def work():
+        started.set()
+        sim.step(0.01)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    time.sleep(0.05)  # let the step take the GPU lock
+    assert not done.is_set(), "the step finished too soon for this check"
+    for i in range(200):
+        sim.set_probe_pose(moved(0.5 + 0.0005 * i, 0.5, 0.5), velocity=(0.05, 0, 0))
+    finished_during_poses = done.is_set()
+    t.join()
+    assert not finished_during_poses
+    np.testing.assert_allclose(sim.probe["transform"], moved(0.5 + 0.0005 * 199, 0.5, 0.5), atol=1e-6)
+    sim.pressure_iterations = 1
+    report = sim.step(0.01)
+    assert report.torque_centre[0] == pytest.approx(0.5995, abs=0.5 * sim.cell_size)
+    sim.close()
