@@ -105,6 +105,13 @@ MeshExtent meshExtent(const TriangleMesh& mesh) {
   float r2 = 0.0f;
   for (const glm::vec3& p : mesh.vertices_m) r2 = std::max(r2, glm::dot(p - e.centre, p - e.centre));
   e.radius = std::sqrt(r2) * (1.0f + 1e-6f);
+  e.triangles = mesh.triangles.size();
+  for (const glm::uvec3& t : mesh.triangles) {
+    const glm::vec3 a = mesh.vertices_m[t.x], b = mesh.vertices_m[t.y], c = mesh.vertices_m[t.z];
+    const double d = glm::length(glm::max(a, glm::max(b, c)) - glm::min(a, glm::min(b, c)));
+    e.triangle_size_sum += d;
+    e.triangle_size_sq_sum += d * d;
+  }
   return e;
 }
 
@@ -141,6 +148,15 @@ WorldBox worldBox(const MeshExtent& e, const glm::mat4& m) {
   glm::vec3 half;
   for (int a = 0; a < 3; ++a) half[a] = e.radius * glm::length(glm::vec3(m[0][a], m[1][a], m[2][a]));
   return {glm::max(corners.lo, c - half), glm::min(corners.hi, c + half)};
+}
+
+double columnVisitBound(const MeshExtent& e, const glm::mat4& m, float cell_size_m) {
+  // A triangle of local box diagonal d spans at most s d / h columns per axis, s the largest
+  // stretch of the transform (bounded by the Frobenius norm): sum (s d / h + 1)^2.
+  const glm::mat3 a(m);
+  const double s = std::sqrt(double(glm::dot(a[0], a[0])) + glm::dot(a[1], a[1]) + glm::dot(a[2], a[2]));
+  const double k = s / cell_size_m;
+  return k * k * e.triangle_size_sq_sum + 2.0 * k * e.triangle_size_sum + static_cast<double>(e.triangles);
 }
 
 }  // namespace hf::obstacle

@@ -10,6 +10,7 @@
 // other. Several shells, overlapping shells and inside-out meshes are fine (nonzero rule);
 // zero-area triangles are fine (they cross no column). Parts thinner than a cell can fall
 // between cell centres and are then not seen.
+#include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
@@ -28,6 +29,9 @@ struct MeshExtent {
   glm::vec3 lo{0.0f}, hi{0.0f};   // local axis-aligned box, m
   glm::vec3 centre{0.0f};         // of that box
   float radius = 0.0f;            // largest vertex distance from `centre`, m
+  std::size_t triangles = 0;
+  double triangle_size_sum = 0.0;     // sum over triangles of their local box diagonal, m
+  double triangle_size_sq_sum = 0.0;  // the same, squared, m^2
 };
 
 // World pose of a rigid body: the object's matrix_world (local -> world, may scale), the
@@ -52,5 +56,10 @@ void validateTransform(const glm::mat4& transform);
 // A box that holds the transformed mesh: the intersection of the transformed local box's
 // corners and the transformed bounding sphere (both conservative; O(1), no vertex loop).
 WorldBox worldBox(const MeshExtent& extent, const glm::mat4& transform);
+// An upper bound on the cell columns the crossings stage visits for this pose (each triangle
+// visits the columns under its xy box), so a pose that would make the GPU work for seconds is
+// refused rather than run.
+double columnVisitBound(const MeshExtent& extent, const glm::mat4& transform, float cell_size_m);
+inline constexpr double kMaxColumnVisits = 1e9;
 
 }  // namespace hf::obstacle

@@ -149,6 +149,12 @@ void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
 void validatePose(const obstacle::MeshExtent& extent, const obstacle::RigidPose& p, const fluid::Grid& g) {
   obstacle::validateTransform(p.transform);
   validateMotion(p.velocity_m_s, p.angular_velocity_rad_s);
+  const double visits = obstacle::columnVisitBound(extent, p.transform, g.cell_size_m);
+  if (!(visits <= obstacle::kMaxColumnVisits)) {
+    throw InvalidArgument("the posed mesh's triangles could cover up to " + num(visits) +
+                          " cell columns per step (limit " + num(obstacle::kMaxColumnVisits) +
+                          "); split its large triangles, scale it down or use a coarser grid");
+  }
   const obstacle::WorldBox box = obstacle::worldBox(extent, p.transform);
   const glm::vec3 lo = g.origin_m + g.cell_size_m, hi = g.origin_m + g.sizeM() - g.cell_size_m;
   if (glm::any(glm::lessThan(box.lo, lo)) || glm::any(glm::greaterThan(box.hi, hi))) {

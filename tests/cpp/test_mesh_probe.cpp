@@ -255,5 +255,29 @@ TEST(MeshValidation, WorldBoxHoldsThePosedMesh) {
   }
 }
 
+// columnVisitBound is an upper bound on the columns the crossings stage visits: each triangle's
+// columns with centres inside its posed xy box, counted here exactly.
+TEST(MeshValidation, ColumnVisitBoundHoldsTheCrossingsWork) {
+  const fluid::Grid g = testGrid();
+  for (const TriangleMesh& mesh : {test::boxMesh(glm::vec3(-0.3f), glm::vec3(0.2f, 0.3f, 0.25f)),
+                                   test::icosphere(2, 0.3f, glm::vec3(0.0f))}) {
+    const glm::mat4 m = pose(glm::vec3(0.1f, 0.7f, 1.5f), 0.9f, glm::vec3(1, -2, 1), glm::vec3(1.3f, 0.6f, 1.0f));
+    double visits = 0.0;
+    for (const auto& t : mesh.triangles) {
+      glm::vec2 lo(1e30f), hi(-1e30f);
+      for (int c = 0; c < 3; ++c) {
+        const glm::vec3 p = g.toGrid(glm::vec3(m * glm::vec4(mesh.vertices_m[t[c]], 1.0f)));
+        lo = glm::min(lo, glm::vec2(p));
+        hi = glm::max(hi, glm::vec2(p));
+      }
+      const glm::vec2 n = glm::max(glm::floor(hi - 0.5f) - glm::ceil(lo - 0.5f) + 1.0f, glm::vec2(0.0f));
+      visits += double(n.x) * n.y;
+    }
+    const double bound = columnVisitBound(meshExtent(mesh), m, g.cell_size_m);
+    EXPECT_GE(bound, visits);
+    EXPECT_LT(bound, 20.0 * visits + 1000.0);  // and not uselessly loose
+  }
+}
+
 }  // namespace
 }  // namespace hf::obstacle
