@@ -94,16 +94,24 @@ void validateMesh(const TriangleMesh& mesh) {
 }
 
 MeshExtent meshExtent(const TriangleMesh& mesh) {
+  // Over the vertices that triangles use: loose vertices do not count.
   MeshExtent e;
-  if (mesh.vertices_m.empty()) return e;
-  e.lo = e.hi = mesh.vertices_m[0];
-  for (const glm::vec3& p : mesh.vertices_m) {
-    e.lo = glm::min(e.lo, p);
-    e.hi = glm::max(e.hi, p);
+  if (mesh.triangles.empty()) return e;
+  e.lo = e.hi = mesh.vertices_m[mesh.triangles[0].x];
+  for (const glm::uvec3& t : mesh.triangles) {
+    for (int c = 0; c < 3; ++c) {
+      e.lo = glm::min(e.lo, mesh.vertices_m[t[c]]);
+      e.hi = glm::max(e.hi, mesh.vertices_m[t[c]]);
+    }
   }
   e.centre = 0.5f * (e.lo + e.hi);
   float r2 = 0.0f;
-  for (const glm::vec3& p : mesh.vertices_m) r2 = std::max(r2, glm::dot(p - e.centre, p - e.centre));
+  for (const glm::uvec3& t : mesh.triangles) {
+    for (int c = 0; c < 3; ++c) {
+      const glm::vec3 d = mesh.vertices_m[t[c]] - e.centre;
+      r2 = std::max(r2, glm::dot(d, d));
+    }
+  }
   e.radius = std::sqrt(r2) * (1.0f + 1e-6f);
   e.triangles = mesh.triangles.size();
   for (const glm::uvec3& t : mesh.triangles) {

@@ -24,7 +24,7 @@ struct TriangleMesh {
   std::vector<glm::uvec3> triangles;      // vertex indices, counter-clockwise seen from outside
 };
 
-// Extent of a mesh in its local frame, for cheap world bounds of any pose.
+// Extent of a mesh's triangles in its local frame, for cheap world bounds of any pose.
 struct MeshExtent {
   glm::vec3 lo{0.0f}, hi{0.0f};   // local axis-aligned box, m
   glm::vec3 centre{0.0f};         // of that box

@@ -56,6 +56,11 @@ def test_mesh_probe_round_trip_and_pose(sim):
     np.testing.assert_allclose(sim.probe["transform"], turn)
     np.testing.assert_allclose(sim.probe["velocity"], (0, 0, 0))
 
+    # Loose vertices (used by no triangle) do not count for the bounds.
+    loose = np.vstack([vertices, [[50.0, 50.0, 50.0]]]).astype(np.float32)
+    sim.set_mesh_probe(loose, triangles, moved(0.5, 0.5, 0.5))
+    assert sim.probe["vertex_count"] == 9
+
     # A given torque centre is reported back.
     sim.set_mesh_probe(vertices, triangles, moved(0.5, 0.5, 0.5), torque_centre=(0.1, 0.2, 0.3))
     np.testing.assert_allclose(sim.probe["torque_centre"], (0.1, 0.2, 0.3))
