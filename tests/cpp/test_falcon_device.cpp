@@ -80,7 +80,9 @@ TEST(FalconDevice, PositionFollowsTheGripAfterHoming) {
     return t < 1.0 ? homingGesture(t) : glm::dvec3(std::min(0.05 * (t - 1.0), 0.03), 0.0, 0.0);
   };
   auto sim = std::make_shared<SimulatedFalconTransport>(sim_options);
-  auto device = openSimulatedFalcon(sim, fastOptions());
+  FalconOptions options = fastOptions();
+  options.clock = simulatedClock(sim);  // readings stamped with simulated time: exact velocities
+  auto device = openSimulatedFalcon(sim, options);
   run(*device, 1200 - static_cast<int>(sim->state().packets), glm::vec3(0.0f));  // to t = 1.2 s
   const DeviceState s = device->read();
   const SimulatedFalconState truth = sim->state();

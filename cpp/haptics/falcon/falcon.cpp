@@ -63,13 +63,15 @@ std::shared_ptr<FalconDevice> openSimulatedFalcon(const std::shared_ptr<Simulate
                                                   FalconOptions options) {
   if (!transport) throw InvalidArgument("openSimulatedFalcon needs a simulated transport, got none");
   if (options.info.name.empty()) options.info = falconInfo("Simulated Novint Falcon", "simulated_falcon", "SIM-0");
-  std::weak_ptr<SimulatedFalconTransport> weak = transport;
-  if (!options.clock)
-    options.clock = [weak] {
-      const auto sim = weak.lock();
-      return sim ? sim->time_s() : 0.0;
-    };
   return std::make_shared<FalconDevice>(transport, std::move(options));
+}
+
+std::function<double()> simulatedClock(const std::shared_ptr<SimulatedFalconTransport>& transport) {
+  std::weak_ptr<SimulatedFalconTransport> weak = transport;
+  return [weak] {
+    const auto sim = weak.lock();
+    return sim ? sim->time_s() : 0.0;
+  };
 }
 
 }  // namespace hf::haptics::falcon

@@ -34,9 +34,11 @@ std::string udevRule();
 // the udev rule), firmware, homing.
 std::shared_ptr<FalconDevice> openFalcon(int index, FalconOptions options);
 
-// The whole driver on a simulated Falcon; `transport` stays inspectable by the caller. The
-// device's clock is the simulation's (packetDt_s per read()).
+// The whole driver on a simulated Falcon; `transport` stays inspectable by the caller. Readings
+// are stamped with options.clock (default: the steady clock, as for hardware; simulatedClock()
+// makes them the simulation's time, packetDt_s per packet, for deterministic tests).
 std::shared_ptr<FalconDevice> openSimulatedFalcon(const std::shared_ptr<SimulatedFalconTransport>& transport,
                                                   FalconOptions options);
+std::function<double()> simulatedClock(const std::shared_ptr<SimulatedFalconTransport>& transport);
 
 }  // namespace hf::haptics::falcon

@@ -49,8 +49,9 @@ bool firmwareRunning(FtdiSerial& serial, int packets, std::chrono::milliseconds 
 
 FalconDevice::FalconDevice(std::shared_ptr<UsbTransport> usb, FalconOptions options)
     : usb_(std::move(usb)), opt_(std::move(options)), serial_(checked(usb_)) {
-  if (!(std::isfinite(opt_.maxForce_n) && opt_.maxForce_n > 0.0f))
-    throw InvalidArgument("Falcon max force must be a positive number of newtons, got " + num(opt_.maxForce_n));
+  if (!(std::isfinite(opt_.maxForce_n) && opt_.maxForce_n > 0.0f && opt_.maxForce_n <= kFalconPeakForce_n))
+    throw InvalidArgument("Falcon max force must be in (0, " + num(kFalconPeakForce_n) +
+                          "] N (the Falcon's peak force), got " + num(opt_.maxForce_n));
   if (!(opt_.velocityFilter_s >= 0.0 && opt_.velocityFilter_s <= 1.0))
     throw InvalidArgument("Falcon velocity filter time constant must be in [0, 1] s, got " + num(opt_.velocityFilter_s));
   if (!(opt_.homingTimeout_s > 0.0 && opt_.homingTimeout_s <= 3600.0))
@@ -143,7 +144,7 @@ void FalconDevice::update(const FalconReport& report) {
                                         haveReading_ ? previous : glm::dvec3(0.0));
   glm::dvec3 p = fk.position_m;
   if (!fk.converged) {
-    ++stats_.forwardFailures;
+    if (homed) ++stats_.forwardFailures;  // before homing the counts are arbitrary: expected
     if (haveReading_) p = previous;
   }
   glm::dvec3 v(0.0);

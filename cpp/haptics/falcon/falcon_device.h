@@ -20,6 +20,8 @@
 
 namespace hf::haptics::falcon {
 
+constexpr float kFalconPeakForce_n = 8.9f;  // Novint's specification
+
 struct FalconOptions {
   std::vector<std::uint8_t> firmware;   // uploaded when the firmware is not running; empty: none
   bool home = true;                     // the constructor waits until the user has homed it
@@ -42,7 +44,7 @@ struct FalconStats {
   long missedReplies = 0;      // exchanges without a reply
   long forceClamps = 0;        // writeForce() magnitudes above maxForce_n
   long commandClamps = 0;      // torques that did not fit int16 (scaled down together)
-  long forwardFailures = 0;    // readings where forward kinematics did not converge
+  long forwardFailures = 0;    // homed readings where forward kinematics did not converge
   int uploadAttempts = 0;      // 0: the firmware was already running
   bool firmwareUploaded = false;
 };

@@ -29,10 +29,12 @@ SimulatedFalconTransport::SimulatedFalconTransport(SimulatedFalconOptions option
     : opt_(std::move(options)),
       mode_(opt_.expectedFirmware.empty() ? Mode::Running : Mode::Bootloader) {
   if (!opt_.handPath) opt_.handPath = homingGesture;
-  if (!(opt_.packetDt_s > 0.0 && opt_.handMass_kg > 0.0 && opt_.handStiffness_n_m >= 0.0 &&
+  const bool finite = std::isfinite(opt_.packetDt_s) && std::isfinite(opt_.handMass_kg) &&
+                      std::isfinite(opt_.handStiffness_n_m) && std::isfinite(opt_.handDamping_n_s_m);
+  if (!(finite && opt_.packetDt_s > 0.0 && opt_.handMass_kg > 0.0 && opt_.handStiffness_n_m >= 0.0 &&
         opt_.handDamping_n_s_m >= 0.0))
-    throw InvalidArgument("simulated Falcon: packet time step and hand mass must be positive, hand stiffness and "
-                          "damping non-negative");
+    throw InvalidArgument("simulated Falcon: packet time step (s) and hand mass (kg) must be positive and finite, "
+                          "hand stiffness (N/m) and damping (N s/m) finite and non-negative");
   const auto home = kin_.inverse(glm::dvec3(0.0, 0.0, opt_.homingPullOut_m));
   if (!home) throw InvalidArgument("simulated Falcon: the homing pull-out point is outside the workspace");
   homeAngles_ = *home;
