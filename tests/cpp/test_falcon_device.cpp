@@ -94,6 +94,8 @@ TEST(FalconDevice, PositionFollowsTheGripAfterHoming) {
   EXPECT_NEAR(s.velocity_m_s.x, 0.05, 0.01);
   EXPECT_NEAR(s.velocity_m_s.z, 0.0, 0.01);
   EXPECT_NEAR(s.time_s, truth.time_s, 1e-9);
+  EXPECT_EQ(device->stats().forwardFailures, 0);
+  EXPECT_EQ(device->stats().missedReplies, 0);
 }
 
 TEST(FalconDevice, ForceReachesTheGripThroughTheWholeStack) {
