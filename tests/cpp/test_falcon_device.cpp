@@ -21,6 +21,7 @@ std::vector<std::uint8_t> syntheticFirmware(std::size_t n) {
 FalconOptions fastOptions() {
   FalconOptions o;
   o.homingTimeout_s = 5.0;
+  o.probeTimeout = std::chrono::milliseconds(20);
   o.loader.handshakeTries = 3;
   o.loader.uploadAttempts = 3;
   o.loader.handshakeTimeout = std::chrono::milliseconds(20);

@@ -66,10 +66,12 @@ def test_simulated_falcon_uploads_the_firmware_it_is_given():
         dev.read()
 
 
-def test_no_force_until_homed():
+def test_homing_on_demand():
     dev = hf.open_simulated_falcon(home=False)
     state = dev.read()
     assert not state.homed
+    with pytest.raises(hf.InvalidArgumentError, match="homing timeout"):
+        dev.home(timeout=0.0)
     dev.home(timeout=10.0)
     assert dev.read().homed
     dev.close()

@@ -56,8 +56,9 @@ FalconDevice::FalconDevice(std::shared_ptr<UsbTransport> usb, FalconOptions opti
     throw InvalidArgument("Falcon velocity filter time constant must be in [0, 1] s, got " + num(opt_.velocityFilter_s));
   if (!(opt_.homingTimeout_s > 0.0 && opt_.homingTimeout_s <= 3600.0))
     throw InvalidArgument("Falcon homing timeout must be in (0, 3600] s, got " + num(opt_.homingTimeout_s));
-  if (opt_.replyTimeout.count() < 1 || opt_.maxMissedReplies < 1 || opt_.firmwareProbePackets < 1)
-    throw InvalidArgument("Falcon reply timeout, missed-reply limit and probe packets must be at least 1");
+  if (opt_.replyTimeout.count() < 1 || opt_.probeTimeout.count() < 1 || opt_.maxMissedReplies < 1 ||
+      opt_.firmwareProbePackets < 1)
+    throw InvalidArgument("Falcon reply/probe timeouts (ms), missed-reply limit and probe packets must be at least 1");
   if (opt_.info.name.empty()) opt_.info = falconInfo("Novint Falcon", "falcon", "");
   if (opt_.info.max_force_n <= 0.0f || opt_.info.max_force_n > opt_.maxForce_n) opt_.info.max_force_n = opt_.maxForce_n;
   const std::string who = usb_->describe();
@@ -67,7 +68,7 @@ FalconDevice::FalconDevice(std::shared_ptr<UsbTransport> usb, FalconOptions opti
     serial_.setLine8N1();
     serial_.setNoFlowControl();
     enterNormalMode(serial_);
-    if (!firmwareRunning(serial_, opt_.firmwareProbePackets, opt_.replyTimeout)) {
+    if (!firmwareRunning(serial_, opt_.firmwareProbePackets, opt_.probeTimeout)) {
       if (opt_.firmware.empty())
         throw Error(who + ": the Falcon's firmware is not loaded (it is lost at every power-off). Pass the "
                     "firmware file from Novint's driver or SDK, e.g. open_falcon(firmware='nvent_firmware.bin')");
@@ -80,7 +81,7 @@ FalconDevice::FalconDevice(std::shared_ptr<UsbTransport> usb, FalconOptions opti
       }
       stats_.uploadAttempts = loader.attemptsUsed();
       stats_.firmwareUploaded = true;
-      if (!firmwareRunning(serial_, opt_.firmwareProbePackets, opt_.replyTimeout))
+      if (!firmwareRunning(serial_, opt_.firmwareProbePackets, opt_.probeTimeout))
         throw Error(who + ": the firmware was uploaded and every byte echoed, but the Falcon does not answer "
                     "packets: is the file the Falcon's firmware (nvent_firmware.bin)? Power-cycle the Falcon and retry");
     }
@@ -181,6 +182,8 @@ void FalconDevice::lost(const std::exception& e) {
 }
 
 void FalconDevice::home(double timeout_s) {
+  if (!(timeout_s > 0.0 && timeout_s <= 3600.0))
+    throw InvalidArgument("homing timeout must be in (0, 3600] s, got " + num(timeout_s));
   std::lock_guard<std::mutex> lock(mu_);
   if (closed_ || dead_) throw Error(info().name + ": home() on a closed or lost device");
   const double start = steadySeconds();

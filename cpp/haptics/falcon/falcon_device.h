@@ -28,7 +28,8 @@ struct FalconOptions {
   double homingTimeout_s = 60.0;        // then gives up with instructions
   float maxForce_n = 8.0f;              // never exceeded (CHAI3D's Falcon profile)
   double velocityFilter_s = 0.015;      // time constant of the velocity low-pass (s)
-  std::chrono::milliseconds replyTimeout{20};
+  std::chrono::milliseconds replyTimeout{5};   // per read() (a reply takes ~1-2 ms at 1 ms latency)
+  std::chrono::milliseconds probeTimeout{50};  // per packet of the firmware probe at open
   int maxMissedReplies = 50;            // consecutive; then read() throws (link lost)
   int firmwareProbePackets = 5;         // exchanges tried when checking for running firmware
   FirmwareLoaderOptions loader;

@@ -58,7 +58,7 @@ class FrameScanner {
   void clear() { pending_.clear(); }
   std::size_t droppedBytes() const { return dropped_; }
 
-  // Frame validity used while scanning: delimiters only, or the full report/command check.
+  // Which decoder decides validity while scanning: reports (host side) or commands (simulator).
   enum class Check { Report, Command };
   explicit FrameScanner(Check check = Check::Report) : check_(check) {}
 

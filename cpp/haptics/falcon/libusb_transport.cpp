@@ -23,6 +23,8 @@ std::string where(int bus, int address) {
     throw UsbAccessDenied(what + ". This user may not open the Falcon.\n" + udevRuleHelp());
   if (code == LIBUSB_ERROR_NO_DEVICE)
     throw UsbUnplugged(what + ": the Falcon was unplugged or powered off; plug it in and open it again");
+  if (code == LIBUSB_ERROR_BUSY)
+    throw Error(what + ": the Falcon is in use by another program or another open device; close that first");
   throw Error(what);
 }
 
