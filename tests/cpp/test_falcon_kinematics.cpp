@@ -37,6 +37,26 @@ TEST(FalconKinematics, EncoderScaleMatchesTheGearing) {
   EXPECT_FALSE(FalconKinematics::countFromAngle(std::nan("")));
 }
 
+TEST(FalconKinematics, InverseMatchesTheHalfAngleSolution) {
+  // Upper-arm angles (rad) from libnifalcon's published equations (the half-angle quadratic,
+  // minus root), evaluated separately; kinematic z = device z + 0.12 m.
+  const FalconKinematics kin;
+  struct Case {
+    glm::dvec3 device_m;
+    glm::dvec3 angles;
+  };
+  const Case cases[] = {
+      {{0.0, 0.0, 0.08 - kWorkspaceCentreZ}, {-0.20594969, -0.20594969, -0.20594969}},
+      {{0.02, -0.01, 0.15 - kWorkspaceCentreZ}, {1.00038138, 0.64964842, 0.92340765}},
+      {{0.03, 0.03, 0.10 - kWorkspaceCentreZ}, {0.0292624278, 0.000382509106, 0.777502591}},
+  };
+  for (const Case& c : cases) {
+    const auto a = kin.inverse(c.device_m);
+    ASSERT_TRUE(a);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR((*a)[i], c.angles[i], 1e-7) << "arm " << i;
+  }
+}
+
 TEST(FalconKinematics, SymmetricPosesGiveEqualArmAngles) {
   const FalconKinematics kin;
   for (double z : {-0.04, 0.0, 0.04}) {

@@ -43,16 +43,15 @@ bool solveArm(const FalconGeometry& g, const glm::dvec3& q, ArmAngles& out) {
   if (!(std::abs(cos_t3) <= 1.0)) return false;
   out.t3 = std::acos(cos_t3);
   const double rho = g.d + g.e + g.b * std::sin(out.t3);
-  // |(x, z) - a u(t1) - c n(t1)| = rho  ->  A cos t1 + B sin t1 = C
-  const double A = -2.0 * (q.x * g.a + q.z * g.c);
-  const double B = 2.0 * (q.x * g.c - q.z * g.a);
-  const double C = rho * rho - q.x * q.x - q.z * q.z - g.a * g.a - g.c * g.c;
+  // |(X, z) - a u(t1)| = rho with X = x + c  ->  A cos t1 + B sin t1 = C
+  const double X = q.x + g.c;
+  const double A = 2.0 * g.a * X;
+  const double B = 2.0 * g.a * q.z;
+  const double C = X * X + q.z * q.z + g.a * g.a - rho * rho;
   const double R = std::hypot(A, B);
   if (!(R > 0.0) || !(std::abs(C) <= R)) return false;
-  out.t1 = wrap(std::atan2(B, A) + std::acos(C / R));
-  const double wx = q.x - g.a * std::cos(out.t1) + g.c * std::sin(out.t1);
-  const double wz = q.z - g.a * std::sin(out.t1) - g.c * std::cos(out.t1);
-  out.t2 = wrap(std::atan2(wz, wx) - out.t1);
+  out.t1 = wrap(std::atan2(B, A) - std::acos(C / R));
+  out.t2 = std::atan2(q.z - g.a * std::sin(out.t1), X - g.a * std::cos(out.t1));
   return true;
 }
 
@@ -81,12 +80,12 @@ std::optional<glm::dmat3> FalconKinematics::inverseJacobian(const glm::dvec3& po
     if (!solveArm(g_, q, arm)) return std::nullopt;
     const double rho = g_.d + g_.e + g_.b * std::sin(arm.t3);
     const double s1 = std::sin(arm.t1), c1 = std::cos(arm.t1);
-    const double s12 = std::sin(arm.t1 + arm.t2), c12 = std::cos(arm.t1 + arm.t2);
+    const double s2 = std::sin(arm.t2), c2 = std::cos(arm.t2);
     const double s3 = std::sin(arm.t3), c3 = std::cos(arm.t3);
     // Columns d q / d(t1, t2, t3) of the closure equations.
-    const glm::dvec3 dq_dt1(-g_.a * s1 - g_.c * c1 - rho * s12, 0.0, g_.a * c1 - g_.c * s1 + rho * c12);
-    const glm::dvec3 dq_dt2(-rho * s12, 0.0, rho * c12);
-    const glm::dvec3 dq_dt3(g_.b * c3 * c12, -g_.b * s3, g_.b * c3 * s12);
+    const glm::dvec3 dq_dt1(-g_.a * s1, 0.0, g_.a * c1);
+    const glm::dvec3 dq_dt2(-rho * s2, 0.0, rho * c2);
+    const glm::dvec3 dq_dt3(g_.b * c3 * c2, -g_.b * s3, g_.b * c3 * s2);
     const glm::dmat3 M(dq_dt1, dq_dt2, dq_dt3);
     const double det = glm::determinant(M);
     if (!(std::abs(det) > 1e-12)) return std::nullopt;

@@ -4,12 +4,13 @@
 // the workspace centre (0, 0, kWorkspaceCentreZ) is the origin. Angles are in radians.
 //
 // Per arm i (rotated by phi_i about z), in the arm frame q = Rz(-phi_i) p - (r, s, 0):
-//   q.x = a cos t1 - c sin t1 + rho cos(t1 + t2)
-//   q.z = a sin t1 + c cos t1 + rho sin(t1 + t2)        rho = d + e + b sin t3
-//   q.y = b cos t3 - f
-// t1 is the motor-driven upper arm, t2 the elbow, t3 the parallelogram's out-of-plane angle.
-// Inverse: t3 from an arccos, t1 from A cos t1 + B sin t1 = C (the elbow-out branch), t2 from
-// the remaining in-plane vector. Forward: Newton on the inverse, bounded iterations.
+//   q.x + c = a cos t1 + rho cos t2
+//   q.z     = a sin t1 + rho sin t2                    rho = d + e + b sin t3
+//   q.y     = b cos t3 - f
+// t1 is the motor-driven upper arm, t2 the parallelogram's in-plane direction, t3 its
+// out-of-plane angle. Inverse: t3 from an arccos, t1 from 2a(q.x + c) cos t1 + 2a q.z sin t1 =
+// (q.x + c)^2 + q.z^2 + a^2 - rho^2 (the root libnifalcon takes as the minus root of the
+// half-angle quadratic), t2 from the remaining vector. Forward: Newton, bounded iterations.
 //
 // "Jacobian" here is the forward one, J = dp/dt1 (m/rad, column i = motor i), the inverse of the
 // stacked rows d(t1_i)/dp. By virtual work the motor torques for a force F are tau = J^T F, and a
@@ -25,7 +26,7 @@ namespace hf::haptics::falcon {
 struct FalconGeometry {
   double a = 0.060;      // m, upper arm
   double b = 0.1025;     // m, parallelogram link
-  double c = 0.01443;    // m, elbow offset across the upper arm
+  double c = 0.01443;    // m, offset of the arm frame along its x
   double d = 0.01125;    // m, link hinge offsets (top, bottom)
   double e = 0.01125;
   double f = -0.025;     // m, effector offset along the motor axis
@@ -39,7 +40,7 @@ struct FalconGeometry {
 constexpr double kCountsPerMotorTurn = 1280.0;
 constexpr double kGearRatio = 110.0 / 14.25;
 constexpr double kAngleAtZeroCountDeg = 35.0;
-constexpr double kWorkspaceCentreZ = 0.110;  // m, kinematic frame; the +-0.04 m cube around it is reachable
+constexpr double kWorkspaceCentreZ = 0.120;  // m, kinematic frame; the +-0.04 m cube around it is reachable
 constexpr double kWorkspaceHalfEdge = 0.040; // m
 // Motor command per N m of arm torque. libnifalcon scales by 10,000 and negates; the physical unit
 // of a command is undocumented, so force magnitudes on real hardware need calibrating.
