@@ -55,9 +55,9 @@ std::size_t FtdiSerial::read(std::uint8_t* out, std::size_t n, std::chrono::mill
   const auto deadline = Clock::now() + timeout;
   std::size_t done = take(out, n);
   while (done < n) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    if (left <= 0) break;
-    fill(static_cast<unsigned>(left));
+    const auto now = Clock::now();
+    if (now >= deadline) break;
+    fill(static_cast<unsigned>(std::chrono::ceil<std::chrono::milliseconds>(deadline - now).count()));
     done += take(out + done, n - done);
   }
   return done;
