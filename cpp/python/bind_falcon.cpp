@@ -147,7 +147,7 @@ void addFalcon(py::module_& m) {
   m.def(
       "open_simulated_falcon",
       [](std::optional<py::bytes> firmware_bytes, bool home, double homing_timeout, float max_force,
-         double hand_mass, double hand_stiffness, double hand_damping) -> DevicePtr {
+         double hand_mass, double hand_stiffness, double hand_damping, std::optional<long> unplug_after) -> DevicePtr {
         haptics::falcon::SimulatedFalconOptions sim;
         FalconOptions o = falconOptions(home, homing_timeout, max_force);
         if (firmware_bytes) {
@@ -159,13 +159,17 @@ void addFalcon(py::module_& m) {
         sim.handMass_kg = hand_mass;
         sim.handStiffness_n_m = hand_stiffness;
         sim.handDamping_n_s_m = hand_damping;
+        if (unplug_after) {
+          if (*unplug_after < 1) throw InvalidArgument("unplug_after must be at least 1 packet, or None");
+          sim.faults.unplugAtPacket = *unplug_after;
+        }
         py::gil_scoped_release release;
         auto transport = std::make_shared<haptics::falcon::SimulatedFalconTransport>(std::move(sim));
         return haptics::falcon::openSimulatedFalcon(transport, std::move(o));
       },
       py::arg("firmware_bytes") = py::none(), py::arg("home") = true, py::arg("homing_timeout") = 10.0,
       py::arg("max_force") = 8.0f, py::arg("hand_mass") = 0.15, py::arg("hand_stiffness") = 300.0,
-      py::arg("hand_damping") = 12.0,
+      py::arg("hand_damping") = 12.0, py::arg("unplug_after") = py::none(),
       "The whole Falcon driver on a simulated Falcon (no hardware): a FalconDevice.\n"
       "firmware_bytes: None: the firmware is already running; bytes: the simulated DSP waits in its\n"
       "  bootloader and the driver uploads these bytes, echo-checked, as for a real Falcon.\n"
@@ -173,7 +177,9 @@ void addFalcon(py::module_& m) {
       "  simulated time); homing_timeout in s.\n"
       "hand_mass (kg), hand_stiffness (N/m), hand_damping (N s/m): the hand holding the grip at the\n"
       "  workspace centre; a force F moves it about F / hand_stiffness. Simulated time advances\n"
-      "  1 ms per read(). max_force in N.");
+      "  1 ms per read(). max_force in N.\n"
+      "unplug_after: the simulated cable is pulled after this many packets (homing takes ~200):\n"
+      "  read() then raises HapticFluidError, write_force() and close() do nothing harmful.");
 }
 
 }  // namespace hf::python

@@ -157,4 +157,5 @@ def open_simulated_falcon(
     hand_mass: float = 0.15,  # kg
     hand_stiffness: float = 300.0,  # N/m
     hand_damping: float = 12.0,  # N s/m
+    unplug_after: Optional[int] = None,  # packets
 ) -> FalconDevice: ...

@@ -89,6 +89,21 @@ def test_simulated_falcon_argument_errors(kwargs, match):
         hf.open_simulated_falcon(**kwargs)
 
 
+def test_unplug_mid_session_raises_and_stops_cleanly():
+    dev = hf.open_simulated_falcon(unplug_after=500)
+    with pytest.raises(hf.HapticFluidError, match="was unplugged"):
+        for _ in range(1000):
+            dev.read()
+            dev.write_force((0.0, 2.0, 0.0))
+    with pytest.raises(hf.HapticFluidError, match="unplugged"):
+        dev.read()
+    dev.write_force((0.0, 2.0, 0.0))  # nothing to send it to: ignored
+    dev.close()
+    dev.close()
+    with pytest.raises(hf.InvalidArgumentError, match="unplug_after"):
+        hf.open_simulated_falcon(unplug_after=0)
+
+
 def test_non_finite_force_is_rejected():
     with hf.open_simulated_falcon() as dev:
         with pytest.raises(hf.InvalidArgumentError, match="finite"):
