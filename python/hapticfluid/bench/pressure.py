@@ -126,7 +126,10 @@ def run(quick: bool = False) -> dict:
             by_grid.setdefault(str(m["grid"]), {})[solver] = m
     notes = [f"time to a relative residual of {TOLERANCE:g}, warm-started, tolerance mode; "
              "pressure_ms is the GPU timer of the whole pressure stage",
-             "device: " + str(hf.probe_device("").get("renderer", "?"))]
+             "an iteration is one Jacobi sweep (with a residual check every 16) or one CG iteration "
+             "(one V-cycle, a matrix product, two dot products and the residual read-back)",
+             "device: " + str(hf.probe_device("").get("renderer", "?")),
+             "CPU load average (1 min) at the end: %.1f on %d cores" % (os.getloadavg()[0], os.cpu_count() or 0)]
     for grid, solvers in by_grid.items():
         j, m = solvers["jacobi"], solvers["multigrid"]
         if j["time_to_tolerance_ms"] and m["time_to_tolerance_ms"]:
