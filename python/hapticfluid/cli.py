@@ -18,6 +18,7 @@ from typing import Callable, List, Optional, Sequence
 
 import hapticfluid as hf
 from hapticfluid import demo as _demo
+from hapticfluid import devices_cli as _devices_cli
 from hapticfluid.bench.runner import add_parser as _add_bench
 
 
@@ -144,7 +145,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info, _add_bench]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices, _add_bench]
 
 
 def build_parser() -> argparse.ArgumentParser:
