@@ -180,6 +180,11 @@ def run(quick: bool = False, log=report.progress) -> dict:
         "time of all threads / frames (Mantaflow: of the bake call in Blender), the figure least "
         "disturbed by other load on the machine",
     ]
+    if manta["grid"] is None:
+        notes.append("Mantaflow's grid was not checked against its cache (no pyopenvdb); "
+                     f"computed from resolution_max {res_max}: {label}")
+    else:
+        notes.append(f"Mantaflow's grid, read from its cache's file_base_resolution: {label}")
     return {"title": "Mantaflow (Blender) against this engine, same scene and machine",
             "columns": COLUMNS, "rows": rows, "notes": notes}
 
