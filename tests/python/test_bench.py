@@ -75,8 +75,9 @@ def test_engine_rows_have_positive_timings_per_stage(quick_run):
         for key in ("steps/s", "wall ms median", "wall ms p90", "GPU ms total", *stages):
             assert _positive(r[key]), (key, r[key])
         assert r["wall ms p90"] >= r["wall ms median"]
-        # The stages are parts of the step: they add up to the total.
-        assert sum(r[s] for s in stages) == pytest.approx(r["GPU ms total"], rel=0.05)
+        # Every step's GPU stages run inside its wall time, so the medians keep that order
+        # (5 % and 0.5 ms for the two clocks' granularity).
+        assert r["GPU ms total"] <= 1.05 * r["wall ms median"] + 0.5
         assert 0.0 <= r["rel. residual"] < 1.0
         assert r["pressure iterations"] == 40
 
