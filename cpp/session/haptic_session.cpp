@@ -1,0 +1,254 @@
+#include "session/haptic_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/error.h"
+#include "fluid/validate.h"
+#include "haptics/clock.h"
+#include "haptics/rate_estimator.h"
+#include "session/simulation.h"
+
+namespace hf::session {
+
+namespace {
+constexpr double kFirstStepS = 1.0 / 60.0;  // real-time mode: the first step after (re)start, s
+constexpr double kMinRealTimeStepS = 1e-4;  // real-time mode: shortest step, s
+}  // namespace
+
+const char* stateName(SessionState s) {
+  switch (s) {
+    case SessionState::Idle: return "idle";
+    case SessionState::Running: return "running";
+    case SessionState::Paused: return "paused";
+    case SessionState::Stopped: return "stopped";
+    case SessionState::Failed: return "failed";
+  }
+  return "unknown";
+}
+
+void HapticSessionSettings::validate() const {
+  loop.validate();
+  if (!std::isfinite(probe_radius_m) || probe_radius_m <= 0.0f) {
+    throw InvalidArgument("probe_radius must be a positive number of metres, got " + std::to_string(probe_radius_m));
+  }
+  if (!std::isfinite(max_sim_dt_s) || max_sim_dt_s < fluid::kMinTimeStep || max_sim_dt_s > fluid::kMaxTimeStep) {
+    throw InvalidArgument("max_sim_dt must be between 1e-6 and 10 s, got " + std::to_string(max_sim_dt_s));
+  }
+  if (!std::isfinite(sim_dt_s) || (sim_dt_s != 0.0 && (sim_dt_s < fluid::kMinTimeStep || sim_dt_s > fluid::kMaxTimeStep))) {
+    throw InvalidArgument("sim_dt must be 0 (real time) or between 1e-6 and 10 s, got " + std::to_string(sim_dt_s));
+  }
+}
+
+HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings)
+    : sim_(sim),
+      device_(std::move(device)),
+      s_((settings.validate(), settings)),
+      loop_(device_, poses_, forces_, s_.loop) {
+  const fluid::Grid& g = sim_.grid();
+  // The simulation wants one whole cell of fluid between the sphere and every wall; a hair more
+  // keeps float rounding of the clamped centre on the accepted side.
+  const float margin = g.cell_size_m * 1.001f + s_.probe_radius_m;
+  probe_lo_m_ = g.origin_m + margin;
+  probe_hi_m_ = g.origin_m + g.sizeM() - margin;
+  // Place the probe at the middle of its region: the simulation checks the radius against the
+  // grid here, with its own message, before any thread starts.
+  haptics::PoseFrame centre;
+  centre.position_m = 0.5f * (probe_lo_m_ + probe_hi_m_);
+  obstacle::SpherePose pose;
+  pose.centre_m = centre.position_m;
+  pose.radius_m = s_.probe_radius_m;
+  sim_.setSphereProbe(pose);
+}
+
+HapticSession::~HapticSession() {
+  try {
+    stop(3600.0);
+  } catch (...) {  // errors were available through error(); a destructor must not throw
+  }
+  joinAll();
+}
+
+obstacle::SpherePose HapticSession::probeFor(const haptics::PoseFrame& pose) const {
+  obstacle::SpherePose p;
+  p.radius_m = s_.probe_radius_m;
+  p.centre_m = glm::clamp(pose.position_m, probe_lo_m_, probe_hi_m_);
+  p.velocity_m_s = pose.velocity_m_s;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(p.centre_m[a])) p.centre_m[a] = 0.5f * (probe_lo_m_[a] + probe_hi_m_[a]);
+    // Held at a wall: the probe does not move along that axis.
+    if (p.centre_m[a] != pose.position_m[a] || !std::isfinite(p.velocity_m_s[a])) p.velocity_m_s[a] = 0.0f;
+  }
+  const float speed = glm::length(p.velocity_m_s);
+  if (speed > fluid::kMaxProbeSpeed) p.velocity_m_s *= fluid::kMaxProbeSpeed / speed;
+  return p;
+}
+
+void HapticSession::start() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (state_.load() != SessionState::Idle || sim_thread_.joinable()) {
+    throw Error("haptic session: start() runs once per session (state '" + std::string(stateName(state_.load())) +
+                "'); make a new HapticSession");
+  }
+  loop_.start();
+  sim_thread_ = std::thread([this] { simLoop(); });
+  state_.store(SessionState::Running, std::memory_order_release);
+}
+
+void HapticSession::pause() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const SessionState st = state_.load();
+  if (st == SessionState::Idle) throw Error("haptic session: pause() before start()");
+  if (st != SessionState::Running) return;  // already paused, stopped or failed: nothing to hold
+  paused_ = true;
+  loop_.setEnabled(false);
+  state_.store(SessionState::Paused, std::memory_order_release);
+}
+
+void HapticSession::resume() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const SessionState st = state_.load();
+    if (st == SessionState::Failed) throw Error("haptic session: cannot resume, it failed: " + error_);
+    if (st != SessionState::Paused) return;
+    paused_ = false;
+    loop_.setEnabled(true);
+    state_.store(SessionState::Running, std::memory_order_release);
+  }
+  cv_.notify_all();
+}
+
+void HapticSession::fail(const std::string& message) {
+  loop_.setEnabled(false);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (error_.empty()) error_ = message;
+  state_.store(SessionState::Failed, std::memory_order_release);
+}
+
+std::string HapticSession::error() const {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_.empty()) return error_;
+  }
+  return loop_.error();
+}
+
+void HapticSession::stop(double timeout_s) {
+  if (!(timeout_s >= 0.0) || !std::isfinite(timeout_s)) {
+    throw InvalidArgument("stop timeout must be a finite number of seconds >= 0, got " + std::to_string(timeout_s));
+  }
+  loop_.setEnabled(false);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_requested_ = true;
+  }
+  cv_.notify_all();
+  loop_.stop();  // within about one period; the device got its last zero
+  if (loop_.failed()) fail(loop_.error());
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (sim_thread_.joinable()) {
+    const auto limit = std::chrono::duration<double>(timeout_s);
+    if (!cv_.wait_for(lock, limit, [this] { return sim_done_; })) {
+      throw Error("haptic session: the simulation's current step is still running after " + std::to_string(timeout_s) +
+                  " s; force output has stopped; call stop() again to wait longer");
+    }
+    lock.unlock();
+    sim_thread_.join();
+    lock.lock();
+  }
+  if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
+  if (!error_.empty() && !error_raised_) {
+    error_raised_ = true;
+    throw Error(error_);
+  }
+}
+
+void HapticSession::joinAll() {
+  loop_.stop();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_requested_ = true;
+  }
+  cv_.notify_all();
+  if (sim_thread_.joinable()) sim_thread_.join();
+}
+
+void HapticSession::simLoop() {
+  haptics::RateEstimator rate;
+  double last_start_s = -1.0;
+  try {
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (paused_) {
+          cv_.wait(lock, [this] { return stop_requested_ || !paused_; });
+          last_start_s = -1.0;  // real time restarts after a pause
+          rate.reset();
+        }
+        if (stop_requested_ || state_.load() == SessionState::Failed) break;
+      }
+      if (loop_.failed()) {
+        fail(loop_.error());
+        break;
+      }
+      haptics::PoseFrame pose;
+      if (!poses_.tryRead(pose)) {  // the haptic thread has not read the device yet
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        continue;
+      }
+      const obstacle::SpherePose probe = probeFor(pose);
+      sim_.setSphereProbe(probe);
+      const double start_s = haptics::monotonicNowS();
+      double dt_s = s_.sim_dt_s;
+      if (dt_s <= 0.0) {
+        dt_s = last_start_s < 0.0 ? std::min(kFirstStepS, s_.max_sim_dt_s)
+                                  : std::clamp(start_s - last_start_s, kMinRealTimeStepS, s_.max_sim_dt_s);
+      }
+      last_start_s = start_s;
+      const StepReport report = sim_.step(dt_s);
+      const double done_s = haptics::monotonicNowS();
+      rate.add(done_s);
+      haptics::ForceFrame frame;
+      frame.force_n = report.force_n;
+      frame.probe_velocity_m_s = probe.velocity_m_s;
+      frame.pose_time_s = pose.time_s;
+      frame.publish_time_s = done_s;
+      frame.sim_rate_hz = rate.rateHz();
+      forces_.write(frame);
+      sim_steps_.fetch_add(1, std::memory_order_relaxed);
+      sim_rate_hz_.store(rate.rateHz(), std::memory_order_relaxed);
+      sim_step_ms_.store(1e3 * (done_s - start_s), std::memory_order_relaxed);
+      sim_dt_s_.store(dt_s, std::memory_order_relaxed);
+    }
+  } catch (const std::exception& e) {
+    fail(std::string("simulation thread stopped: ") + e.what());
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    sim_done_ = true;
+  }
+  cv_.notify_all();
+}
+
+HapticSessionStats HapticSession::stats() const {
+  HapticSessionStats st;
+  st.haptic = loop_.stats();
+  st.state = state();
+  if (loop_.failed()) st.state = SessionState::Failed;
+  st.sim_rate_hz = sim_rate_hz_.load(std::memory_order_relaxed);
+  st.sim_steps = sim_steps_.load(std::memory_order_relaxed);
+  st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
+  st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
+  st.error = error();
+  return st;
+}
+
+std::vector<haptics::TraceSample> HapticSession::drainTrace() {
+  std::vector<haptics::TraceSample> out;
+  std::lock_guard<std::mutex> lock(mutex_);  // one consumer at a time
+  loop_.drainTrace(out);
+  return out;
+}
+
+}  // namespace hf::session
