@@ -106,9 +106,11 @@ ramp_time: force ramps in linearly over this long after start/resume/homing (s).
 stale_after, fade_time: a simulation force older than stale_after (s) fades to zero over
   fade_time (s).
 rate: haptic loop rate (Hz, 100..10000).
-sim_dt: fixed simulation step (s); 0 = real time (each step as long as the last one took,
-  at most max_sim_dt).
-max_sim_dt: longest real-time step (s).
+sim_dt: fixed simulation step (s), stepped as fast as the GPU goes; 0 = real time: each step
+  advances the smoothed wall time per step, within [min_sim_dt, max_sim_dt], and waits for
+  min_sim_dt of wall time (a voxelized probe gives force impulses ~ 1/dt as it crosses cells, so
+  the floor keeps them bounded and leaves the CPU/GPU some rest).
+min_sim_dt, max_sim_dt: real-time step range (s).
 realtime: ask for SCHED_FIFO priority (a warning in stats()['scheduling'] if not granted).
 trace: keep a record per haptic period for trace() (up to trace_seconds of them).
 )doc";
@@ -225,7 +227,7 @@ HapticSession drives it, leave read() and write_force() to the session.
                     const py::object& workspace_offset, float force_gain, float probe_radius,
                     const std::string& filter, double bandwidth_ratio, bool prediction,
                     std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
-                    double fade_time, double rate, double sim_dt, double max_sim_dt, bool realtime, bool trace,
+                    double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
                     double trace_seconds) {
           if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
           session::HapticSessionSettings s;
@@ -257,6 +259,7 @@ HapticSession drives it, leave read() and write_force() to the session.
           }
           s.probe_radius_m = probe_radius;
           s.sim_dt_s = sim_dt;
+          s.min_sim_dt_s = min_sim_dt;
           s.max_sim_dt_s = max_sim_dt;
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
@@ -265,7 +268,7 @@ HapticSession drives it, leave read() and write_force() to the session.
         py::arg("filter") = "lowpass", py::arg("bandwidth_ratio") = 0.5, py::arg("prediction") = false,
         py::arg("max_force") = py::none(), py::arg("slew_rate") = 200.0f, py::arg("ramp_time") = 2.0,
         py::arg("stale_after") = 0.1, py::arg("fade_time") = 0.2, py::arg("rate") = 1000.0, py::arg("sim_dt") = 0.0,
-        py::arg("max_sim_dt") = 0.05, py::arg("realtime") = true, py::arg("trace") = false,
+        py::arg("min_sim_dt") = 0.01, py::arg("max_sim_dt") = 0.05, py::arg("realtime") = true, py::arg("trace") = false,
         py::arg("trace_seconds") = 600.0, py::keep_alive<1, 2>());
   // Started sessions join a WeakSet on the module; an atexit hook stops those still running
   // before the interpreter tears down (their threads must not outlive the objects they use).

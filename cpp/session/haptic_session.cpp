@@ -13,8 +13,7 @@
 namespace hf::session {
 
 namespace {
-constexpr double kFirstStepS = 1.0 / 60.0;  // real-time mode: the first step after (re)start, s
-constexpr double kMinRealTimeStepS = 1e-4;  // real-time mode: shortest step, s
+constexpr double kDtSmoothing = 0.25;  // real time: weight of the newest wall period in the step
 }  // namespace
 
 const char* stateName(SessionState s) {
@@ -35,6 +34,10 @@ void HapticSessionSettings::validate() const {
   }
   if (!std::isfinite(max_sim_dt_s) || max_sim_dt_s < fluid::kMinTimeStep || max_sim_dt_s > fluid::kMaxTimeStep) {
     throw InvalidArgument("max_sim_dt must be between 1e-6 and 10 s, got " + std::to_string(max_sim_dt_s));
+  }
+  if (!std::isfinite(min_sim_dt_s) || min_sim_dt_s < fluid::kMinTimeStep || min_sim_dt_s > max_sim_dt_s) {
+    throw InvalidArgument("min_sim_dt must be between 1e-6 s and max_sim_dt (" + std::to_string(max_sim_dt_s) +
+                          " s), got " + std::to_string(min_sim_dt_s));
   }
   if (!std::isfinite(sim_dt_s) || (sim_dt_s != 0.0 && (sim_dt_s < fluid::kMinTimeStep || sim_dt_s > fluid::kMaxTimeStep))) {
     throw InvalidArgument("sim_dt must be 0 (real time) or between 1e-6 and 10 s, got " + std::to_string(sim_dt_s));
@@ -177,6 +180,7 @@ void HapticSession::joinAll() {
 void HapticSession::simLoop() {
   haptics::RateEstimator rate;
   double last_start_s = -1.0;
+  double smooth_dt_s = s_.min_sim_dt_s;
   try {
     for (;;) {
       {
@@ -184,6 +188,7 @@ void HapticSession::simLoop() {
         if (paused_) {
           cv_.wait(lock, [this] { return stop_requested_ || !paused_; });
           last_start_s = -1.0;  // real time restarts after a pause
+          smooth_dt_s = s_.min_sim_dt_s;
           rate.reset();
         }
         if (stop_requested_ || state_.load() == SessionState::Failed) break;
@@ -201,9 +206,9 @@ void HapticSession::simLoop() {
       sim_.setSphereProbe(probe);
       const double start_s = haptics::monotonicNowS();
       double dt_s = s_.sim_dt_s;
-      if (dt_s <= 0.0) {
-        dt_s = last_start_s < 0.0 ? std::min(kFirstStepS, s_.max_sim_dt_s)
-                                  : std::clamp(start_s - last_start_s, kMinRealTimeStepS, s_.max_sim_dt_s);
+      if (dt_s <= 0.0) {  // real time: the smoothed wall period, so one slow step does not jolt dt
+        if (last_start_s >= 0.0) smooth_dt_s += kDtSmoothing * (start_s - last_start_s - smooth_dt_s);
+        dt_s = std::clamp(smooth_dt_s, s_.min_sim_dt_s, s_.max_sim_dt_s);
       }
       last_start_s = start_s;
       const StepReport report = sim_.step(dt_s);
@@ -220,6 +225,11 @@ void HapticSession::simLoop() {
       sim_rate_hz_.store(rate.rateHz(), std::memory_order_relaxed);
       sim_step_ms_.store(1e3 * (done_s - start_s), std::memory_order_relaxed);
       sim_dt_s_.store(dt_s, std::memory_order_relaxed);
+      if (s_.sim_dt_s <= 0.0) {  // real time: no faster than one step per min_sim_dt_s of wall time
+        std::unique_lock<std::mutex> lock(mutex_);
+        const auto until = std::chrono::duration<double>(start_s + s_.min_sim_dt_s - haptics::monotonicNowS());
+        if (until.count() > 0.0) cv_.wait_for(lock, until, [this] { return stop_requested_ || paused_; });
+      }
     }
   } catch (const std::exception& e) {
     fail(std::string("simulation thread stopped: ") + e.what());

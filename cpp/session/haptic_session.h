@@ -28,8 +28,12 @@ class Simulation;
 struct HapticSessionSettings {
   haptics::HapticLoopSettings loop;
   float probe_radius_m = 0.1f;     // sphere probe radius, m (>= one cell; checked by the simulation)
-  double sim_dt_s = 0.0;           // fixed simulation step, s; 0 = real time (measured step period)
-  double max_sim_dt_s = 0.05;      // real-time steps are at most this long, s
+  double sim_dt_s = 0.0;           // fixed simulation step, s (free-running); 0 = real time
+  // Real time: each step advances the (smoothed) wall time since the last one, within
+  // [min_sim_dt_s, max_sim_dt_s]; a step that finishes early waits for min_sim_dt_s of wall time.
+  // The floor matters: a voxelized probe gives force impulses ~ 1/dt when it crosses cells.
+  double min_sim_dt_s = 0.01;
+  double max_sim_dt_s = 0.05;
   void validate() const;
 };
 

@@ -1,6 +1,6 @@
 """Type stub of the native module hapticfluid._core (SI units throughout)."""
 
-from typing import Dict, Optional, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -97,3 +97,101 @@ class Simulation:
     def pressure(self, hydrostatic: bool = True) -> npt.NDArray[np.float32]: ...
     def velocity(self) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...
     def cell_classes(self) -> npt.NDArray[np.uint8]: ...
+
+# ---- haptics (device frame and SI units: m, m/s, N; times on time.monotonic()) ----
+
+class DeviceInfo:
+    name: str
+    kind: str
+    serial: str
+    @property
+    def workspace_min(self) -> npt.NDArray[np.float32]: ...  # m
+    @property
+    def workspace_max(self) -> npt.NDArray[np.float32]: ...  # m
+    max_force: float  # N
+    max_stiffness: float  # N/m
+    max_damping: float  # N s/m
+
+class DeviceState:
+    @property
+    def position(self) -> npt.NDArray[np.float32]: ...  # m
+    @property
+    def velocity(self) -> npt.NDArray[np.float32]: ...  # m/s
+    buttons: int
+    homed: bool
+    time: float  # s
+
+class Device:
+    def info(self) -> DeviceInfo: ...
+    def read(self) -> DeviceState: ...
+    def write_force(self, force: Vec3) -> None: ...  # N
+    def close(self) -> None: ...
+    def __enter__(self) -> "Device": ...
+    def __exit__(self, *args: object) -> None: ...
+
+class ScriptedDevice(Device):
+    @property
+    def duration(self) -> float: ...  # s
+    @property
+    def loops(self) -> bool: ...
+    def state_at(self, t: float) -> DeviceState: ...
+    @property
+    def last_force(self) -> npt.NDArray[np.float32]: ...  # N
+
+class HostDevice(Device):
+    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...
+    @property
+    def pushes(self) -> int: ...
+    def state_after(self, elapsed: float) -> DeviceState: ...
+    @property
+    def last_force(self) -> npt.NDArray[np.float32]: ...  # N
+
+def null_device(max_force: float = 10.0) -> Device: ...
+def scripted_device(
+    times: Sequence[float], positions: Sequence[Vec3], loop: bool = False, max_force: float = 10.0
+) -> ScriptedDevice: ...
+def scripted_device_from_csv(path: str, loop: bool = False, max_force: float = 10.0) -> ScriptedDevice: ...
+def host_device(max_force: float = 10.0, extrapolate: bool = True) -> HostDevice: ...
+
+class HapticSession:
+    def __init__(
+        self,
+        simulation: Simulation,
+        device: Device,
+        workspace_scale: Union[float, Vec3] = 1.0,  # domain m per device m
+        workspace_offset: Optional[Vec3] = None,  # m; None = domain centre
+        force_gain: float = 1.0,  # device N per fluid N
+        probe_radius: float = 0.1,  # m
+        filter: str = "lowpass",
+        bandwidth_ratio: float = 0.5,
+        prediction: bool = False,
+        max_force: Optional[float] = None,  # N
+        slew_rate: float = 200.0,  # N/s
+        ramp_time: float = 2.0,  # s
+        stale_after: float = 0.1,  # s
+        fade_time: float = 0.2,  # s
+        rate: float = 1000.0,  # Hz
+        sim_dt: float = 0.0,  # s; 0 = real time
+        min_sim_dt: float = 0.01,  # s
+        max_sim_dt: float = 0.05,  # s
+        realtime: bool = True,
+        trace: bool = False,
+        trace_seconds: float = 600.0,  # s
+    ) -> None: ...
+    def start(self) -> None: ...
+    def pause(self) -> None: ...
+    def resume(self) -> None: ...
+    def stop(self, timeout: float = 10.0) -> None: ...  # s
+    @property
+    def state(self) -> str: ...
+    @property
+    def error(self) -> Optional[str]: ...
+    def stats(self) -> Dict[str, object]: ...
+    @property
+    def latest_force(self) -> npt.NDArray[np.float32]: ...  # N, device frame
+    def latest(self) -> Dict[str, object]: ...
+    def trace(self) -> Dict[str, npt.NDArray[np.float64]]: ...
+    @property
+    def device(self) -> Device: ...
+    def __enter__(self) -> "HapticSession": ...
+    def __exit__(self, *args: object) -> None: ...

@@ -18,6 +18,7 @@ from typing import Callable, List, Optional, Sequence
 
 import hapticfluid as hf
 from hapticfluid import demo as _demo
+from hapticfluid import haptic_cli as _haptic_cli
 
 
 # ---------------------------------------------------------------------------- argument types
@@ -143,7 +144,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _haptic_cli._add_haptic]
 
 
 def build_parser() -> argparse.ArgumentParser:
