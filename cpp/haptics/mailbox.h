@@ -4,7 +4,7 @@
 // write never waits on a reader; readers never write shared memory and never block: tryRead()
 // gives up after a few torn attempts (a writer was mid-copy) and the caller keeps the value it
 // had. The haptic thread only ever calls tryRead() or is the only writer of its own mailbox.
-// The payload lives in relaxed atomic words, so concurrent access is well defined in C++.
+// The payload lives in atomic words, so concurrent access is well defined in C++.
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -30,10 +30,12 @@ class Mailbox {
       }
       if (s & 1u) s = seq_.load(std::memory_order_relaxed);  // another writer is mid-copy
     }
-    std::atomic_thread_fence(std::memory_order_release);
     std::uint64_t buf[kWords] = {};
     std::memcpy(buf, &v, sizeof(T));
-    for (std::size_t i = 0; i < kWords; ++i) words_[i].store(buf[i], std::memory_order_relaxed);
+    // Release stores: a reader whose (acquire) load sees one of these words also sees the odd
+    // sequence above, so its second sequence check fails. (Plain moves on x86; no fences, which
+    // ThreadSanitizer cannot follow.)
+    for (std::size_t i = 0; i < kWords; ++i) words_[i].store(buf[i], std::memory_order_release);
     seq_.store(s + 2, std::memory_order_release);
     return (s + 2) / 2;
   }
@@ -46,8 +48,7 @@ class Mailbox {
       if (s0 == 0) return false;
       if (s0 & 1u) continue;
       std::uint64_t buf[kWords];
-      for (std::size_t i = 0; i < kWords; ++i) buf[i] = words_[i].load(std::memory_order_relaxed);
-      std::atomic_thread_fence(std::memory_order_acquire);
+      for (std::size_t i = 0; i < kWords; ++i) buf[i] = words_[i].load(std::memory_order_acquire);
       if (seq_.load(std::memory_order_relaxed) == s0) {
         std::memcpy(&out, buf, sizeof(T));
         if (version) *version = s0 / 2;

@@ -289,7 +289,7 @@ HapticSession drives it, leave read() and write_force() to the session.
         "Force to zero and both threads ended: waits at most `timeout` s for the simulation's\n"
         "current step (HapticFluidError if it is still running: call again). Raises the error that\n"
         "ended the session, if any (once), as HapticFluidError.");
-  c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.stats().state); },
+  c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.state()); },
                           "'idle', 'running', 'paused', 'stopped' or 'failed'.");
   c.def_property_readonly(
       "error",

@@ -241,11 +241,14 @@ void HapticSession::simLoop() {
   cv_.notify_all();
 }
 
+SessionState HapticSession::state() const {
+  return loop_.failed() ? SessionState::Failed : state_.load(std::memory_order_acquire);
+}
+
 HapticSessionStats HapticSession::stats() const {
   HapticSessionStats st;
   st.haptic = loop_.stats();
   st.state = state();
-  if (loop_.failed()) st.state = SessionState::Failed;
   st.sim_rate_hz = sim_rate_hz_.load(std::memory_order_relaxed);
   st.sim_steps = sim_steps_.load(std::memory_order_relaxed);
   st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);

@@ -67,7 +67,7 @@ class HapticSession {
   // or the error that ended the session (after the threads are down).
   void stop(double timeout_s = 10.0);
 
-  SessionState state() const { return state_.load(std::memory_order_acquire); }
+  SessionState state() const;  // Failed as soon as either thread has failed
   HapticSessionStats stats() const;
   haptics::TickOutput latest() const { return loop_.latest(); }
   haptics::DeviceState latestState() const { return loop_.latestState(); }
