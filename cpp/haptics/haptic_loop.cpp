@@ -17,13 +17,16 @@ DevicePtr requireDevice(DevicePtr device) {
   return device;
 }
 
-HapticLoopSettings withDeviceLimit(HapticLoopSettings s, const Device& device) {
+HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
   const float device_max = device.info().max_force_n;
   if (!(device_max > 0.0f)) {
     throw InvalidArgument("device '" + device.info().name + "' reports no maximum force (max_force_n = " +
                           std::to_string(device_max) + "); the haptic loop cannot bound its output");
   }
-  s.pipeline.safety.max_force_n = std::min(s.pipeline.safety.max_force_n, device_max);
+  if (s.pipeline.safety.max_force_n > device_max) {
+    throw InvalidArgument("max_force " + std::to_string(s.pipeline.safety.max_force_n) + " N is above the maximum of '" +
+                          device.info().name + "' (" + std::to_string(device_max) + " N); give at most that");
+  }
   return s;
 }
 
@@ -47,7 +50,7 @@ HapticLoop::HapticLoop(DevicePtr device, Mailbox<PoseFrame>& poses, const Mailbo
     : device_(requireDevice(std::move(device))),
       poses_(poses),
       forces_(forces),
-      s_((settings.validate(), withDeviceLimit(settings, *device_))),
+      s_((settings.validate(), checkedAgainst(settings, *device_))),
       pipeline_(s_.pipeline),
       trace_(s_.trace_capacity) {}
 

@@ -23,7 +23,7 @@ namespace hf::haptics {
 
 struct HapticLoopSettings {
   double rate_hz = 1000.0;             // loop rate, Hz (100 .. 10000)
-  PipelineSettings pipeline;           // safety.max_force_n is lowered to the device's maximum
+  PipelineSettings pipeline;           // safety.max_force_n at most the device's maximum
   bool realtime = true;                // ask for SCHED_FIFO
   int realtime_priority = 80;          // 1 .. 99
   std::size_t trace_capacity = 0;      // records kept for drainTrace() (0: no trace)

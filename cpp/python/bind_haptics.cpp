@@ -100,7 +100,7 @@ probe_radius: sphere probe radius (m), at least one cell.
 filter: 'lowpass' (the seed's first-order low-pass) or 'none'.
 bandwidth_ratio: low-pass cutoff / measured simulation rate (dimensionless, > 0).
 prediction: update the force between frames with a fitted local drag model F0 + B (v - v0).
-max_force: bound on the commanded force (N); None = the device's maximum (never above it).
+max_force: bound on the commanded force (N), at most the device's maximum; None = that maximum.
 slew_rate: largest change of the commanded force (N/s).
 ramp_time: force ramps in linearly over this long after start/resume/homing (s).
 stale_after, fade_time: a simulation force older than stale_after (s) fades to zero over

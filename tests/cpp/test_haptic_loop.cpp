@@ -68,7 +68,7 @@ class FaultyDevice : public Device {
 
 HapticLoopSettings loopSettings() {
   HapticLoopSettings s;
-  s.pipeline.safety.max_force_n = 100.0f;  // lowered to the device's maximum by the loop
+  s.pipeline.safety.max_force_n = 2.0f;  // at most every test device's maximum
   s.pipeline.safety.ramp_s = 0.0;
   s.pipeline.safety.slew_rate_n_s = 1e5f;
   s.pipeline.filter.enabled = false;
@@ -97,7 +97,6 @@ TEST(HapticLoop, RunsPublishesPosesAndBoundsTheForce) {
   s.pipeline.map.scale = glm::vec3(10.0f);
   s.pipeline.map.force_gain = 10.0f;  // 1 N of fluid force asks for 10 N: the device's 2 N bounds it
   HapticLoop loop(device, poses, forces, s);
-  EXPECT_FLOAT_EQ(loop.settings().pipeline.safety.max_force_n, 2.0f);
   loop.start();
   EXPECT_THROW(loop.start(), Error);
   std::atomic<bool> stop_feeder{false};
@@ -146,7 +145,7 @@ TEST(HapticLoop, DeviceErrorStopsForceAndIsReported) {
   Mailbox<PoseFrame> poses;
   Mailbox<ForceFrame> forces;
   ForceFrame f;
-  f.force_n = glm::vec3(0.0f, 3.0f, 0.0f);
+  f.force_n = glm::vec3(0.0f, 1.5f, 0.0f);
   f.publish_time_s = 1e300;  // never stale
   forces.write(f);
   HapticLoop loop(device, poses, forces, loopSettings());
@@ -158,7 +157,7 @@ TEST(HapticLoop, DeviceErrorStopsForceAndIsReported) {
   const auto forces_seen = device->forces();
   const auto after = device->afterFailure();
   ASSERT_GE(forces_seen.size(), 100u);
-  EXPECT_NEAR(forces_seen[150].y, 3.0f, 1e-5f);  // it was commanding force before the fault
+  EXPECT_NEAR(forces_seen[150].y, 1.5f, 1e-5f);  // it was commanding force before the fault
   for (std::size_t i = 0; i < forces_seen.size(); ++i) {
     if (after[i]) {
       EXPECT_EQ(forces_seen[i], glm::vec3(0.0f)) << "command " << i << " after the fault";
@@ -205,6 +204,9 @@ TEST(HapticLoop, RejectsBadSettings) {
   s.rate_hz = 50.0;
   EXPECT_THROW(HapticLoop(std::make_shared<NullDevice>(), poses, forces, s), InvalidArgument);
   EXPECT_THROW(HapticLoop(nullptr, poses, forces, loopSettings()), InvalidArgument);
+  s = loopSettings();
+  s.pipeline.safety.max_force_n = 11.0f;  // above the null device's 10 N
+  EXPECT_THROW(HapticLoop(std::make_shared<NullDevice>(10.0f), poses, forces, s), InvalidArgument);
 }
 
 }  // namespace

@@ -189,6 +189,7 @@ def test_context_manager_raises_the_device_error(sim):
     (dict(workspace_scale=(1.0, 2.0)), "workspace_scale"),
     (dict(probe_radius=0.6), "probe"),
     (dict(max_force=-1.0), "max_force"),
+    (dict(max_force=10.5), "above the maximum"),
     (dict(slew_rate=0.0), "slew_rate"),
     (dict(rate=20.0), "rate"),
     (dict(bandwidth_ratio=0.0), "bandwidth_ratio"),
