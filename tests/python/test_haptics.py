@@ -1,6 +1,7 @@
 """Haptic devices and HapticSession from Python. Timing is never asserted tightly (a loaded
 2-core machine runs these): structure and generous bounds only."""
 
+import inspect
 import math
 import subprocess
 import sys
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 
 import hapticfluid as hf
+from test_stub import public, stub_names
 
 
 def wait_until(predicate, timeout=20.0, interval=0.01):
@@ -140,7 +142,8 @@ def test_session_runs_and_reports_sane_statistics(sim):
 def test_session_context_manager_pause_resume(sim):
     device = hf.host_device(max_force=2.0)
     device.push_pose((0.0, 0.0, 0.0))
-    with hf.HapticSession(sim, device, probe_radius=0.15, ramp_time=0.0, realtime=False) as session:
+    with hf.HapticSession(sim, device, probe_radius=0.15, ramp_time=0.0, realtime=False,
+                          prediction=True, filter="none") as session:
         assert session.state == "running"
         assert wait_until(lambda: session.stats()["force_frames"] >= 2)
         session.pause()
@@ -219,3 +222,13 @@ def test_running_session_is_stopped_at_interpreter_exit():
     assert "exiting with a running session" in proc.stdout
     assert "state after the exit hooks: stopped" in proc.stdout
     assert "terminate" not in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_stub_names_the_haptics_members():
+    _, members = stub_names()
+    for cls in ("Device", "DeviceInfo", "DeviceState", "ScriptedDevice", "HostDevice", "HapticSession"):
+        real = {name for name, _ in inspect.getmembers(getattr(hf, cls))}
+        stubbed = set(members[cls])
+        for base in getattr(hf, cls).__mro__[1:]:  # a stubbed subclass inherits its base's stub
+            stubbed |= set(members.get(base.__name__, ()))
+        assert public(stubbed) == public(real), cls
