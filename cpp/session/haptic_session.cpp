@@ -57,10 +57,8 @@ HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const H
   probe_hi_m_ = g.origin_m + g.sizeM() - margin;
   // Place the probe at the middle of its region: the simulation checks the radius against the
   // grid here, with its own message, before any thread starts.
-  haptics::PoseFrame centre;
-  centre.position_m = 0.5f * (probe_lo_m_ + probe_hi_m_);
   obstacle::SpherePose pose;
-  pose.centre_m = centre.position_m;
+  pose.centre_m = 0.5f * (probe_lo_m_ + probe_hi_m_);
   pose.radius_m = s_.probe_radius_m;
   sim_.setSphereProbe(pose);
 }
