@@ -94,7 +94,8 @@ simulation: the Simulation to drive (kept alive by the session). Its probe becom
   probe_radius whose centre follows the device; the session steps it continuously.
 device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...).
 workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
-workspace_offset: domain position (m) of the device origin; None = the domain's centre.
+workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
+  of the device's workspace (DeviceInfo) at the domain's centre.
 force_gain: device newtons per fluid newton (>= 0).
 probe_radius: sphere probe radius (m), at least one cell.
 filter: 'lowpass' (the seed's first-order low-pass) or 'none'.
@@ -233,8 +234,13 @@ HapticSession drives it, leave read() and write_force() to the session.
           session::HapticSessionSettings s;
           auto& p = s.loop.pipeline;
           p.map.scale = scaleArg(workspace_scale, "workspace_scale");
-          p.map.offset_m = workspace_offset.is_none() ? sim.grid().origin_m + 0.5f * sim.grid().sizeM()
-                                                      : scaleArg(workspace_offset, "workspace_offset");
+          if (workspace_offset.is_none()) {  // the middle of the device's workspace at the domain's centre
+            const DeviceInfo info = device->info();
+            p.map.offset_m = sim.grid().origin_m + 0.5f * sim.grid().sizeM() -
+                             p.map.scale * (0.5f * (info.workspace_min_m + info.workspace_max_m));
+          } else {
+            p.map.offset_m = scaleArg(workspace_offset, "workspace_offset");
+          }
           p.map.force_gain = force_gain;
           if (filter != "lowpass" && filter != "none") {
             throw InvalidArgument("filter must be 'lowpass' or 'none', got '" + filter + "'");

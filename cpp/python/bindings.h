@@ -8,5 +8,6 @@ void addErrors(pybind11::module_& m);
 void addDevice(pybind11::module_& m);
 void addSimulation(pybind11::module_& m);
 void addHaptics(pybind11::module_& m);
+void addFalcon(pybind11::module_& m);  // after addHaptics: reuses its Device type
 
 }  // namespace hf::python

@@ -7,4 +7,5 @@ PYBIND11_MODULE(_core, m) {
   hf::python::addDevice(m);
   hf::python::addSimulation(m);
   hf::python::addHaptics(m);
+  hf::python::addFalcon(m);
 }

@@ -1,6 +1,6 @@
 """Type stub of the native module hapticfluid._core (SI units throughout)."""
 
-from typing import Dict, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -11,6 +11,7 @@ CELL_BOUNDARY: int
 CELL_INSIDE: int
 
 Vec3 = Sequence[float]
+Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column
 
 class HapticFluidError(RuntimeError): ...
 class InvalidArgumentError(HapticFluidError, ValueError): ...
@@ -23,7 +24,13 @@ class StepReport:
     @property
     def force(self) -> npt.NDArray[np.float32]: ...  # N, shape (3,)
     @property
+    def torque(self) -> npt.NDArray[np.float32]: ...  # N m about torque_centre, shape (3,)
+    @property
+    def torque_centre(self) -> npt.NDArray[np.float32]: ...  # m, shape (3,)
+    @property
     def exposed_faces(self) -> int: ...
+    @property
+    def solid_cells(self) -> int: ...
     @property
     def pressure_iterations(self) -> int: ...
     @property
@@ -78,6 +85,21 @@ class Simulation:
     pressure_iterations: int
     compute_residual: bool
     def set_probe(self, centre: Vec3, radius: float, velocity: Vec3 = ..., angular_velocity: Vec3 = ...) -> None: ...
+    def set_mesh_probe(
+        self,
+        vertices: npt.ArrayLike,  # (N, 3) m, local frame
+        triangles: npt.ArrayLike,  # (M, 3) int vertex indices
+        transform: Optional[Matrix4] = None,  # local -> world (matrix_world), m
+        velocity: Vec3 = (0.0, 0.0, 0.0),  # m/s, of the origin
+        angular_velocity: Vec3 = (0.0, 0.0, 0.0),  # rad/s, world frame
+        torque_centre: Optional[Vec3] = None,  # m, world; None = voxelized centroid
+    ) -> None: ...
+    def set_probe_pose(
+        self,
+        transform: Optional[Matrix4],  # local -> world, m (sphere: translation = centre)
+        velocity: Vec3 = (0.0, 0.0, 0.0),  # m/s
+        angular_velocity: Vec3 = (0.0, 0.0, 0.0),  # rad/s
+    ) -> None: ...
     def clear_probe(self) -> None: ...
     @property
     def probe(self) -> Optional[Dict[str, object]]: ...
@@ -101,30 +123,39 @@ class Simulation:
 # ---- haptics (device frame and SI units: m, m/s, N; times on time.monotonic()) ----
 
 class DeviceInfo:
-    name: str
-    kind: str
-    serial: str
     @property
-    def workspace_min(self) -> npt.NDArray[np.float32]: ...  # m
+    def name(self) -> str: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def serial(self) -> str: ...
+    @property
+    def workspace_min(self) -> npt.NDArray[np.float32]: ...  # m, device frame
     @property
     def workspace_max(self) -> npt.NDArray[np.float32]: ...  # m
-    max_force: float  # N
-    max_stiffness: float  # N/m
-    max_damping: float  # N s/m
+    @property
+    def max_force(self) -> float: ...  # N
+    @property
+    def max_stiffness(self) -> float: ...  # N/m
+    @property
+    def max_damping(self) -> float: ...  # N s/m
 
 class DeviceState:
     @property
-    def position(self) -> npt.NDArray[np.float32]: ...  # m
+    def position(self) -> npt.NDArray[np.float32]: ...  # m, device frame
     @property
     def velocity(self) -> npt.NDArray[np.float32]: ...  # m/s
-    buttons: int
-    homed: bool
-    time: float  # s
+    @property
+    def buttons(self) -> int: ...
+    @property
+    def homed(self) -> bool: ...
+    @property
+    def time(self) -> float: ...  # s
 
 class Device:
     def info(self) -> DeviceInfo: ...
     def read(self) -> DeviceState: ...
-    def write_force(self, force: Vec3) -> None: ...  # N
+    def write_force(self, force: Vec3) -> None: ...  # N, device frame
     def close(self) -> None: ...
     def __enter__(self) -> "Device": ...
     def __exit__(self, *args: object) -> None: ...
@@ -159,7 +190,7 @@ class HapticSession:
         simulation: Simulation,
         device: Device,
         workspace_scale: Union[float, Vec3] = 1.0,  # domain m per device m
-        workspace_offset: Optional[Vec3] = None,  # m; None = domain centre
+        workspace_offset: Optional[Vec3] = None,  # m; None = workspace middle at domain centre
         force_gain: float = 1.0,  # device N per fluid N
         probe_radius: float = 0.1,  # m
         filter: str = "lowpass",
@@ -195,3 +226,27 @@ class HapticSession:
     def device(self) -> Device: ...
     def __enter__(self) -> "HapticSession": ...
     def __exit__(self, *args: object) -> None: ...
+
+class FalconDevice(Device):
+    def stats(self) -> Dict[str, object]: ...
+    def home(self, timeout: float = 60.0) -> None: ...  # s
+
+def list_falcons(probe_firmware: bool = True) -> List[Dict[str, object]]: ...
+def falcon_udev_rule() -> str: ...
+def open_falcon(
+    firmware: Optional[str] = None,
+    index: int = 0,
+    home: bool = True,
+    homing_timeout: float = 60.0,  # s
+    max_force: float = 8.0,  # N
+) -> FalconDevice: ...
+def open_simulated_falcon(
+    firmware_bytes: Optional[bytes] = None,
+    home: bool = True,
+    homing_timeout: float = 10.0,  # s
+    max_force: float = 8.0,  # N
+    hand_mass: float = 0.15,  # kg
+    hand_stiffness: float = 300.0,  # N/m
+    hand_damping: float = 12.0,  # N s/m
+    unplug_after: Optional[int] = None,  # packets
+) -> FalconDevice: ...

@@ -18,6 +18,7 @@ from typing import Callable, List, Optional, Sequence
 
 import hapticfluid as hf
 from hapticfluid import demo as _demo
+from hapticfluid import devices_cli as _devices_cli
 from hapticfluid import haptic_cli as _haptic_cli
 
 
@@ -144,7 +145,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info, _haptic_cli._add_haptic]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices, _haptic_cli._add_haptic]
 
 
 def build_parser() -> argparse.ArgumentParser:

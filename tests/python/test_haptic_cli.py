@@ -59,3 +59,13 @@ def test_falcon_without_support_says_so(tmp_path, capsys):
     rc = cli.main(["haptic", "--device", "falcon", "--out", str(tmp_path)] + SMALL)
     assert rc == 1
     assert "no Falcon support" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(not hasattr(hf, "open_simulated_falcon"), reason="no Falcon support in this build")
+def test_simulated_falcon_run(tmp_path):
+    rc = cli.main(["haptic", "--device", "simulated-falcon", "--seconds", "0.8", "--no-plot",
+                   "--out", str(tmp_path)] + SMALL)
+    assert rc == 0
+    header, values = read_csv(tmp_path / haptic_cli.CSV_NAME)
+    assert len(values) > 100 and np.all(np.isfinite(values))
+    assert np.linalg.norm(values[:, 10:13], axis=1).max() <= 8.0 * (1 + 1e-5)  # the Falcon's maximum

@@ -232,3 +232,17 @@ def test_stub_names_the_haptics_members():
         for base in getattr(hf, cls).__mro__[1:]:  # a stubbed subclass inherits its base's stub
             stubbed |= set(members.get(base.__name__, ()))
         assert public(stubbed) == public(real), cls
+
+
+@pytest.mark.skipif(not hasattr(hf, "open_simulated_falcon"), reason="no Falcon support in this build")
+def test_simulated_falcon_drives_a_session_and_its_unplug_is_reported(sim):
+    falcon = hf.open_simulated_falcon(unplug_after=1500)  # about 1.5 s of 1 kHz packets
+    session = hf.HapticSession(sim, falcon, workspace_scale=6.0, probe_radius=0.15, ramp_time=0.1)
+    session.start()
+    assert wait_until(lambda: session.state == "failed", timeout=30.0)
+    st = session.stats()
+    assert st["ticks"] > 100 and st["sim_steps"] > 0
+    with pytest.raises(hf.HapticFluidError):
+        session.stop()
+    np.testing.assert_array_equal(session.latest_force, [0.0, 0.0, 0.0])
+    falcon.close()
