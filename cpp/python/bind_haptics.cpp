@@ -90,14 +90,16 @@ latest simulation force -> [prediction] -> low-pass (cutoff = bandwidth_ratio x 
 simulation rate) -> force_gain -> safety (NaN guard, homing gate, stale-force fade, ramp-in,
 max_force clamp, slew_rate limit) -> device.
 
-simulation: the Simulation to drive (kept alive by the session). Its probe becomes a sphere of
-  probe_radius whose centre follows the device; the session steps it continuously.
+simulation: the Simulation to drive (kept alive by the session); the session steps it
+  continuously and its probe follows the device.
 device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...).
 workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
 workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
   of the device's workspace (DeviceInfo) at the domain's centre.
 force_gain: device newtons per fluid newton (>= 0).
-probe_radius: sphere probe radius (m), at least one cell.
+probe_radius: the probe becomes a sphere of this radius (m, at least one cell); None = keep the
+  simulation's probe (a sphere, or a mesh from set_mesh_probe with its orientation), or a
+  0.1 m sphere if it has none.
 filter: 'lowpass' (the seed's first-order low-pass) or 'none'.
 bandwidth_ratio: low-pass cutoff / measured simulation rate (dimensionless, > 0).
 prediction: update the force between frames with a fitted local drag model F0 + B (v - v0).
@@ -225,7 +227,7 @@ HapticSession drives it, leave read() and write_force() to the session.
 
   py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
   c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& workspace_scale,
-                    const py::object& workspace_offset, float force_gain, float probe_radius,
+                    const py::object& workspace_offset, float force_gain, std::optional<float> probe_radius,
                     const std::string& filter, double bandwidth_ratio, bool prediction,
                     std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
                     double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
@@ -270,7 +272,7 @@ HapticSession drives it, leave read() and write_force() to the session.
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
         py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = 1.0f,
-        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = 1.0f, py::arg("probe_radius") = 0.1f,
+        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = 1.0f, py::arg("probe_radius") = py::none(),
         py::arg("filter") = "lowpass", py::arg("bandwidth_ratio") = 0.5, py::arg("prediction") = false,
         py::arg("max_force") = py::none(), py::arg("slew_rate") = 200.0f, py::arg("ramp_time") = 2.0,
         py::arg("stale_after") = 0.1, py::arg("fade_time") = 0.2, py::arg("rate") = 1000.0, py::arg("sim_dt") = 0.0,

@@ -14,6 +14,11 @@ namespace hf::session {
 
 namespace {
 constexpr double kDtSmoothing = 0.25;  // real time: weight of the newest wall period in the step
+constexpr float kDefaultProbeRadiusM = 0.1f;  // the sphere made when there is no probe to keep
+
+std::string vecText(const glm::vec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
 }  // namespace
 
 const char* stateName(SessionState s) {
@@ -29,8 +34,9 @@ const char* stateName(SessionState s) {
 
 void HapticSessionSettings::validate() const {
   loop.validate();
-  if (!std::isfinite(probe_radius_m) || probe_radius_m <= 0.0f) {
-    throw InvalidArgument("probe_radius must be a positive number of metres, got " + std::to_string(probe_radius_m));
+  if (probe_radius_m && (!std::isfinite(*probe_radius_m) || *probe_radius_m <= 0.0f)) {
+    throw InvalidArgument("probe_radius must be a positive number of metres (or None: keep the simulation's probe), got " +
+                          std::to_string(*probe_radius_m));
   }
   if (!std::isfinite(max_sim_dt_s) || max_sim_dt_s < fluid::kMinTimeStep || max_sim_dt_s > fluid::kMaxTimeStep) {
     throw InvalidArgument("max_sim_dt must be between 1e-6 and 10 s, got " + std::to_string(max_sim_dt_s));
@@ -50,17 +56,37 @@ HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const H
       s_((settings.validate(), settings)),
       loop_(device_, poses_, forces_, s_.loop) {
   const fluid::Grid& g = sim_.grid();
-  // The simulation wants one whole cell of fluid between the sphere and every wall; a hair more
-  // keeps float rounding of the clamped centre on the accepted side.
-  const float margin = g.cell_size_m * 1.001f + s_.probe_radius_m;
-  probe_lo_m_ = g.origin_m + margin;
-  probe_hi_m_ = g.origin_m + g.sizeM() - margin;
-  // Place the probe at the middle of its region: the simulation checks the radius against the
-  // grid here, with its own message, before any thread starts.
-  obstacle::SpherePose pose;
-  pose.centre_m = 0.5f * (probe_lo_m_ + probe_hi_m_);
-  pose.radius_m = s_.probe_radius_m;
-  sim_.setSphereProbe(pose);
+  const std::optional<ProbeState> current = sim_.probe();
+  const float margin = g.cell_size_m * 1.001f;  // a hair more than the simulation's one cell
+  // The probe's world box relative to its origin (translation-invariant: orientation is kept).
+  glm::vec3 lo_offset(0.0f), hi_offset(0.0f);
+  if (s_.probe_radius_m || !current) {
+    // A new sphere in the middle of the domain: the simulation checks the radius against the
+    // grid here, with its own message, before any thread starts.
+    const float r = s_.probe_radius_m.value_or(kDefaultProbeRadiusM);
+    obstacle::SpherePose sphere;
+    sphere.centre_m = g.origin_m + 0.5f * g.sizeM();
+    sphere.radius_m = r;
+    sim_.setSphereProbe(sphere);
+    lo_offset = glm::vec3(-r);
+    hi_offset = glm::vec3(r);
+  } else if (current->kind == ProbeState::Kind::Sphere) {
+    lo_offset = glm::vec3(-current->sphere.radius_m);
+    hi_offset = glm::vec3(current->sphere.radius_m);
+  } else {
+    base_transform_ = current->pose.transform;
+    const obstacle::WorldBox box = obstacle::worldBox(current->extent, base_transform_);
+    const glm::vec3 origin(base_transform_[3]);
+    lo_offset = box.lo - origin;
+    hi_offset = box.hi - origin;
+  }
+  probe_lo_m_ = g.origin_m + margin - lo_offset;
+  probe_hi_m_ = g.origin_m + g.sizeM() - margin - hi_offset;
+  if (glm::any(glm::greaterThan(probe_lo_m_, probe_hi_m_))) {
+    throw InvalidArgument("the simulation's probe (" + vecText(hi_offset - lo_offset) +
+                          " m across) cannot move inside the domain with one cell of fluid to every wall; "
+                          "make it smaller or the domain larger");
+  }
 }
 
 HapticSession::~HapticSession() {
@@ -71,18 +97,20 @@ HapticSession::~HapticSession() {
   joinAll();
 }
 
-obstacle::SpherePose HapticSession::probeFor(const haptics::PoseFrame& pose) const {
-  obstacle::SpherePose p;
-  p.radius_m = s_.probe_radius_m;
-  p.centre_m = glm::clamp(pose.position_m, probe_lo_m_, probe_hi_m_);
-  p.velocity_m_s = pose.velocity_m_s;
+obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const {
+  obstacle::RigidPose p;
+  p.transform = base_transform_;
+  glm::vec3 origin = glm::clamp(pose.position_m, probe_lo_m_, probe_hi_m_);
+  glm::vec3 velocity = pose.velocity_m_s;
   for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(p.centre_m[a])) p.centre_m[a] = 0.5f * (probe_lo_m_[a] + probe_hi_m_[a]);
+    if (!std::isfinite(origin[a])) origin[a] = 0.5f * (probe_lo_m_[a] + probe_hi_m_[a]);
     // Held at a wall: the probe does not move along that axis.
-    if (p.centre_m[a] != pose.position_m[a] || !std::isfinite(p.velocity_m_s[a])) p.velocity_m_s[a] = 0.0f;
+    if (origin[a] != pose.position_m[a] || !std::isfinite(velocity[a])) velocity[a] = 0.0f;
   }
-  const float speed = glm::length(p.velocity_m_s);
-  if (speed > fluid::kMaxProbeSpeed) p.velocity_m_s *= fluid::kMaxProbeSpeed / speed;
+  const float speed = glm::length(velocity);
+  if (speed > fluid::kMaxProbeSpeed) velocity *= fluid::kMaxProbeSpeed / speed;
+  p.transform[3] = glm::vec4(origin, 1.0f);
+  p.velocity_m_s = velocity;
   return p;
 }
 
@@ -200,8 +228,8 @@ void HapticSession::simLoop() {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
         continue;
       }
-      const obstacle::SpherePose probe = probeFor(pose);
-      sim_.setSphereProbe(probe);
+      const obstacle::RigidPose probe = poseFor(pose);
+      sim_.setProbePose(probe);
       const double start_s = haptics::monotonicNowS();
       double dt_s = s_.sim_dt_s;
       if (dt_s <= 0.0) {  // real time: the smoothed wall period, so one slow step does not jolt dt

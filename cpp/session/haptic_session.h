@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -19,7 +20,7 @@
 #include "haptics/device.h"
 #include "haptics/haptic_loop.h"
 #include "haptics/mailbox.h"
-#include "obstacle/sphere_probe.h"
+#include "obstacle/triangle_mesh.h"
 
 namespace hf::session {
 
@@ -27,7 +28,9 @@ class Simulation;
 
 struct HapticSessionSettings {
   haptics::HapticLoopSettings loop;
-  float probe_radius_m = 0.1f;     // sphere probe radius, m (>= one cell; checked by the simulation)
+  // A sphere of this radius (m, >= one cell) becomes the probe; none: the simulation's current
+  // probe (sphere or mesh, its orientation kept) is moved, or a 0.1 m sphere if it has none.
+  std::optional<float> probe_radius_m = 0.1f;
   double sim_dt_s = 0.0;           // fixed simulation step, s (free-running); 0 = real time
   // Real time: each step advances the (smoothed) wall time since the last one, within
   // [min_sim_dt_s, max_sim_dt_s]; a step that finishes early waits for min_sim_dt_s of wall time.
@@ -76,10 +79,11 @@ class HapticSession {
   const HapticSessionSettings& settings() const { return s_; }
   const haptics::DevicePtr& device() const { return device_; }
 
-  // The probe the simulation gets for a published pose (the one place the probe is built; it
-  // changes to a generic pose setter when mesh probes land). The centre is kept inside the
-  // region the simulation accepts (one cell of fluid from every wall).
-  obstacle::SpherePose probeFor(const haptics::PoseFrame& pose) const;
+  // The probe pose for a published device pose (the one place the probe is placed): the probe's
+  // transform at the start with its translation at the mapped device position, kept inside the
+  // region the simulation accepts (one cell of fluid from every wall); the velocity is zero
+  // along an axis held at a wall. Applied with Simulation::setProbePose (sphere or mesh).
+  obstacle::RigidPose poseFor(const haptics::PoseFrame& pose) const;
 
  private:
   void simLoop();
@@ -92,7 +96,8 @@ class HapticSession {
   haptics::Mailbox<haptics::PoseFrame> poses_;
   haptics::Mailbox<haptics::ForceFrame> forces_;
   haptics::HapticLoop loop_;
-  glm::vec3 probe_lo_m_{0.0f}, probe_hi_m_{0.0f};  // where the probe centre may go
+  glm::mat4 base_transform_{1.0f};                 // the probe's orientation (and scale)
+  glm::vec3 probe_lo_m_{0.0f}, probe_hi_m_{0.0f};  // where the probe's origin may go
 
   std::atomic<SessionState> state_{SessionState::Idle};
   std::thread sim_thread_;

@@ -192,7 +192,7 @@ class HapticSession:
         workspace_scale: Union[float, Vec3] = 1.0,  # domain m per device m
         workspace_offset: Optional[Vec3] = None,  # m; None = workspace middle at domain centre
         force_gain: float = 1.0,  # device N per fluid N
-        probe_radius: float = 0.1,  # m
+        probe_radius: Optional[float] = None,  # m; None = keep the simulation's probe
         filter: str = "lowpass",
         bandwidth_ratio: float = 0.5,
         prediction: bool = False,

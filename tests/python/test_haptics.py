@@ -246,3 +246,21 @@ def test_simulated_falcon_drives_a_session_and_its_unplug_is_reported(sim):
         session.stop()
     np.testing.assert_array_equal(session.latest_force, [0.0, 0.0, 0.0])
     falcon.close()
+
+
+def test_session_moves_the_simulations_mesh_probe(sim):
+    from hapticfluid import meshes
+
+    vertices, triangles = meshes.box((0.2, 0.1, 0.1))
+    turn = np.array([[0.0, -1.0, 0.0, 0.5], [1.0, 0.0, 0.0, 0.5], [0.0, 0.0, 1.0, 0.5], [0, 0, 0, 1.0]])
+    sim.set_mesh_probe(vertices, triangles, transform=turn)
+    device = hf.host_device()
+    device.push_pose((0.02, 0.0, 0.0))
+    # probe_radius=None keeps the simulation's probe: here the turned box.
+    with hf.HapticSession(sim, device, workspace_scale=5.0, ramp_time=0.0) as session:
+        assert wait_until(lambda: session.stats()["sim_steps"] >= 3)
+        probe = sim.probe
+    assert probe["kind"] == "mesh"
+    transform = np.asarray(probe["transform"])
+    np.testing.assert_allclose(transform[:3, :3], turn[:3, :3], atol=1e-7)  # orientation kept
+    np.testing.assert_allclose(transform[:3, 3], [0.6, 0.5, 0.5], atol=1e-6)  # 0.5 + 5 x 0.02 m
