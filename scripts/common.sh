@@ -12,6 +12,7 @@ HF_PACKAGES=(
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
   blender
+  libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
 
 hf_install_missing() {

@@ -7,5 +7,6 @@ namespace hf::python {
 void addErrors(pybind11::module_& m);
 void addDevice(pybind11::module_& m);
 void addSimulation(pybind11::module_& m);
+void addIo(pybind11::module_& m);
 
 }  // namespace hf::python

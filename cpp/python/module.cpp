@@ -6,4 +6,5 @@ PYBIND11_MODULE(_core, m) {
   hf::python::addErrors(m);
   hf::python::addDevice(m);
   hf::python::addSimulation(m);
+  hf::python::addIo(m);
 }
