@@ -81,9 +81,12 @@ void checkFrame(const VdbFrame& f, const VdbWriteOptions& o) {
     if (key.empty()) throw InvalidArgument("metadata names must not be empty");
     // OpenVDB keeps a grid's own properties as metadata under these names.
     if (key == "name" || key == "class" || key == "vector_type" || key == "is_local_space" ||
-        key == "is_saved_as_half_float" || key.rfind("file_", 0) == 0) {
+        key == "is_saved_as_half_float" || key == "file_bbox_min" || key == "file_bbox_max" ||
+        key == "file_compression" || key == "file_mem_bytes" || key == "file_voxel_count" ||
+        key == "file_delayed_load") {
       throw InvalidArgument("metadata name '" + key + "' is reserved by OpenVDB (name, class, vector_type, "
-                            "is_local_space, is_saved_as_half_float, file_*); choose another");
+                            "is_local_space, is_saved_as_half_float, file_bbox_min/max, file_compression, "
+                            "file_mem_bytes, file_voxel_count, file_delayed_load); choose another");
     }
   }
 }

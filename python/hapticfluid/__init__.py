@@ -23,7 +23,10 @@ from hapticfluid._core import (
     StepReport,
     estimate_bytes,
     list_egl_devices,
+    openvdb_version,
     probe_device,
+    vdb_compressions,
+    write_vdb,
 )
 
 __version__ = "0.1.0"
@@ -39,5 +42,8 @@ __all__ = [
     "StepReport",
     "estimate_bytes",
     "list_egl_devices",
+    "openvdb_version",
     "probe_device",
+    "vdb_compressions",
+    "write_vdb",
 ]

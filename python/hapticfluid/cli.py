@@ -140,10 +140,19 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+# ---------------------------------------------------------------------------- bake
+
+
+def _add_bake(sub) -> None:
+    from hapticfluid.bake import command as _bake_command
+
+    _bake_command.add_parser(sub, _cells)
+
+
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _add_bake]
 
 
 def build_parser() -> argparse.ArgumentParser:
