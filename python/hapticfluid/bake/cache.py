@@ -207,7 +207,7 @@ def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any])
                         "resume to start from the first frame")
     fix = "delete the cache's checkpoint folder (or free the cache) and bake from the start"
     try:
-        with np.load(path, allow_pickle=False) as z:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:  # our handle: closed on errors too
             meta = json.loads(bytes(z["meta"]).decode())
             arrays = {k: z[k] for k in meta["arrays"]}
     except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError, UnicodeDecodeError, TypeError) as exc:
