@@ -389,5 +389,18 @@ def test_bake_resolution_override_and_adaptive_substeps(tmp_path):
 def test_example_scene_loads():
     root = Path(__file__).resolve().parents[2]
     scene = load_scene(root / "examples" / "bake_demo.json")
-    assert scene.probe is not None and scene.frame_count == 48
+    assert scene.probe is not None and scene.frame_count == 44
     assert scene.cache_dir == (root / "out" / "bake_demo_cache").resolve() or scene.cache_dir.name == "bake_demo_cache"
+
+
+def test_bake_benchmark_quick_runs():
+    from hapticfluid.bench import bake as bench
+
+    res = bench.run(quick=True)
+    assert res["columns"][0] == "resolution" and len(res["rows"]) == 8
+    assert all(row[-1] == "finished" and row[4] > 0 and row[5] > 0 for row in res["rows"])
+    by_key = {(r[0], r[1], r[2]): r for r in res["rows"]}
+    # Half floats make the files with velocity and pressure (dense fields) smaller.
+    assert by_key[("24^3", "density+velocity+pressure", "half")][6] < \
+        by_key[("24^3", "density+velocity+pressure", "float")][6]
+    json.dumps(res)

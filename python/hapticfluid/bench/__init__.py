@@ -1,0 +1,1 @@
+"""Benchmarks: programs that print tables and write JSON (python3 -m hapticfluid bench)."""
