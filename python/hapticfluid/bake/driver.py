@@ -237,9 +237,11 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
             session["frames"] = written
             session["seconds"] = time.perf_counter() - t0
             _cache.write_manifest(cache_dir, manifest)
-            say(f"frame {frame}: {n} substeps, {(time.perf_counter() - frame_t0):.2f} s")
+            done = _progress(scene, frame, first, written, n, n, t0, True)
+            say(f"frame {frame}: {n} substeps, {(time.perf_counter() - frame_t0):.2f} s; "
+                f"{done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
             if progress is not None:
-                progress(_progress(scene, frame, first, written, n, n, t0, True))
+                progress(done)
     seconds = time.perf_counter() - t0
     if status == "cancelled":
         say(f"cancelled; {written} frame(s) written this session; resume continues after frame "
