@@ -11,6 +11,7 @@ HF_PACKAGES=(
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
+  libusb-1.0-0-dev pkg-config clang libclang-rt-14-dev
   blender
   libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )

@@ -1,6 +1,6 @@
 """Type stub of the native module hapticfluid._core (SI units throughout)."""
 
-from typing import Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -113,3 +113,65 @@ class Simulation:
     def cell_classes(self) -> npt.NDArray[np.uint8]: ...
     def state(self) -> Dict[str, object]: ...  # float32 arrays + 'time' (s), 'steps'
     def set_state(self, state: Mapping[str, object]) -> None: ...
+
+class DeviceInfo:
+    @property
+    def name(self) -> str: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def serial(self) -> str: ...
+    @property
+    def workspace_min(self) -> npt.NDArray[np.float32]: ...  # m, device frame
+    @property
+    def workspace_max(self) -> npt.NDArray[np.float32]: ...  # m
+    @property
+    def max_force(self) -> float: ...  # N
+    @property
+    def max_stiffness(self) -> float: ...  # N/m
+    @property
+    def max_damping(self) -> float: ...  # N s/m
+
+class DeviceState:
+    @property
+    def position(self) -> npt.NDArray[np.float32]: ...  # m, device frame
+    @property
+    def velocity(self) -> npt.NDArray[np.float32]: ...  # m/s
+    @property
+    def buttons(self) -> int: ...
+    @property
+    def homed(self) -> bool: ...
+    @property
+    def time(self) -> float: ...  # s
+
+class Device:
+    def info(self) -> DeviceInfo: ...
+    def read(self) -> DeviceState: ...
+    def write_force(self, force: Vec3) -> None: ...  # N, device frame
+    def close(self) -> None: ...
+    def __enter__(self) -> "Device": ...
+    def __exit__(self, *args: object) -> None: ...
+
+class FalconDevice(Device):
+    def stats(self) -> Dict[str, object]: ...
+    def home(self, timeout: float = 60.0) -> None: ...  # s
+
+def list_falcons(probe_firmware: bool = True) -> List[Dict[str, object]]: ...
+def falcon_udev_rule() -> str: ...
+def open_falcon(
+    firmware: Optional[str] = None,
+    index: int = 0,
+    home: bool = True,
+    homing_timeout: float = 60.0,  # s
+    max_force: float = 8.0,  # N
+) -> FalconDevice: ...
+def open_simulated_falcon(
+    firmware_bytes: Optional[bytes] = None,
+    home: bool = True,
+    homing_timeout: float = 10.0,  # s
+    max_force: float = 8.0,  # N
+    hand_mass: float = 0.15,  # kg
+    hand_stiffness: float = 300.0,  # N/m
+    hand_damping: float = 12.0,  # N s/m
+    unplug_after: Optional[int] = None,  # packets
+) -> FalconDevice: ...

@@ -18,6 +18,7 @@ from typing import Callable, List, Optional, Sequence
 
 import hapticfluid as hf
 from hapticfluid import demo as _demo
+from hapticfluid import devices_cli as _devices_cli
 
 
 # ---------------------------------------------------------------------------- argument types
@@ -152,7 +153,7 @@ def _add_bake(sub) -> None:
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info, _add_bake]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices, _add_bake]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,185 @@
+// hapticfluid._core Falcon: list_falcons, open_falcon, open_simulated_falcon, FalconDevice.
+// Argument conversion, docstrings and GIL release only.
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+
+#include "common/error.h"
+#include "haptics/device.h"
+#include "haptics/falcon/falcon.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+
+namespace py = pybind11;
+
+namespace hf::python {
+namespace {
+
+using haptics::Device;
+using haptics::DeviceInfo;
+using haptics::DevicePtr;
+using haptics::DeviceState;
+using haptics::falcon::FalconDevice;
+using haptics::falcon::FalconOptions;
+
+// addHaptics (bind_haptics.cpp) registers Device, DeviceInfo and DeviceState; a module built
+// without it still gets usable types. Registered once, whichever runs first.
+void ensureDeviceTypes(py::module_& m) {
+  if (!py::detail::get_type_info(typeid(DeviceInfo)))
+    py::class_<DeviceInfo>(m, "DeviceInfo", "What a haptic device is and can do (SI units).")
+        .def_readonly("name", &DeviceInfo::name)
+        .def_readonly("kind", &DeviceInfo::kind)
+        .def_readonly("serial", &DeviceInfo::serial)
+        .def_property_readonly("workspace_min", [](const DeviceInfo& i) { return vec3Array(i.workspace_min_m); })
+        .def_property_readonly("workspace_max", [](const DeviceInfo& i) { return vec3Array(i.workspace_max_m); })
+        .def_readonly("max_force", &DeviceInfo::max_force_n)
+        .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m)
+        .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m);
+  if (!py::detail::get_type_info(typeid(DeviceState)))
+    py::class_<DeviceState>(m, "DeviceState", "One reading of a haptic device (device frame, SI units).")
+        .def_property_readonly("position", [](const DeviceState& s) { return vec3Array(s.position_m); })
+        .def_property_readonly("velocity", [](const DeviceState& s) { return vec3Array(s.velocity_m_s); })
+        .def_readonly("buttons", &DeviceState::buttons)
+        .def_readonly("homed", &DeviceState::homed)
+        .def_readonly("time", &DeviceState::time_s);
+  if (!py::detail::get_type_info(typeid(Device)))
+    py::class_<Device, DevicePtr>(m, "Device", "A haptic device.")
+        .def("info", &Device::info)
+        .def("read", &Device::read, py::call_guard<py::gil_scoped_release>())
+        .def(
+            "write_force", [](Device& d, const std::array<float, 3>& f) { d.writeForce(toVec3(f)); }, py::arg("force"),
+            py::call_guard<py::gil_scoped_release>())
+        .def("close", &Device::close, py::call_guard<py::gil_scoped_release>())
+        .def("__enter__", [](const DevicePtr& d) { return d; })
+        .def("__exit__", [](Device& d, py::args) {
+          py::gil_scoped_release release;
+          d.close();
+        });
+}
+
+FalconOptions falconOptions(bool home, double homing_timeout, float max_force) {
+  FalconOptions o;
+  o.home = home;
+  o.homingTimeout_s = homing_timeout;
+  o.maxForce_n = max_force;
+  return o;
+}
+
+py::dict statsDict(const haptics::falcon::FalconStats& s) {
+  py::dict d;
+  d["packets"] = s.packets;
+  d["missed_replies"] = s.missedReplies;
+  d["force_clamps"] = s.forceClamps;
+  d["command_clamps"] = s.commandClamps;
+  d["forward_failures"] = s.forwardFailures;
+  d["upload_attempts"] = s.uploadAttempts;
+  d["firmware_uploaded"] = s.firmwareUploaded;
+  return d;
+}
+
+}  // namespace
+
+void addFalcon(py::module_& m) {
+  ensureDeviceTypes(m);
+
+  py::class_<FalconDevice, Device, std::shared_ptr<FalconDevice>>(
+      m, "FalconDevice",
+      "A Novint Falcon (or the simulated one) driven over USB; made by open_falcon() or\n"
+      "open_simulated_falcon(). Each read() is one packet exchange; a force from write_force()\n"
+      "goes out with the next read(), and only once the Falcon is homed.")
+      .def("stats", [](const FalconDevice& d) { return statsDict(d.stats()); },
+           "Counters: packets, missed_replies, force_clamps (above max_force), command_clamps (int16),\n"
+           "forward_failures, upload_attempts, firmware_uploaded.")
+      .def("home", &FalconDevice::home, py::arg("timeout") = 60.0, py::call_guard<py::gil_scoped_release>(),
+           "Exchange packets until homed (red LED: pull the grip all the way out, push it in; green:\n"
+           "homed). timeout in s; raises HapticFluidError with instructions when it passes.");
+
+  m.def(
+      "list_falcons",
+      [](bool probe_firmware) {
+        std::vector<haptics::falcon::FalconListing> found;
+        {
+          py::gil_scoped_release release;
+          found = haptics::falcon::listFalcons(probe_firmware);
+        }
+        py::list out;
+        for (const auto& f : found) {
+          py::dict d;
+          d["index"] = f.index;
+          d["bus"] = f.bus;
+          d["address"] = f.address;
+          d["serial"] = f.serial;
+          d["permission_ok"] = f.permissionOk;
+          d["firmware_loaded"] = f.firmwareLoaded ? py::object(py::bool_(*f.firmwareLoaded)) : py::object(py::none());
+          d["problem"] = f.problem;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("probe_firmware") = true,
+      "The Novint Falcons plugged in (USB 0403:cb48), one dict each: index (for open_falcon),\n"
+      "bus, address, serial ('' if unknown), permission_ok (False: install the udev rule, see\n"
+      "falcon_udev_rule()), firmware_loaded (True/False, None if not checked), problem ('' or what\n"
+      "is wrong and what to do). probe_firmware opens each one and exchanges a few zero-force\n"
+      "packets. None plugged in: an empty list.");
+  m.def("falcon_udev_rule", &haptics::falcon::udevRule,
+        "The udev rule that lets a logged-in user open the Falcon, and how to install it.");
+  m.def(
+      "open_falcon",
+      [](std::optional<std::string> firmware, int index, bool home, double homing_timeout,
+         float max_force) -> DevicePtr {
+        py::gil_scoped_release release;
+        FalconOptions o = falconOptions(home, homing_timeout, max_force);
+        if (firmware) o.firmware = haptics::falcon::readFirmwareFile(*firmware);
+        return haptics::falcon::openFalcon(index, std::move(o));
+      },
+      py::arg("firmware") = py::none(), py::arg("index") = 0, py::arg("home") = true, py::arg("homing_timeout") = 60.0,
+      py::arg("max_force") = 8.0f,
+      "Open Falcon number `index` of list_falcons() and return a FalconDevice.\n"
+      "firmware: path of the Falcon firmware .bin (Novint's, e.g. nvent_firmware.bin; not shipped),\n"
+      "  uploaded when the Falcon is not running firmware (after every power-on); None: it must be.\n"
+      "home: wait until the user has homed it (LED red: pull the grip all the way out and push it\n"
+      "  in; green: homed), at most homing_timeout s. Without homing no force is applied.\n"
+      "max_force: the device never commands more (N, at most 8 for the Falcon's profile).\n"
+      "Raises HapticFluidError when none is plugged in, on a permission problem (with the udev\n"
+      "rule), or when the firmware upload or homing fails.");
+  m.def(
+      "open_simulated_falcon",
+      [](std::optional<py::bytes> firmware_bytes, bool home, double homing_timeout, float max_force,
+         double hand_mass, double hand_stiffness, double hand_damping, std::optional<long> unplug_after) -> DevicePtr {
+        haptics::falcon::SimulatedFalconOptions sim;
+        FalconOptions o = falconOptions(home, homing_timeout, max_force);
+        if (firmware_bytes) {
+          const std::string bytes = *firmware_bytes;
+          if (bytes.empty()) throw InvalidArgument("firmware_bytes is empty: pass None (firmware running) or the image");
+          sim.expectedFirmware.assign(bytes.begin(), bytes.end());
+          o.firmware = sim.expectedFirmware;
+        }
+        sim.handMass_kg = hand_mass;
+        sim.handStiffness_n_m = hand_stiffness;
+        sim.handDamping_n_s_m = hand_damping;
+        if (unplug_after) {
+          if (*unplug_after < 1) throw InvalidArgument("unplug_after must be at least 1 packet, or None");
+          sim.faults.unplugAtPacket = *unplug_after;
+        }
+        py::gil_scoped_release release;
+        auto transport = std::make_shared<haptics::falcon::SimulatedFalconTransport>(std::move(sim));
+        return haptics::falcon::openSimulatedFalcon(transport, std::move(o));
+      },
+      py::arg("firmware_bytes") = py::none(), py::arg("home") = true, py::arg("homing_timeout") = 10.0,
+      py::arg("max_force") = 8.0f, py::arg("hand_mass") = 0.15, py::arg("hand_stiffness") = 300.0,
+      py::arg("hand_damping") = 12.0, py::arg("unplug_after") = py::none(),
+      "The whole Falcon driver on a simulated Falcon (no hardware): a FalconDevice.\n"
+      "firmware_bytes: None: the firmware is already running; bytes: the simulated DSP waits in its\n"
+      "  bootloader and the driver uploads these bytes, echo-checked, as for a real Falcon.\n"
+      "home: the simulated user homes it at once (pulls the grip out and pushes it in, 0.6 s of\n"
+      "  simulated time); homing_timeout in s.\n"
+      "hand_mass (kg), hand_stiffness (N/m), hand_damping (N s/m): the hand holding the grip at the\n"
+      "  workspace centre; a force F moves it about F / hand_stiffness. Simulated time advances\n"
+      "  1 ms per read(). max_force in N.\n"
+      "unplug_after: the simulated cable is pulled after this many packets (homing takes ~200):\n"
+      "  read() then raises HapticFluidError, write_force() and close() do nothing harmful.");
+}
+
+}  // namespace hf::python
