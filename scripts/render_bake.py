@@ -45,7 +45,7 @@ def main(argv):
     volume.show_sequence(scene, first_file, first, last - first + 1, args.density)
 
     probe = sc.get("probe")
-    if probe is not None:  # the probe as a dark glossy ball at its pose in that frame
+    if probe is not None and probe.get("shape") == "sphere":  # a dark glossy ball at its pose then
         from hapticfluid.bake import Trajectory
 
         pose = Trajectory(probe["keys"]).pose(args.frame)

@@ -62,7 +62,10 @@ layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 const uint GROUP = uint(WG_X * WG_Y * WG_Z);  // a power of two
 shared vec4 s_sum[GROUP];
 
-void writeGroupSum(vec4 mine) {
+// Stages that reduce several vec4s call writeGroupSumAt(value, part) once per part, in the same
+// order in every invocation; part p of the workgroup lands in partials[p * groups + group].
+void writeGroupSumAt(vec4 mine, uint part) {
+  barrier();  // the previous part's s_sum[0] has been read
   s_sum[gl_LocalInvocationIndex] = mine;
   barrier();
   for (uint stride = GROUP / 2u; stride > 0u; stride >>= 1u) {
@@ -71,7 +74,10 @@ void writeGroupSum(vec4 mine) {
   }
   if (gl_LocalInvocationIndex == 0u) {
     uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
-    partials[group] = s_sum[0];
+    uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_NumWorkGroups.z;
+    partials[part * groups + group] = s_sum[0];
   }
 }
+
+void writeGroupSum(vec4 mine) { writeGroupSumAt(mine, 0u); }
 #endif

@@ -1,4 +1,4 @@
-// Stage "reduce": one workgroup sums u_count vec4 partials into results[u_slot]
+// Stage "reduce": one workgroup sums u_count vec4 partials, from partials[u_first], into results[u_slot]
 // (the second level of the parallel reductions of force and residual).
 layout(local_size_x = REDUCE_SIZE) in;
 
@@ -7,12 +7,13 @@ layout(std430, binding = 1) buffer Results { vec4 results[]; };
 
 uniform uint u_count;
 uniform uint u_slot;
+uniform uint u_first;
 
 shared vec4 s_sum[REDUCE_SIZE];
 
 void main() {
   vec4 acc = vec4(0.0);
-  for (uint i = gl_LocalInvocationIndex; i < u_count; i += uint(REDUCE_SIZE)) acc += partials[i];
+  for (uint i = gl_LocalInvocationIndex; i < u_count; i += uint(REDUCE_SIZE)) acc += partials[u_first + i];
   s_sum[gl_LocalInvocationIndex] = acc;
   barrier();
   for (uint stride = uint(REDUCE_SIZE) / 2u; stride > 0u; stride >>= 1u) {

@@ -46,6 +46,21 @@ def _local_radius(obj) -> float:
     return 0.5 * max(max(c[i] for c in obj.bound_box) - min(c[i] for c in obj.bound_box) for i in range(3))
 
 
+def _mesh_arrays(obj):
+    """The object's evaluated mesh (modifiers applied) in its local frame: vertices and triangles."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        vertices = [list(v.co) for v in mesh.vertices]
+        triangles = [list(t.vertices) for t in mesh.loop_triangles]
+    finally:
+        evaluated.to_mesh_clear()
+    if not triangles:
+        raise SceneError(f"the probe '{obj.name}' has no faces: give it a closed mesh or use the Sphere shape")
+    return {"vertices": vertices, "triangles": triangles}
+
+
 def scene_dict(scene, settings):
     """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
     if settings.domain is None:
@@ -91,7 +106,13 @@ def scene_dict(scene, settings):
             data["source"]["radius"] = src.empty_display_size * max(src.matrix_world.to_scale())
     if settings.probe is not None:
         probe = settings.probe
-        radius = _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size
+        if settings.probe_shape == "MESH":
+            if probe.type != "MESH":
+                raise SceneError(f"the probe '{probe.name}' is not a mesh: choose a mesh object or the Sphere shape")
+            shape = {"shape": "mesh", **_mesh_arrays(probe)}
+        else:
+            shape = {"shape": "sphere",
+                     "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
         keys = []
         current = scene.frame_current
         try:
@@ -100,5 +121,5 @@ def scene_dict(scene, settings):
                 keys.append({"frame": frame, "matrix": [list(row) for row in probe.matrix_world]})
         finally:
             scene.frame_set(current)
-        data["probe"] = {"shape": "sphere", "radius": radius, "keys": keys}
+        data["probe"] = {**shape, "keys": keys}
     return data

@@ -21,6 +21,7 @@ class HAPTICFLUID_PT_bake(bpy.types.Panel):
         col = layout.column()
         col.prop(s, "domain")
         col.prop(s, "probe")
+        col.prop(s, "probe_shape")
         col.prop(s, "source")
         col.separator()
         col.prop(s, "resolution")

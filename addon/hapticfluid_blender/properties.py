@@ -14,8 +14,14 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
         description="Mesh whose world-space bounding box is the simulated box (it must not be rotated)")
     probe: PointerProperty(
         name="Probe", type=bpy.types.Object,
-        description="Object whose animation (matrix_world per frame) moves the spherical probe; its radius "
-                    "is half the largest extent of its local bounding box, scaled with the object")
+        description="Object whose animation (matrix_world per frame) moves the probe (its mesh, or a sphere: "
+                    "see Probe Shape)")
+    probe_shape: EnumProperty(
+        name="Probe Shape", default="MESH",
+        items=(("MESH", "Mesh", "The probe object's own closed mesh (modifiers applied, at the current frame), "
+                                "moved rigidly by its animation"),
+               ("SPHERE", "Sphere", "A sphere of half the object's largest local extent, scaled with the object")),
+        description="What the probe pushes the fluid with")
     source: PointerProperty(
         name="Smoke Source", type=bpy.types.Object,
         description="Object marking the smoke emitter: its location is the centre, half its largest "

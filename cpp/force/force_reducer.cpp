@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "common/error.h"
 #include "gl/workgroup.h"
 
 namespace hf::force {
@@ -14,14 +15,18 @@ ForceReducer::ForceReducer(const fluid::Grid& grid) : grid_(grid), faces_("force
   faces_.set("u_cell_size", grid.cell_size_m);
 }
 
+std::size_t ForceReducer::partialsNeeded(const fluid::Grid& grid) { return kParts * gl::groupCount(grid.res); }
+
 void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& cell_class,
                           const obstacle::CellBox& box, const glm::vec3& rho_g, const glm::vec3& reference_m,
-                          gl::GroupReducer& reducer, std::size_t slot) {
+                          const glm::vec3& p0_m, gl::GroupReducer& reducer, const ForceSlots& slots) {
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) {
     reducer.bindPartials(0);
-    reducer.reduce(0, slot);  // an empty box gives a zero force
+    for (std::size_t slot : {slots.force, slots.torque, slots.centroid}) reducer.reduce(0, slot);  // zeros
     return;
   }
+  const std::size_t groups = gl::groupCount(box.extent);
+  if (kParts * groups > reducer.maxGroups()) throw Error("force: the reducer holds too few partials for the box");
   pressure.bindImage(0, GL_READ_ONLY);
   cell_class.bindImage(1, GL_READ_ONLY);
   reducer.bindPartials(0);
@@ -29,15 +34,24 @@ void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& ce
   faces_.set("u_extent", box.extent);
   faces_.set("u_rho_g", rho_g);
   faces_.set("u_reference", grid_.toGrid(reference_m));
+  faces_.set("u_p0", grid_.toGrid(p0_m));
   faces_.dispatch(box.extent);
-  reducer.reduce(gl::groupCount(box.extent), slot);
+  reducer.reduce(groups, slots.force, 0);
+  reducer.reduce(groups, slots.torque, groups);
+  reducer.reduce(groups, slots.centroid, 2 * groups);
 }
 
-BodyForce ForceReducer::decode(const glm::vec4& v) {
-  BodyForce f;
-  f.force_n = glm::vec3(v);
-  f.exposed_faces = static_cast<int>(std::lround(v.w));
-  return f;
+BodyForce ForceReducer::decode(const std::vector<glm::vec4>& results, const ForceSlots& slots,
+                               const glm::vec3& p0_m, const std::optional<glm::vec3>& centre_m) {
+  const glm::vec4 f = results.at(slots.force), t = results.at(slots.torque), c = results.at(slots.centroid);
+  BodyForce out;
+  out.force_n = glm::vec3(f);
+  out.exposed_faces = static_cast<int>(std::lround(f.w));
+  out.solid_cells = static_cast<int>(std::lround(c.w));
+  out.centroid_m = out.solid_cells > 0 ? p0_m + glm::vec3(c) / c.w : p0_m;
+  out.torque_centre_m = centre_m ? *centre_m : out.centroid_m;
+  out.torque_n_m = glm::vec3(t) - glm::cross(out.torque_centre_m - p0_m, out.force_n);
+  return out;
 }
 
 }  // namespace hf::force

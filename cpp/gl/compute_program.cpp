@@ -125,6 +125,9 @@ void ComputeProgram::set(const char* uniform, const glm::ivec3& v) {
 void ComputeProgram::set(const char* uniform, const glm::vec3& v) {
   glProgramUniform3f(id_, location(uniform), v.x, v.y, v.z);
 }
+void ComputeProgram::set(const char* uniform, const glm::mat4& v) {
+  glProgramUniformMatrix4fv(id_, location(uniform), 1, GL_FALSE, &v[0][0]);
+}
 
 void ComputeProgram::dispatch(const glm::ivec3& invocations) const {
   const glm::ivec3 groups = (invocations + local_size_ - 1) / local_size_;

@@ -32,6 +32,7 @@ class ComputeProgram {
   void set(const char* uniform, float v);
   void set(const char* uniform, const glm::ivec3& v);
   void set(const char* uniform, const glm::vec3& v);
+  void set(const char* uniform, const glm::mat4& v);
 
   // Dispatches enough workgroups to cover `invocations` threads, then a memory barrier so the
   // next stage sees the writes; checks GL errors naming this program.

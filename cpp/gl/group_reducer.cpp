@@ -16,12 +16,15 @@ GroupReducer::GroupReducer(std::size_t max_groups, std::size_t slots)
   results_.clear();
 }
 
-void GroupReducer::reduce(std::size_t count, std::size_t slot) {
-  if (count > max_groups_ || slot >= slots_) throw Error("reduce: count or slot out of range");
+void GroupReducer::reduce(std::size_t count, std::size_t slot, std::size_t first) {
+  if (first > max_groups_ || count > max_groups_ - first || slot >= slots_) {
+    throw Error("reduce: count, first or slot out of range");
+  }
   partials_.bind(0);
   results_.bind(1);
   program_.set("u_count", static_cast<unsigned>(count));
   program_.set("u_slot", static_cast<unsigned>(slot));
+  program_.set("u_first", static_cast<unsigned>(first));
   program_.dispatch(glm::ivec3(kReduceSize, 1, 1));
 }
 

@@ -21,7 +21,8 @@ class GroupReducer {
   void bindPartials(unsigned binding) const { partials_.bind(binding); }
   void bindResults(unsigned binding) const { results_.bind(binding); }  // for GPU-side use of a sum
   void clearResults() { results_.clear(); }
-  void reduce(std::size_t count, std::size_t slot);
+  // Sums partials[first .. first + count) into result slot `slot`.
+  void reduce(std::size_t count, std::size_t slot, std::size_t first = 0);
   std::vector<glm::vec4> readResults() const;
 
  private:

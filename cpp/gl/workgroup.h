@@ -23,6 +23,11 @@ inline Defines groupSumDefines() {
   return d;
 }
 
+// Workgroup size of the one-dimensional stages (per vertex, per triangle): WG_LINEAR.
+inline constexpr int kLinearGroup = 256;
+
+inline Defines linearGroupDefines() { return {{"WG_LINEAR", std::to_string(kLinearGroup)}}; }
+
 // Workgroups needed to cover `cells` with kCellGroup.
 inline glm::ivec3 groupsFor(const glm::ivec3& cells) { return (cells + kCellGroup - 1) / kCellGroup; }
 

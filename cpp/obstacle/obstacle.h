@@ -1,7 +1,7 @@
 #pragma once
 // A solid body in the grid. Each step it writes which cells it covers (R8UI solid mask) and the
 // rigid velocity at their centres (RGBA32F, m/s); the fluid reads those without knowing the
-// shape. Sphere now; triangle meshes implement the same interface.
+// shape: SphereProbe and MeshProbe implement it.
 #include <glm/glm.hpp>
 
 #include "gl/texture3d.h"
@@ -19,6 +19,8 @@ class Obstacle {
   virtual void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) = 0;
   // Cells that can hold its boundary cells (the force reduction visits only these).
   virtual CellBox bounds() const = 0;
+  // A world point near the body (m): the force stage sums torques about it (float precision).
+  virtual glm::vec3 referencePointM() const = 0;
 };
 
 }  // namespace hf::obstacle

@@ -20,6 +20,7 @@ class SphereProbe : public Obstacle {
   const SpherePose& pose() const { return pose_; }
   void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) override;
   CellBox bounds() const override;
+  glm::vec3 referencePointM() const override { return pose_.centre_m; }
 
  private:
   fluid::Grid grid_;

@@ -6,6 +6,7 @@
 #include "common/error.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/convert_mesh.h"
 #include "session/simulation.h"
 
 namespace py = pybind11;
@@ -113,8 +114,17 @@ void addSimulation(py::module_& m) {
   py::class_<session::StepReport>(m, "StepReport", "What one step measured.")
       .def_property_readonly("force", [](const session::StepReport& r) { return vec3Array(r.force_n); },
                              "Fluid force on the probe (N), numpy array (3,).")
+      .def_property_readonly("torque", [](const session::StepReport& r) { return vec3Array(r.torque_n_m); },
+                             "Fluid torque on the probe (N m) about torque_centre, numpy array (3,), from the\n"
+                             "same exposed-face pressures as the force.")
+      .def_property_readonly("torque_centre",
+                             [](const session::StepReport& r) { return vec3Array(r.torque_centre_m); },
+                             "World point (m) the torque is taken about, numpy array (3,): the probe's\n"
+                             "torque_centre if one was given, else the centroid of the cells it covers.")
       .def_readonly("exposed_faces", &session::StepReport::exposed_faces,
                     "Number of boundary/surrounding faces summed into the force.")
+      .def_readonly("solid_cells", &session::StepReport::solid_cells,
+                    "Cells the probe covered this step (its voxelized volume is solid_cells * cell_size^3).")
       .def_readonly("pressure_iterations", &session::StepReport::pressure_iterations, "Jacobi sweeps run.")
       .def_readonly("relative_residual", &session::StepReport::relative_residual,
                     "||rhs - A p|| / ||rhs|| of the pressure solve (dimensionless); -1 if not measured.")
@@ -129,12 +139,14 @@ void addSimulation(py::module_& m) {
           "GPU time per stage (ms), in execution order.")
       .def("__repr__", [](const session::StepReport& r) {
         return "StepReport(force=(" + std::to_string(r.force_n.x) + ", " + std::to_string(r.force_n.y) + ", " +
-               std::to_string(r.force_n.z) + ") N, residual=" + std::to_string(r.relative_residual) +
+               std::to_string(r.force_n.z) + ") N, torque=(" + std::to_string(r.torque_n_m.x) + ", " +
+               std::to_string(r.torque_n_m.y) + ", " + std::to_string(r.torque_n_m.z) + ") N m, residual=" + std::to_string(r.relative_residual) +
                ", wall_ms=" + std::to_string(r.wall_ms) + ")";
       });
 
   py::class_<Simulation> c(m, "Simulation", R"doc(
-A 3D smoke/fluid simulation on the GPU (or Mesa llvmpipe) with a spherical probe.
+A 3D smoke/fluid simulation on the GPU (or Mesa llvmpipe) with a rigid probe: a sphere or a
+closed triangle mesh, moving with a linear and an angular velocity.
 
 All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid has cubic cells
 (domain_size / resolution must be equal on every axis), z is up. Arrays come back indexed
@@ -249,20 +261,90 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
       py::arg("angular_velocity") = Vec3{0, 0, 0},
       "Place the spherical probe: centre (m, world), radius (m, >= one cell), linear velocity (m/s)\n"
       "and angular velocity (rad/s) imposed on the fluid faces it covers. It must lie inside the domain.");
+  c.def(
+      "set_mesh_probe",
+      [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
+         const Vec3& velocity, const Vec3& angular_velocity, const std::optional<Vec3>& torque_centre) {
+        obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
+        obstacle::RigidPose pose;
+        pose.transform = toTransform(transform);
+        pose.velocity_m_s = toVec3(velocity);
+        pose.angular_velocity_rad_s = toVec3(angular_velocity);
+        std::optional<glm::vec3> centre;
+        if (torque_centre) centre = toVec3(*torque_centre);
+        py::gil_scoped_release release;
+        s.setMeshProbe(std::move(mesh), pose, centre);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(),
+      py::arg("velocity") = Vec3{0, 0, 0}, py::arg("angular_velocity") = Vec3{0, 0, 0},
+      py::arg("torque_centre") = py::none(), R"doc(
+Make the probe a rigid closed triangle mesh (replaces any probe). The arrays are copied.
+
+vertices: (N, 3) real numbers, the object's local frame (m).
+triangles: (M, 3) integers, vertex indices, counter-clockwise seen from outside (a mesh that is
+    inside out as a whole works too).
+transform: 4x4 local -> world matrix (the object's matrix_world; rows, translation in the last
+    column, m; may rotate, scale and mirror), or None for the identity.
+velocity: velocity of the object's origin (the transform's translation), m/s.
+angular_velocity: rad/s, world frame, about the origin; faces the solid covers move at
+    velocity + angular_velocity x (x - origin).
+torque_centre: world point (m) for StepReport.torque, or None for the centroid of the cells
+    the mesh covers.
+
+The mesh must be closed and consistently oriented: after merging vertices at identical
+positions, every edge is used once in each direction (several shells are fine; zero-area
+triangles are fine). A cell is solid when the mesh winds around its centre (nonzero winding
+number, counted as signed crossings along z). Parts thinner than a cell can be missed. The
+posed mesh's bounding box (a conservative one, from the local box and bounding sphere) must
+keep one cell of fluid from every wall. Raises InvalidArgumentError otherwise, saying what to
+change; nothing changes then.
+)doc");
+  c.def(
+      "set_probe_pose",
+      [](Simulation& s, const py::object& transform, const Vec3& velocity, const Vec3& angular_velocity) {
+        obstacle::RigidPose pose;
+        pose.transform = toTransform(transform);
+        pose.velocity_m_s = toVec3(velocity);
+        pose.angular_velocity_rad_s = toVec3(angular_velocity);
+        s.setProbePose(pose);
+      },
+      py::arg("transform"), py::arg("velocity") = Vec3{0, 0, 0}, py::arg("angular_velocity") = Vec3{0, 0, 0},
+      R"doc(
+Move the current probe without re-uploading its shape: cheap, never waits for the GPU (for a
+1 kHz haptic loop or a bake driver); the next step uses the new pose.
+
+transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity. For a sphere
+    probe only its translation is used, as the centre.
+velocity: of the origin (m/s). angular_velocity: world frame (rad/s).
+Raises InvalidArgumentError if there is no probe or the pose leaves the domain's margin.
+)doc");
   c.def("clear_probe", &Simulation::clearProbe, "Remove the probe from the fluid.");
   c.def_property_readonly(
       "probe",
       [](const Simulation& s) -> py::object {
-        auto p = s.sphereProbe();
+        auto p = s.probe();
         if (!p) return py::none();
         py::dict d;
-        d["centre"] = vec3Array(p->centre_m);
-        d["radius"] = p->radius_m;
-        d["velocity"] = vec3Array(p->velocity_m_s);
-        d["angular_velocity"] = vec3Array(p->angular_velocity_rad_s);
+        if (p->kind == session::ProbeState::Kind::Sphere) {
+          d["kind"] = "sphere";
+          d["centre"] = vec3Array(p->sphere.centre_m);
+          d["radius"] = p->sphere.radius_m;
+          d["velocity"] = vec3Array(p->sphere.velocity_m_s);
+          d["angular_velocity"] = vec3Array(p->sphere.angular_velocity_rad_s);
+        } else {
+          d["kind"] = "mesh";
+          d["transform"] = transformArray(p->pose.transform);
+          d["vertex_count"] = p->mesh->vertices_m.size();
+          d["triangle_count"] = p->mesh->triangles.size();
+          d["velocity"] = vec3Array(p->pose.velocity_m_s);
+          d["angular_velocity"] = vec3Array(p->pose.angular_velocity_rad_s);
+        }
+        d["torque_centre"] = p->torque_centre_m ? py::object(vec3Array(*p->torque_centre_m)) : py::none();
         return std::move(d);
       },
-      "The probe's pose as a dict (centre m, radius m, velocity m/s, angular_velocity rad/s), or None.");
+      "The probe as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m), velocity (m/s),\n"
+      "angular_velocity (rad/s). Mesh: kind 'mesh', transform (4x4, m), vertex_count, triangle_count,\n"
+      "velocity (m/s), angular_velocity (rad/s). Both: torque_centre (m, or None = centroid).");
   c.def(
       "set_smoke_source",
       [](Simulation& s, const Vec3& centre, float radius, float density, float temperature) {

@@ -1,5 +1,6 @@
 #include "session/simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -15,6 +16,7 @@
 #include "gl/workgroup.h"
 #include "obstacle/cell_class.h"
 #include "obstacle/classifier.h"
+#include "obstacle/mesh_probe.h"
 
 namespace hf::session {
 namespace {
@@ -24,7 +26,10 @@ constexpr double kMemoryShare = 0.8;   // of the device's memory the fields may 
 constexpr std::size_t kForceSlot = 0;
 constexpr std::size_t kResidualSlot = 1;
 constexpr std::size_t kPressureMeanSlot = 2;
-constexpr std::size_t kResultSlots = 3;
+constexpr std::size_t kTorqueSlot = 3;
+constexpr std::size_t kCentroidSlot = 4;
+constexpr std::size_t kResultSlots = 5;
+constexpr force::ForceSlots kForceSlots{kForceSlot, kTorqueSlot, kCentroidSlot};
 
 std::string resText(const glm::ivec3& r) {
   return "(" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.z) + ")";
@@ -97,22 +102,28 @@ glm::vec3 hydrostaticReference(const fluid::Grid& g, const glm::vec3& gravity) {
   return ref;
 }
 
-void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
-  for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(p.centre_m[a]) || !std::isfinite(p.velocity_m_s[a]) || !std::isfinite(p.angular_velocity_rad_s[a])) {
-      throw InvalidArgument("probe pose must be finite: centre " + vecText(p.centre_m) + " m, velocity " +
-                            vecText(p.velocity_m_s) + " m/s, angular velocity " + vecText(p.angular_velocity_rad_s) +
-                            " rad/s");
-    }
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+void validateMotion(const glm::vec3& velocity_m_s, const glm::vec3& angular_velocity_rad_s) {
+  if (!finite(velocity_m_s) || !finite(angular_velocity_rad_s)) {
+    throw InvalidArgument("probe motion must be finite: velocity " + vecText(velocity_m_s) +
+                          " m/s, angular velocity " + vecText(angular_velocity_rad_s) + " rad/s");
   }
-  if (glm::length(p.velocity_m_s) > fluid::kMaxProbeSpeed) {
+  if (glm::length(velocity_m_s) > fluid::kMaxProbeSpeed) {
     throw InvalidArgument("probe speed must be at most " + num(fluid::kMaxProbeSpeed) + " m/s, got " +
-                          vecText(p.velocity_m_s) + " m/s");
+                          vecText(velocity_m_s) + " m/s");
   }
-  if (glm::length(p.angular_velocity_rad_s) > fluid::kMaxProbeSpin) {
+  if (glm::length(angular_velocity_rad_s) > fluid::kMaxProbeSpin) {
     throw InvalidArgument("probe angular speed must be at most " + num(fluid::kMaxProbeSpin) + " rad/s, got " +
-                          vecText(p.angular_velocity_rad_s) + " rad/s");
+                          vecText(angular_velocity_rad_s) + " rad/s");
   }
+}
+
+void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
+  if (!finite(p.centre_m)) {
+    throw InvalidArgument("probe pose must be finite: centre " + vecText(p.centre_m) + " m");
+  }
+  validateMotion(p.velocity_m_s, p.angular_velocity_rad_s);
   if (!std::isfinite(p.radius_m) || p.radius_m < g.cell_size_m) {
     throw InvalidArgument("probe radius must be at least one cell (" + num(g.cell_size_m) +
                           " m) to be seen by the grid, got " + num(p.radius_m) + " m; raise the radius or the resolution");
@@ -130,6 +141,27 @@ void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
   if (glm::any(glm::lessThan(p.centre_m - p.radius_m, lo)) || glm::any(glm::greaterThan(p.centre_m + p.radius_m, hi))) {
     throw InvalidArgument(what + "; its centre must stay within " + vecText(lo + p.radius_m) + " .. " +
                           vecText(hi - p.radius_m) + " m");
+  }
+}
+
+// The mesh's world box (conservative, see obstacle::worldBox) must keep one whole fluid cell
+// from every wall, like the sphere.
+void validatePose(const obstacle::MeshExtent& extent, const obstacle::RigidPose& p, const fluid::Grid& g) {
+  obstacle::validateTransform(p.transform);
+  validateMotion(p.velocity_m_s, p.angular_velocity_rad_s);
+  const double visits = obstacle::columnVisitBound(extent, p.transform, g.cell_size_m);
+  if (!(visits <= obstacle::kMaxColumnVisits)) {
+    throw InvalidArgument("the posed mesh's triangles could cover up to " + num(visits) +
+                          " cell columns per step (limit " + num(obstacle::kMaxColumnVisits) +
+                          "); split its large triangles, scale it down or use a coarser grid");
+  }
+  const obstacle::WorldBox box = obstacle::worldBox(extent, p.transform);
+  const glm::vec3 lo = g.origin_m + g.cell_size_m, hi = g.origin_m + g.sizeM() - g.cell_size_m;
+  if (glm::any(glm::lessThan(box.lo, lo)) || glm::any(glm::greaterThan(box.hi, hi))) {
+    throw InvalidArgument("the posed mesh (bounds " + vecText(box.lo) + " .. " + vecText(box.hi) +
+                          " m) is not inside the domain with at least one cell (" + num(g.cell_size_m) +
+                          " m) of fluid between it and every wall: keep it within " + vecText(lo) + " .. " +
+                          vecText(hi) + " m (move it, scale it down, or enlarge the domain)");
   }
 }
 
@@ -154,16 +186,25 @@ void validateStep(double dt_s, const fluid::FluidParams& p, const fluid::Grid& g
 // Everything that holds GL objects; made, used and destroyed on the worker thread only.
 struct Simulation::Engine {
   explicit Engine(const fluid::Grid& g)
-      : solver(g), probe(g), classifier(g), force(g),
-        reducer(gl::groupCount(g.res + 1), kResultSlots) {}
+      : grid(g), solver(g), probe(g), classifier(g), force(g),
+        reducer(std::max(gl::groupCount(g.res + 1), force::ForceReducer::partialsNeeded(g)), kResultSlots) {}
 
-  StepReport step(float dt, const fluid::FluidParams& p, const std::optional<obstacle::SpherePose>& pose,
+  StepReport step(float dt, const fluid::FluidParams& p, const std::optional<ProbeState>& pose,
                   const fluid::SmokeSource& source, const glm::vec3& rho_g, const glm::vec3& reference_m) {
     auto& f = solver.fields();
     timer.begin();
-    if (pose) {
-      probe.setPose(*pose);
-      probe.voxelize(f.solid, f.solid_velocity);
+    obstacle::Obstacle* body = nullptr;
+    if (pose && pose->kind == ProbeState::Kind::Sphere) {
+      probe.setPose(pose->sphere);
+      body = &probe;
+    } else if (pose) {
+      if (!mesh_probe) mesh_probe = std::make_unique<obstacle::MeshProbe>(grid);  // its programs on first use
+      mesh_probe->setMesh(pose->mesh);
+      mesh_probe->setPose(pose->pose);
+      body = mesh_probe.get();
+    }
+    if (body) {
+      body->voxelize(f.solid, f.solid_velocity);
     } else {
       f.solid.clear();
       f.solid_velocity.clear();
@@ -188,14 +229,19 @@ struct Simulation::Engine {
     }
     solver.project(dt, p);
     timer.mark("project");
-    const obstacle::CellBox box = pose ? probe.bounds() : obstacle::CellBox{};
-    force.reduce(f.pressure.cur(), f.cell_class, box, rho_g, reference_m, reducer, kForceSlot);
+    const obstacle::CellBox box = body ? body->bounds() : obstacle::CellBox{};
+    const glm::vec3 p0 = body ? body->referencePointM() : glm::vec3(0.0f);
+    force.reduce(f.pressure.cur(), f.cell_class, box, rho_g, reference_m, p0, reducer, kForceSlots);
     timer.mark("force");
     const std::vector<glm::vec4> results = reducer.readResults();  // the step's one read-back
     StepReport r;
-    const force::BodyForce bf = force::ForceReducer::decode(results[kForceSlot]);
+    const force::BodyForce bf =
+        force::ForceReducer::decode(results, kForceSlots, p0, pose ? pose->torque_centre_m : std::nullopt);
     r.force_n = bf.force_n;
+    r.torque_n_m = bf.torque_n_m;
+    r.torque_centre_m = bf.torque_centre_m;
     r.exposed_faces = bf.exposed_faces;
+    r.solid_cells = bf.solid_cells;
     r.pressure_iterations = stats.iterations;
     if (p.compute_residual) {
       const glm::vec4 res = results[kResidualSlot];
@@ -203,7 +249,7 @@ struct Simulation::Engine {
     }
     r.gpu_ms = timer.collect();
     const glm::vec4 mean = results[kPressureMeanSlot];
-    if (!std::isfinite(r.force_n.x) || !std::isfinite(r.force_n.y) || !std::isfinite(r.force_n.z) ||
+    if (!finite(r.force_n) || !finite(r.torque_n_m) ||
         (p.compute_residual && !std::isfinite(r.relative_residual)) || (!p.open_top && !std::isfinite(mean.x))) {
       throw Error("the solver's state became non-finite (force " + vecText(r.force_n) +
                   " N); call reset() and use a smaller time step or probe speed");
@@ -211,8 +257,10 @@ struct Simulation::Engine {
     return r;
   }
 
+  fluid::Grid grid;
   fluid::FluidSolver solver;
   obstacle::SphereProbe probe;
+  std::unique_ptr<obstacle::MeshProbe> mesh_probe;
   obstacle::Classifier classifier;
   force::ForceReducer force;
   gl::GroupReducer reducer;
@@ -285,8 +333,46 @@ fluid::SmokeSource Simulation::smokeSource() const {
 
 void Simulation::setSphereProbe(const obstacle::SpherePose& pose) {
   validatePose(pose, grid_);
+  ProbeState state;
+  state.kind = ProbeState::Kind::Sphere;
+  state.sphere = pose;
   std::lock_guard<std::mutex> lock(state_mutex_);
-  probe_ = pose;
+  probe_ = std::move(state);
+}
+
+void Simulation::setMeshProbe(obstacle::TriangleMesh mesh, const obstacle::RigidPose& pose,
+                              const std::optional<glm::vec3>& torque_centre_m) {
+  obstacle::validateMesh(mesh);
+  if (torque_centre_m && !finite(*torque_centre_m)) {
+    throw InvalidArgument("torque centre must be a finite world point (m), got " + vecText(*torque_centre_m));
+  }
+  ProbeState state;
+  state.kind = ProbeState::Kind::Mesh;
+  state.extent = obstacle::meshExtent(mesh);
+  validatePose(state.extent, pose, grid_);
+  state.mesh = std::make_shared<const obstacle::TriangleMesh>(std::move(mesh));
+  state.pose = pose;
+  state.torque_centre_m = torque_centre_m;
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  probe_ = std::move(state);
+}
+
+void Simulation::setProbePose(const obstacle::RigidPose& pose) {
+  // O(1) checks, done under the short state lock so the pose applies to the probe it was checked for.
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!probe_) throw InvalidArgument("there is no probe to move; call set_probe or set_mesh_probe first");
+  if (probe_->kind == ProbeState::Kind::Sphere) {
+    obstacle::validateTransform(pose.transform);
+    obstacle::SpherePose sphere = probe_->sphere;
+    sphere.centre_m = pose.originM();
+    sphere.velocity_m_s = pose.velocity_m_s;
+    sphere.angular_velocity_rad_s = pose.angular_velocity_rad_s;
+    validatePose(sphere, grid_);
+    probe_->sphere = sphere;
+  } else {
+    validatePose(probe_->extent, pose, grid_);
+    probe_->pose = pose;
+  }
 }
 
 void Simulation::clearProbe() {
@@ -296,13 +382,19 @@ void Simulation::clearProbe() {
 
 std::optional<obstacle::SpherePose> Simulation::sphereProbe() const {
   std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!probe_ || probe_->kind != ProbeState::Kind::Sphere) return std::nullopt;
+  return probe_->sphere;
+}
+
+std::optional<ProbeState> Simulation::probe() const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
   return probe_;
 }
 
 StepReport Simulation::step(double dt_in_s) {
   fluid::FluidParams params;
   fluid::SmokeSource source;
-  std::optional<obstacle::SpherePose> pose;
+  std::optional<ProbeState> pose;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     params = params_;

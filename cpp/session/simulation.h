@@ -17,6 +17,7 @@
 #include "fluid/grid.h"
 #include "gl/egl_context.h"
 #include "obstacle/sphere_probe.h"
+#include "obstacle/triangle_mesh.h"
 
 namespace hf::gl {
 class GlWorker;
@@ -34,7 +35,10 @@ struct SimulationConfig {
 
 struct StepReport {
   glm::vec3 force_n{0.0f};             // fluid force on the probe, N
+  glm::vec3 torque_n_m{0.0f};          // fluid torque on the probe about torque_centre_m, N m
+  glm::vec3 torque_centre_m{0.0f};     // the point used: asked for, or the voxelized centroid, m
   int exposed_faces = 0;               // faces summed into the force
+  int solid_cells = 0;                 // cells the probe covers
   int pressure_iterations = 0;
   float relative_residual = -1.0f;     // ||rhs - A p|| / ||rhs|| after the solve; -1 = not measured
   double wall_ms = 0.0;                // host time of the whole step, ms
@@ -52,6 +56,17 @@ struct SimulationState {
   std::vector<float> dynamic_pressure;                    // Pa, without the hydrostatic part
   double time_s = 0.0;
   std::int64_t steps = 0;
+};
+
+// The probe as the host set it: a sphere, or a closed mesh with a rigid pose.
+struct ProbeState {
+  enum class Kind { Sphere, Mesh };
+  Kind kind = Kind::Sphere;
+  obstacle::SpherePose sphere;                          // Kind::Sphere
+  std::shared_ptr<const obstacle::TriangleMesh> mesh;   // Kind::Mesh (shared, never changed)
+  obstacle::MeshExtent extent;                          // of `mesh`, local frame
+  obstacle::RigidPose pose;                             // Kind::Mesh
+  std::optional<glm::vec3> torque_centre_m;             // world point; none: voxelized centroid
 };
 
 enum class Field { Density, Temperature, Pressure, DynamicPressure, VelocityX, VelocityY, VelocityZ, CellClass };
@@ -77,8 +92,16 @@ class Simulation {
   fluid::SmokeSource smokeSource() const;
 
   void setSphereProbe(const obstacle::SpherePose& pose);  // throws if not inside the domain
+  // Validates and copies the mesh (closed, see obstacle/triangle_mesh.h) and the pose; the
+  // mesh reaches the GPU with the next step. `torque_centre_m`: none = voxelized centroid.
+  void setMeshProbe(obstacle::TriangleMesh mesh, const obstacle::RigidPose& pose,
+                    const std::optional<glm::vec3>& torque_centre_m);
+  // Moves the current probe (a sphere takes the translation as its centre); O(1), never waits
+  // for the GPU. Throws InvalidArgument if there is no probe or the pose leaves the domain.
+  void setProbePose(const obstacle::RigidPose& pose);
   void clearProbe();
-  std::optional<obstacle::SpherePose> sphereProbe() const;
+  std::optional<obstacle::SpherePose> sphereProbe() const;  // the sphere, if the probe is one
+  std::optional<ProbeState> probe() const;
 
   // Blocks until the step's force is read back. Throws InvalidArgument for a bad dt, and
   // hf::Error if the solver's state became non-finite (then reset() recovers).
@@ -120,7 +143,7 @@ class Simulation {
   mutable std::mutex state_mutex_;
   fluid::FluidParams params_;
   fluid::SmokeSource source_;
-  std::optional<obstacle::SpherePose> probe_;
+  std::optional<ProbeState> probe_;
   StepReport last_;
   double time_s_ = 0.0;
   std::int64_t steps_ = 0;

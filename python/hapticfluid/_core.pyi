@@ -11,6 +11,7 @@ CELL_BOUNDARY: int
 CELL_INSIDE: int
 
 Vec3 = Sequence[float]
+Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column
 
 class HapticFluidError(RuntimeError): ...
 class InvalidArgumentError(HapticFluidError, ValueError): ...
@@ -37,7 +38,13 @@ class StepReport:
     @property
     def force(self) -> npt.NDArray[np.float32]: ...  # N, shape (3,)
     @property
+    def torque(self) -> npt.NDArray[np.float32]: ...  # N m about torque_centre, shape (3,)
+    @property
+    def torque_centre(self) -> npt.NDArray[np.float32]: ...  # m, shape (3,)
+    @property
     def exposed_faces(self) -> int: ...
+    @property
+    def solid_cells(self) -> int: ...
     @property
     def pressure_iterations(self) -> int: ...
     @property
@@ -92,6 +99,21 @@ class Simulation:
     pressure_iterations: int
     compute_residual: bool
     def set_probe(self, centre: Vec3, radius: float, velocity: Vec3 = ..., angular_velocity: Vec3 = ...) -> None: ...
+    def set_mesh_probe(
+        self,
+        vertices: npt.ArrayLike,  # (N, 3) m, local frame
+        triangles: npt.ArrayLike,  # (M, 3) int vertex indices
+        transform: Optional[Matrix4] = None,  # local -> world (matrix_world), m
+        velocity: Vec3 = (0.0, 0.0, 0.0),  # m/s, of the origin
+        angular_velocity: Vec3 = (0.0, 0.0, 0.0),  # rad/s, world frame
+        torque_centre: Optional[Vec3] = None,  # m, world; None = voxelized centroid
+    ) -> None: ...
+    def set_probe_pose(
+        self,
+        transform: Optional[Matrix4],  # local -> world, m (sphere: translation = centre)
+        velocity: Vec3 = (0.0, 0.0, 0.0),  # m/s
+        angular_velocity: Vec3 = (0.0, 0.0, 0.0),  # rad/s
+    ) -> None: ...
     def clear_probe(self) -> None: ...
     @property
     def probe(self) -> Optional[Dict[str, object]]: ...

@@ -232,14 +232,19 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
     for (const auto& s : embeddedShaders()) {
       const std::string file = s.file;
       if (file.size() < 5 || file.substr(file.size() - 5) != ".comp") continue;
+      const std::string source = s.source;
       const bool reduce = file == "reduce.comp";
-      // Stages that end in writeGroupSum() need common.glsl's GROUP_SUM part.
-      const bool group_sum = std::string(s.source).find("writeGroupSum(") != std::string::npos;
-      const Defines defines = reduce ? Defines{{"REDUCE_SIZE", "256"}}
-                                     : group_sum ? groupSumDefines() : cellGroupDefines();
+      // Stages that end in writeGroupSum()/writeGroupSumAt() need common.glsl's GROUP_SUM part.
+      const bool group_sum = source.find("writeGroupSum") != std::string::npos;
+      const bool linear = source.find("WG_LINEAR") != std::string::npos;  // per vertex/triangle stages
+      const bool columns = source.find("local_size_z") == std::string::npos;  // per-column stages: z = 1
+      const Defines defines = reduce   ? Defines{{"REDUCE_SIZE", "256"}}
+                              : linear ? linearGroupDefines()
+                                       : group_sum ? groupSumDefines() : cellGroupDefines();
       try {
         ComputeProgram p(file, defines);
-        const glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : kCellGroup;
+        glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : linear ? glm::ivec3(kLinearGroup, 1, 1) : kCellGroup;
+        if (!reduce && !linear && columns) want.z = 1;
         if (p.localSize() != want) out += file + ": wrong local size\n";
         if (p.name() != file) out += file + ": wrong name\n";
       } catch (const std::exception& e) {

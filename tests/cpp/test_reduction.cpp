@@ -178,7 +178,7 @@ std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& gr
     obstacle::Classifier classifier(grid);
     classifier.classify(solid, cls, nbmask, false);
     force::ForceReducer reducer(grid);
-    GroupReducer groups(gl::groupCount(grid.res + 1), 1);
+    GroupReducer groups(force::ForceReducer::partialsNeeded(grid), 3);
     std::vector<force::BodyForce> out;
     for (const ForceCase& c : cases) {
       std::vector<float> p(grid.cells());
@@ -186,8 +186,9 @@ std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& gr
         for (int j = 0; j < grid.res.y; ++j)
           for (int i = 0; i < grid.res.x; ++i) p[shape.idx(i, j, k)] = c.pressure(i, j, k);
       pressure.upload(p.data(), p.size() * sizeof(float));
-      reducer.reduce(pressure, cls, c.box, c.rho_g, c.reference_m, groups, 0);
-      out.push_back(force::ForceReducer::decode(groups.readResults()[0]));
+      const glm::vec3 p0 = grid.toWorld(glm::vec3(grid.res) * 0.5f);
+      reducer.reduce(pressure, cls, c.box, c.rho_g, c.reference_m, p0, groups, force::ForceSlots{});
+      out.push_back(force::ForceReducer::decode(groups.readResults(), force::ForceSlots{}, p0, std::nullopt));
     }
     return out;
   });

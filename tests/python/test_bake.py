@@ -404,3 +404,44 @@ def test_bake_benchmark_quick_runs():
     assert by_key[("24^3", "density+velocity+pressure", "half")][6] < \
         by_key[("24^3", "density+velocity+pressure", "float")][6]
     json.dumps(res)
+
+
+def mesh_probe_scene(cache, frames=4):
+    from hapticfluid import meshes
+
+    vertices, triangles = meshes.box((0.24, 0.16, 0.16))
+    d = scene_dict(cache, frames=frames)
+    d["probe"] = {"shape": "mesh", "vertices": np.asarray(vertices).tolist(),
+                  "triangles": np.asarray(triangles).tolist(),
+                  "keys": [{"frame": 0, "location": [0.3, 0.5, 0.55]},
+                           {"frame": frames, "location": [0.7, 0.5, 0.55],
+                            "rotation": [0.9238795, 0.0, 0.0, 0.3826834]}]}  # 45 degrees about z
+    return d
+
+
+def test_mesh_probe_bake_resumes_identically(tmp_path):
+    full = scene_from_dict(mesh_probe_scene(tmp_path / "full"))
+    assert full.probe.shape == "mesh" and full.fingerprint()["probe"]["mesh_sha256"]
+    bake(full)
+    part = scene_from_dict(mesh_probe_scene(tmp_path / "part"))
+    calls = []
+    first = bake(part, cancel=lambda: calls.append(1) or len(calls) > 3)
+    assert first.status == "cancelled" and first.last_frame == 1
+    bake(part, resume=True)
+    for frame in range(1, 5):
+        a, b = frame_arrays(tmp_path / "full", frame), frame_arrays(tmp_path / "part", frame)
+        for name in a:
+            np.testing.assert_array_equal(a[name], b[name], err_msg=f"frame {frame} {name}")
+    # The box pushed the fluid: the velocity field is far from rest.
+    assert float(np.abs(frame_arrays(tmp_path / "full", 2)["velocity"]).max()) > 0.3
+
+
+def test_refused_trajectory_fails_before_work_and_keeps_the_old_bake(tmp_path):
+    cache = tmp_path / "c"
+    bake(scene_from_dict(scene_dict(cache, frames=2)))
+    before = {f: frame_path(cache, f).read_bytes() for f in (1, 2)}
+    open_mesh = mesh_probe_scene(cache, frames=2)
+    open_mesh["probe"]["triangles"] = open_mesh["probe"]["triangles"][:-1]  # a hole: not closed
+    with pytest.raises(hf.InvalidArgumentError, match="refused at frame 1"):
+        bake(scene_from_dict(open_mesh))
+    assert {f: frame_path(cache, f).read_bytes() for f in (1, 2)} == before

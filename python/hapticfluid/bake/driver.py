@@ -67,11 +67,40 @@ class BakeResult:
 
 
 def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
-    """Put the probe where the trajectory says for one substep. The one place that knows how the
-    engine takes a probe: switch to set_probe_pose / set_mesh_probe here when they land."""
-    radius = probe.radius * float(np.max(np.abs(motion.pose.scale)))
-    sim.set_probe(tuple(motion.pose.translation), radius, velocity=tuple(motion.velocity),
-                  angular_velocity=tuple(motion.angular_velocity))
+    """Put the probe where the trajectory says for one substep: the one place that knows how the
+    engine takes a probe. A sphere is placed whole (its radius follows the transform's scale); a
+    mesh is uploaded once, then only its pose changes (set_probe_pose: host-side, cheap)."""
+    if probe.shape == "sphere":
+        radius = probe.radius * float(np.max(np.abs(motion.pose.scale)))
+        sim.set_probe(tuple(motion.pose.translation), radius, velocity=tuple(motion.velocity),
+                      angular_velocity=tuple(motion.angular_velocity))
+    elif sim.probe is None or sim.probe.get("kind") != "mesh":
+        sim.set_mesh_probe(probe.vertices, probe.triangles, motion.pose.matrix(), velocity=tuple(motion.velocity),
+                           angular_velocity=tuple(motion.angular_velocity))
+    else:
+        sim.set_probe_pose(motion.pose.matrix(), velocity=tuple(motion.velocity),
+                           angular_velocity=tuple(motion.angular_velocity))
+
+
+def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int) -> None:
+    """Before any step: hand the engine every substep pose of frames first..end (fixed substeps;
+    max_substeps per frame when adaptive) so its own checks (domain margin, mesh validity, speed)
+    refuse a bad trajectory up front, naming the frame. Leaves no probe set."""
+    if scene.probe is None:
+        return
+    n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
+    dt = scene.frame_dt / n
+    try:
+        for frame in range(first, scene.frame_end + 1):
+            for s in range(n):
+                a, b = (frame - 1) + s / n, (frame - 1) + (s + 1) / n
+                try:
+                    apply_probe(sim, scene.probe, scene.probe.trajectory.motion(a, b, dt))
+                except hf.InvalidArgumentError as exc:
+                    raise hf.InvalidArgumentError(
+                        f"the probe's trajectory is refused at frame {frame} (substep {s + 1} of {n}): {exc}") from None
+    finally:
+        sim.clear_probe()
 
 
 def make_simulation(scene: BakeScene) -> "hf.Simulation":
@@ -175,9 +204,7 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
         if resumed_from < scene.frame_start - 1 or resumed_from > scene.frame_end:
             raise _cache.BakeError(f"checkpoint is for frame {resumed_from}, outside this bake's frames "
                                    f"{scene.frame_start}..{scene.frame_end}; bake from the start")
-    else:
-        _cache.free_cache(cache_dir)
-        _cache.prepare_cache(cache_dir)
+
 
     manifest: Dict[str, Any] = {
         "format": "hapticfluid-bake",
@@ -205,8 +232,12 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     status = "finished"
     with make_simulation(scene) as sim:
         session["device"] = sim.device.get("renderer")
+        check_trajectory(sim, scene, first)  # a bad pose fails here, before the old bake is freed
         if state is not None:
             sim.set_state(state)
+        else:
+            _cache.free_cache(cache_dir)
+            _cache.prepare_cache(cache_dir)
         _cache.write_manifest(cache_dir, manifest)
         say(f"baking frames {first}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
             f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "

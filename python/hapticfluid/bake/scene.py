@@ -17,7 +17,10 @@ Format (JSON; every length in metres, times in seconds or frames; keys marked * 
                  "density": 1.0, "temperature": 8.0},
       "probe": {                           the moving body, or null / absent
         "shape": "sphere", "radius": 0.08,   sphere radius (m) at scale 1 (scaled by the largest
-                                             axis scale of the transform)
+                                             axis scale of the transform), or
+        "shape": "mesh", "vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...],
+                                             a closed triangle mesh in its local frame (m), moved
+                                             rigidly (and scaled) by the keyed transforms
         "keys": [                          * keyed transforms; linear/slerp between, held outside
           {"frame": 1, "location": [0.2, 0.5, 0.5],
            "rotation": [1, 0, 0, 0],         optional unit quaternion w, x, y, z
@@ -123,9 +126,20 @@ class SmokeSource:
 
 @dataclass(frozen=True)
 class ProbeSpec:
-    shape: str  # "sphere" (mesh probes come with Simulation.set_mesh_probe)
-    radius: float  # m at scale 1
+    shape: str  # "sphere" or "mesh"
+    radius: float  # m at scale 1 (sphere); the local bounding radius about the origin (mesh)
     trajectory: Trajectory
+    vertices: Optional[np.ndarray] = None  # (N, 3) float64, local frame, m (mesh)
+    triangles: Optional[np.ndarray] = None  # (M, 3) int64 (mesh)
+
+    def mesh_digest(self) -> Optional[str]:
+        if self.vertices is None:
+            return None
+        import hashlib
+
+        h = hashlib.sha256(np.ascontiguousarray(self.vertices, dtype=np.float64).tobytes())
+        h.update(np.ascontiguousarray(self.triangles, dtype=np.int64).tobytes())
+        return h.hexdigest()
 
 
 @dataclass(frozen=True)
@@ -187,6 +201,9 @@ class BakeScene:
         if self.probe is not None:
             probe = {"shape": self.probe.shape, "radius": self.probe.radius,
                      "keys": [[f, m.tolist()] for f, m in self.probe.trajectory.keys]}
+            if self.probe.shape == "mesh":  # the mesh by its digest: the manifest stays small
+                probe.update(vertex_count=len(self.probe.vertices), triangle_count=len(self.probe.triangles),
+                             mesh_sha256=self.probe.mesh_digest())
         source = None if self.source is None else {
             "centre": list(self.source.centre), "radius": self.source.radius,
             "density": self.source.density, "temperature": self.source.temperature}
@@ -211,8 +228,8 @@ class BakeScene:
 
     # ---- checks ------------------------------------------------------------------------
     def probe_spheres(self) -> List[Tuple[float, np.ndarray, float]]:
-        """(frame, centre m, radius m) of the probe at each of its keys."""
-        if self.probe is None:
+        """(frame, centre m, radius m) of the sphere probe at each of its keys."""
+        if self.probe is None or self.probe.shape != "sphere":
             return []
         return [(float(f), p.translation, self.probe.radius * float(np.max(np.abs(p.scale))))
                 for f, p in zip(self.probe.trajectory.frames, self.probe.trajectory.poses)]
@@ -226,6 +243,16 @@ class BakeScene:
         origin = np.asarray(self.domain_origin)
         lo = origin + h * 1.001
         hi = origin + np.asarray(self.grid_size) - h * 1.001
+        if self.probe.shape == "mesh":  # exact at the keys; the engine checks every substep's pose
+            for frame, matrix in self.probe.trajectory.keys:
+                world = self.probe.vertices @ matrix[:3, :3].T + matrix[:3, 3]
+                if np.any(world.min(axis=0) < lo) or np.any(world.max(axis=0) > hi):
+                    raise InvalidArgumentError(
+                        f"probe mesh at frame {frame:g} spans {np.round(world.min(axis=0), 4).tolist()} .. "
+                        f"{np.round(world.max(axis=0), 4).tolist()} m; it must keep one cell ({h:.4g} m) of "
+                        f"fluid from every wall: stay within {np.round(lo, 4).tolist()} .. "
+                        f"{np.round(hi, 4).tolist()} m")
+            return
         for frame, centre, radius in self.probe_spheres():
             if radius < h:
                 raise InvalidArgumentError(
@@ -310,11 +337,27 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
 
     probe = None
     if top.get("probe") is not None:
-        p = _table("probe", top["probe"], ("shape", "radius", "keys"))
+        p = _table("probe", top["probe"], ("shape", "radius", "keys", "vertices", "triangles"))
         shape = p.get("shape", "sphere")
-        if shape != "sphere":
-            raise _err("probe.shape", f"only 'sphere' is supported by this engine, got {shape!r}")
-        radius = _number("probe.radius", p.get("radius"), positive=True)
+        vertices = triangles = None
+        if shape == "sphere":
+            radius = _number("probe.radius", p.get("radius"), positive=True)
+        elif shape == "mesh":
+            try:
+                vertices = np.asarray(p.get("vertices"), dtype=np.float64)
+                triangles = np.asarray(p.get("triangles"), dtype=np.int64)
+            except (TypeError, ValueError):
+                raise _err("probe", "'vertices' must be [[x, y, z], ...] (m) and 'triangles' [[i, j, k], ...]") \
+                    from None
+            if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4 or not np.all(np.isfinite(vertices)):
+                raise _err("probe.vertices", f"needs at least 4 finite [x, y, z] rows, got shape {vertices.shape}")
+            if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) < 4:
+                raise _err("probe.triangles", f"needs at least 4 [i, j, k] rows, got shape {triangles.shape}")
+            if triangles.min() < 0 or triangles.max() >= len(vertices):
+                raise _err("probe.triangles", f"indices must be in 0 .. {len(vertices) - 1}")
+            radius = float(np.linalg.norm(vertices, axis=1).max())
+        else:
+            raise _err("probe.shape", f"must be 'sphere' or 'mesh', got {shape!r}")
         keys = p.get("keys")
         if not isinstance(keys, list) or not keys:
             raise _err("probe.keys", "needs a non-empty list of {frame, location | matrix}")
@@ -324,7 +367,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
             if not isinstance(key, dict) or "frame" not in key:
                 raise _err(where, "needs 'frame'")
             items.append((_number(f"{where}.frame", key["frame"]), _key_matrix(where, key)))
-        probe = ProbeSpec(shape=shape, radius=radius, trajectory=Trajectory(items))
+        probe = ProbeSpec(shape=shape, radius=radius, trajectory=Trajectory(items), vertices=vertices,
+                          triangles=triangles)
 
     fr = _table("frames", top["frames"], ("start", "end", "fps"))
     start = _integer("frames.start", fr.get("start", 1), 0)

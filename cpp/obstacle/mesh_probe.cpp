@@ -1,0 +1,101 @@
+#include "obstacle/mesh_probe.h"
+
+#include <GL/gl.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "gl/workgroup.h"
+
+namespace hf::obstacle {
+namespace {
+
+constexpr int kFixedPointRange = 1 << 14;  // largest fixed-point coordinate: keeps edge functions in int32
+
+}  // namespace
+
+MeshProbe::MeshProbe(const fluid::Grid& grid)
+    : grid_(grid),
+      crossings_(grid.cells() * sizeof(std::int32_t), "mesh crossings"),
+      transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
+      crossings_program_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
+      fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()) {
+  const int widest = std::max(grid.res.x, grid.res.y);
+  while (widest * subcell_ * 2 <= kFixedPointRange) subcell_ *= 2;
+  if (widest * subcell_ > kFixedPointRange) {
+    throw InvalidArgument("mesh probes support at most " + std::to_string(kFixedPointRange / 2) +
+                          " cells along x and y; lower the resolution");
+  }
+  crossings_program_.set("u_res", grid.res);
+  crossings_program_.set("u_subcell", subcell_);
+  fill_.set("u_res", grid.res);
+  fill_.set("u_cell_size", grid.cell_size_m);
+}
+
+void MeshProbe::setMesh(std::shared_ptr<const TriangleMesh> mesh) {
+  if (!mesh) throw Error("MeshProbe::setMesh: no mesh");
+  if (mesh == mesh_) return;
+  const std::size_t nv = mesh->vertices_m.size(), nt = mesh->triangles.size();
+  std::vector<glm::vec4> v(nv);
+  for (std::size_t i = 0; i < nv; ++i) v[i] = glm::vec4(mesh->vertices_m[i], 1.0f);
+  local_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "mesh vertices");
+  local_vertices_->upload(v.data(), nv * sizeof(glm::vec4));
+  grid_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "mesh vertices in grid units");
+  indices_ = std::make_unique<gl::StorageBuffer>(nt * sizeof(glm::uvec3), "mesh triangles");
+  indices_->upload(mesh->triangles.data(), nt * sizeof(glm::uvec3));
+  mesh_ = std::move(mesh);
+  extent_ = meshExtent(*mesh_);
+}
+
+void MeshProbe::setPose(const RigidPose& pose) { pose_ = pose; }
+
+void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
+  if (!mesh_) throw Error("MeshProbe::voxelize: no mesh was set");
+  const auto nv = static_cast<unsigned>(mesh_->vertices_m.size());
+  const auto nt = static_cast<unsigned>(mesh_->triangles.size());
+  // local -> world -> grid units (cell i spans [i, i+1]), composed in double
+  const glm::dmat4 m(pose_.transform);
+  const double h = grid_.cell_size_m;
+  glm::dmat4 to_grid(1.0);
+  for (int c = 0; c < 3; ++c) to_grid[c] = glm::dvec4(glm::dvec3(m[c]) / h, 0.0);
+  to_grid[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h, 1.0);
+  local_vertices_->bind(0);
+  grid_vertices_->bind(1);
+  transform_.set("u_to_grid", glm::mat4(to_grid));
+  transform_.set("u_count", nv);
+  transform_.dispatch(glm::ivec3(static_cast<int>(nv), 1, 1));
+
+  crossings_.clear();
+  grid_vertices_->bind(0);
+  indices_->bind(1);
+  crossings_.bind(2);
+  crossings_program_.set("u_count", nt);
+  crossings_program_.dispatch(glm::ivec3(static_cast<int>(nt), 1, 1));
+
+  crossings_.bind(0);
+  solid.bindImage(0, GL_WRITE_ONLY);
+  solid_velocity.bindImage(1, GL_WRITE_ONLY);
+  fill_.set("u_origin", grid_.toGrid(pose_.originM()));
+  fill_.set("u_velocity", pose_.velocity_m_s);
+  fill_.set("u_angular", pose_.angular_velocity_rad_s);
+  fill_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
+}
+
+CellBox MeshProbe::bounds() const {
+  if (!mesh_) return {};
+  const WorldBox w = worldBox(extent_, pose_.transform);
+  const glm::vec3 res(grid_.res);
+  const glm::ivec3 lo(glm::clamp(glm::floor(grid_.toGrid(w.lo)) - 1.0f, glm::vec3(0.0f), res));
+  const glm::ivec3 hi(glm::clamp(glm::ceil(grid_.toGrid(w.hi)) + 1.0f, glm::vec3(0.0f), res));
+  return {lo, glm::max(hi - lo, glm::ivec3(0))};
+}
+
+glm::vec3 MeshProbe::referencePointM() const {
+  if (!mesh_) return pose_.originM();
+  const WorldBox w = worldBox(extent_, pose_.transform);
+  return 0.5f * (w.lo + w.hi);
+}
+
+}  // namespace hf::obstacle

@@ -1,0 +1,28 @@
+// Stage "voxelize_mesh_fill": one invocation per cell column sums the signed crossings bottom-up.
+// A cell is solid where the sum (the mesh's winding number around its centre) is nonzero; its
+// rigid velocity is v + w x (x - origin) at the cell centre (m/s). Every cell is written.
+layout(local_size_x = WG_X, local_size_y = WG_Y) in;
+
+layout(std430, binding = 0) readonly buffer Crossings { int crossings[]; };
+layout(r8ui, binding = 0) uniform writeonly uimage3D u_solid;
+layout(rgba32f, binding = 1) uniform writeonly image3D u_solid_velocity;
+
+uniform vec3 u_origin;      // the body's origin (transform translation), grid units
+uniform vec3 u_velocity;    // of the origin, m/s
+uniform vec3 u_angular;     // rad/s, world frame
+uniform float u_cell_size;  // m
+
+void main() {
+  ivec2 col = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(col, u_res.xy))) return;
+  int winding = 0;
+  for (int k = 0; k < u_res.z; ++k) {
+    ivec3 c = ivec3(col, k);
+    winding += crossings[c.x + u_res.x * (c.y + u_res.y * k)];
+    bool solid = winding != 0;
+    vec3 r = (vec3(c) + 0.5 - u_origin) * u_cell_size;
+    vec3 v = solid ? u_velocity + cross(u_angular, r) : vec3(0.0);
+    imageStore(u_solid, c, uvec4(solid ? 1u : 0u));
+    imageStore(u_solid_velocity, c, vec4(v, 0.0));
+  }
+}
