@@ -8,4 +8,5 @@ PYBIND11_MODULE(_core, m) {
   hf::python::addSimulation(m);
   hf::python::addHaptics(m);
   hf::python::addFalcon(m);
+  hf::python::addIo(m);
 }

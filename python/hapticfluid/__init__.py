@@ -36,9 +36,12 @@ from hapticfluid._core import (
     null_device,
     open_falcon,
     open_simulated_falcon,
+    openvdb_version,
     probe_device,
     scripted_device,
     scripted_device_from_csv,
+    vdb_compressions,
+    write_vdb,
 )
 
 __version__ = "0.1.0"
@@ -67,7 +70,10 @@ __all__ = [
     "null_device",
     "open_falcon",
     "open_simulated_falcon",
+    "openvdb_version",
     "probe_device",
     "scripted_device",
     "scripted_device_from_csv",
+    "vdb_compressions",
+    "write_vdb",
 ]

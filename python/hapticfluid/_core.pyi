@@ -1,6 +1,6 @@
 """Type stub of the native module hapticfluid._core (SI units throughout)."""
 
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -19,6 +19,20 @@ class InvalidArgumentError(HapticFluidError, ValueError): ...
 def list_egl_devices() -> str: ...
 def probe_device(device: str = "") -> Dict[str, object]: ...
 def estimate_bytes(resolution: Sequence[int]) -> int: ...
+def write_vdb(
+    path: str,
+    density: npt.ArrayLike,  # (nx, ny, nz) concentration
+    voxel_size: float,  # m
+    origin: Vec3 = (0.0, 0.0, 0.0),  # m, the domain's minimum corner
+    velocity: Optional[Tuple[npt.ArrayLike, npt.ArrayLike, npt.ArrayLike]] = None,  # m/s, MAC faces
+    pressure: Optional[npt.ArrayLike] = None,  # Pa
+    compression: str = "blosc",
+    half_float: bool = False,
+    tolerance: float = 0.0,
+    metadata: Mapping[str, Union[bool, int, float, str, Sequence[float]]] = ...,
+) -> None: ...
+def vdb_compressions() -> list[str]: ...
+def openvdb_version() -> str: ...
 
 class StepReport:
     @property
@@ -119,6 +133,8 @@ class Simulation:
     def pressure(self, hydrostatic: bool = True) -> npt.NDArray[np.float32]: ...
     def velocity(self) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...
     def cell_classes(self) -> npt.NDArray[np.uint8]: ...
+    def state(self) -> Dict[str, object]: ...  # float32 arrays + 'time' (s), 'steps'
+    def set_state(self, state: Mapping[str, object]) -> None: ...
 
 # ---- haptics (device frame and SI units: m, m/s, N; times on time.monotonic()) ----
 

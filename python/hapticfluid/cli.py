@@ -142,10 +142,20 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+# ---------------------------------------------------------------------------- bake
+
+
+def _add_bake(sub) -> None:
+    from hapticfluid.bake import command as _bake_command
+
+    _bake_command.add_parser(sub, _cells)
+
+
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices, _haptic_cli._add_haptic]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices, _add_bake,
+                             _haptic_cli._add_haptic]
 
 
 def build_parser() -> argparse.ArgumentParser:
