@@ -13,6 +13,7 @@ HF_PACKAGES=(
   libgtest-dev
   libusb-1.0-0-dev pkg-config clang libclang-rt-14-dev
   blender
+  libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
 
 hf_install_missing() {
