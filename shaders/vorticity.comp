@@ -9,12 +9,11 @@ layout(rgba32f, binding = 0) uniform writeonly image3D u_vorticity;
 
 uniform float u_cell_size;  // m
 
-vec3 centred(ivec3 c) {
-  c = clampCell(c);
-  return 0.5 * vec3(imageLoad(u_vel_x, c).r + imageLoad(u_vel_x, c + ivec3(1, 0, 0)).r,
-                    imageLoad(u_vel_y, c).r + imageLoad(u_vel_y, c + ivec3(0, 1, 0)).r,
-                    imageLoad(u_vel_z, c).r + imageLoad(u_vel_z, c + ivec3(0, 0, 1)).r);
-}
+// One component of the cell-centred velocity (m/s) at cell c, clamped into the grid. The curl
+// needs each component only along the two other axes: 24 loads instead of 36 for whole vectors.
+float centredU(ivec3 c) { c = clampCell(c); return 0.5 * (imageLoad(u_vel_x, c).r + imageLoad(u_vel_x, c + ivec3(1, 0, 0)).r); }
+float centredV(ivec3 c) { c = clampCell(c); return 0.5 * (imageLoad(u_vel_y, c).r + imageLoad(u_vel_y, c + ivec3(0, 1, 0)).r); }
+float centredW(ivec3 c) { c = clampCell(c); return 0.5 * (imageLoad(u_vel_z, c).r + imageLoad(u_vel_z, c + ivec3(0, 0, 1)).r); }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
@@ -23,9 +22,15 @@ void main() {
   ivec3 hi = clampCell(c + 1);
   ivec3 lo = clampCell(c - 1);
   vec3 span = vec3(max(hi - lo, ivec3(1))) * u_cell_size;
-  vec3 dx = (centred(ivec3(hi.x, c.y, c.z)) - centred(ivec3(lo.x, c.y, c.z))) / span.x;
-  vec3 dy = (centred(ivec3(c.x, hi.y, c.z)) - centred(ivec3(c.x, lo.y, c.z))) / span.y;
-  vec3 dz = (centred(ivec3(c.x, c.y, hi.z)) - centred(ivec3(c.x, c.y, lo.z))) / span.z;
-  vec3 w = vec3(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x);
+  ivec3 xh = ivec3(hi.x, c.y, c.z), xl = ivec3(lo.x, c.y, c.z);
+  ivec3 yh = ivec3(c.x, hi.y, c.z), yl = ivec3(c.x, lo.y, c.z);
+  ivec3 zh = ivec3(c.x, c.y, hi.z), zl = ivec3(c.x, c.y, lo.z);
+  float dv_dx = (centredV(xh) - centredV(xl)) / span.x;
+  float dw_dx = (centredW(xh) - centredW(xl)) / span.x;
+  float du_dy = (centredU(yh) - centredU(yl)) / span.y;
+  float dw_dy = (centredW(yh) - centredW(yl)) / span.y;
+  float du_dz = (centredU(zh) - centredU(zl)) / span.z;
+  float dv_dz = (centredV(zh) - centredV(zl)) / span.z;
+  vec3 w = vec3(dw_dy - dv_dz, du_dz - dw_dx, dv_dx - du_dy);
   imageStore(u_vorticity, c, vec4(w, length(w)));
 }

@@ -60,12 +60,12 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
                               const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
                               const FluidParams& p) {
   const float dt_over_h = dt_s / grid_.cell_size_m;
-  bindVelocitySamplers();
+  bindVelocityImages(2);  // advect.comp interpolates from images (units 2-4 velocity, 5 source)
   fields_.nbmask.bindImage(1, GL_READ_ONLY);
   advect_.set("u_field_size", size);
   advect_.set("u_field_offset", offset);
   if (p.advection == Advection::SemiLagrangian) {
-    src.bindSampler(3);
+    src.bindImage(5, GL_READ_ONLY);
     dst.bindImage(0, GL_WRITE_ONLY);
     advect_.set("u_dt_over_h", dt_over_h);
     advect_.set("u_decay", decay);
@@ -78,14 +78,15 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
   gl::Texture3D& bwd = scratch.tex[1];
   advect_.set("u_decay", 1.0f);
   advect_.set("u_zero_in_solid", 0);
-  src.bindSampler(3);
+  src.bindImage(5, GL_READ_ONLY);
   fwd.bindImage(0, GL_WRITE_ONLY);
   advect_.set("u_dt_over_h", dt_over_h);
   advect_.dispatch(size);
-  fwd.bindSampler(3);
+  fwd.bindImage(5, GL_READ_ONLY);
   bwd.bindImage(0, GL_WRITE_ONLY);
   advect_.set("u_dt_over_h", -dt_over_h);
   advect_.dispatch(size);
+  bindVelocitySamplers();  // maccormack.comp traces with texture()
   src.bindImage(4, GL_READ_ONLY);
   fwd.bindImage(2, GL_READ_ONLY);
   bwd.bindImage(3, GL_READ_ONLY);

@@ -17,46 +17,9 @@ namespace hf::python {
 namespace {
 
 using haptics::Device;
-using haptics::DeviceInfo;
 using haptics::DevicePtr;
-using haptics::DeviceState;
 using haptics::falcon::FalconDevice;
 using haptics::falcon::FalconOptions;
-
-// addHaptics (bind_haptics.cpp) registers Device, DeviceInfo and DeviceState; a module built
-// without it still gets usable types. Registered once, whichever runs first.
-void ensureDeviceTypes(py::module_& m) {
-  if (!py::detail::get_type_info(typeid(DeviceInfo)))
-    py::class_<DeviceInfo>(m, "DeviceInfo", "What a haptic device is and can do (SI units).")
-        .def_readonly("name", &DeviceInfo::name)
-        .def_readonly("kind", &DeviceInfo::kind)
-        .def_readonly("serial", &DeviceInfo::serial)
-        .def_property_readonly("workspace_min", [](const DeviceInfo& i) { return vec3Array(i.workspace_min_m); })
-        .def_property_readonly("workspace_max", [](const DeviceInfo& i) { return vec3Array(i.workspace_max_m); })
-        .def_readonly("max_force", &DeviceInfo::max_force_n)
-        .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m)
-        .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m);
-  if (!py::detail::get_type_info(typeid(DeviceState)))
-    py::class_<DeviceState>(m, "DeviceState", "One reading of a haptic device (device frame, SI units).")
-        .def_property_readonly("position", [](const DeviceState& s) { return vec3Array(s.position_m); })
-        .def_property_readonly("velocity", [](const DeviceState& s) { return vec3Array(s.velocity_m_s); })
-        .def_readonly("buttons", &DeviceState::buttons)
-        .def_readonly("homed", &DeviceState::homed)
-        .def_readonly("time", &DeviceState::time_s);
-  if (!py::detail::get_type_info(typeid(Device)))
-    py::class_<Device, DevicePtr>(m, "Device", "A haptic device.")
-        .def("info", &Device::info)
-        .def("read", &Device::read, py::call_guard<py::gil_scoped_release>())
-        .def(
-            "write_force", [](Device& d, const std::array<float, 3>& f) { d.writeForce(toVec3(f)); }, py::arg("force"),
-            py::call_guard<py::gil_scoped_release>())
-        .def("close", &Device::close, py::call_guard<py::gil_scoped_release>())
-        .def("__enter__", [](const DevicePtr& d) { return d; })
-        .def("__exit__", [](Device& d, py::args) {
-          py::gil_scoped_release release;
-          d.close();
-        });
-}
 
 FalconOptions falconOptions(bool home, double homing_timeout, float max_force) {
   FalconOptions o;
@@ -81,7 +44,7 @@ py::dict statsDict(const haptics::falcon::FalconStats& s) {
 }  // namespace
 
 void addFalcon(py::module_& m) {
-  ensureDeviceTypes(m);
+  // Device, DeviceInfo and DeviceState are registered by addHaptics, which runs first.
 
   py::class_<FalconDevice, Device, std::shared_ptr<FalconDevice>>(
       m, "FalconDevice",

@@ -57,6 +57,67 @@ void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set
       doc);
 }
 
+// The checkpoint's arrays by their Python names, in the dict state() returns.
+constexpr const char* kStateArrays[] = {"velocity_x", "velocity_y", "velocity_z", "density", "temperature", "pressure"};
+
+std::vector<float>& stateArray(session::SimulationState& s, int i) {
+  std::vector<float>* arrays[] = {&s.velocity_x, &s.velocity_y, &s.velocity_z, &s.density, &s.temperature,
+                                  &s.dynamic_pressure};
+  return *arrays[i];
+}
+
+Field stateField(int i) {
+  const Field fields[] = {Field::VelocityX, Field::VelocityY, Field::VelocityZ,
+                          Field::Density, Field::Temperature, Field::DynamicPressure};
+  return fields[i];
+}
+
+py::dict stateDict(Simulation& sim) {
+  session::SimulationState st;
+  {
+    py::gil_scoped_release release;
+    st = sim.saveState();
+  }
+  py::dict d;
+  for (int i = 0; i < 6; ++i) d[kStateArrays[i]] = fieldArray(std::move(stateArray(st, i)), sim.fieldShape(stateField(i)));
+  d["time"] = st.time_s;
+  d["steps"] = st.steps;
+  return d;
+}
+
+// dict -> SimulationState: every key present, float32 arrays of the field's shape.
+session::SimulationState stateFromDict(const Simulation& sim, const py::dict& d) {
+  session::SimulationState st;
+  for (int i = 0; i < 6; ++i) {
+    const char* key = kStateArrays[i];
+    if (!d.contains(key)) throw InvalidArgument(std::string("state is missing '") + key + "'");
+    py::array a = py::array::ensure(d[key]);
+    if (!a) throw InvalidArgument(std::string("state['") + key + "'] must be a numpy array");
+    if (!a.dtype().is(py::dtype::of<float>())) {
+      throw InvalidArgument(std::string("state['") + key + "'] must be float32 (as state() returns), got " +
+                            std::string(py::str(a.dtype())));
+    }
+    const glm::ivec3 shape = sim.fieldShape(stateField(i));
+    if (a.ndim() != 3 || a.shape(0) != shape.x || a.shape(1) != shape.y || a.shape(2) != shape.z) {
+      throw InvalidArgument(std::string("state['") + key + "'] must have shape (" + std::to_string(shape.x) + ", " +
+                            std::to_string(shape.y) + ", " + std::to_string(shape.z) + "), got " +
+                            std::string(py::str(py::getattr(a, "shape"))));
+    }
+    auto f = py::array_t<float, py::array::f_style | py::array::forcecast>::ensure(a);
+    stateArray(st, i).assign(f.data(), f.data() + f.size());
+  }
+  for (const char* key : {"time", "steps"}) {
+    if (!d.contains(key)) throw InvalidArgument(std::string("state is missing '") + key + "'");
+  }
+  try {
+    st.time_s = d["time"].cast<double>();
+    st.steps = d["steps"].cast<std::int64_t>();
+  } catch (const py::cast_error&) {
+    throw InvalidArgument("state['time'] must be a number (s) and state['steps'] an integer");
+  }
+  return st;
+}
+
 }  // namespace
 
 void addSimulation(py::module_& m) {
@@ -378,6 +439,21 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
         return fieldArray(std::move(data), s.grid().res);
       },
       "Cell classes of the latest step, uint8 (nx, ny, nz): 0 outside, 1 surrounding, 2 boundary, 3 inside.");
+  c.def("state", &stateDict,
+        "Checkpoint: a dict of float32 arrays 'velocity_x' (nx+1, ny, nz), 'velocity_y', 'velocity_z'\n"
+        "(m/s on faces), 'density', 'temperature' (K), 'pressure' (dynamic pressure, Pa: the next\n"
+        "solve's warm start) and the scalars 'time' (s) and 'steps'. Probe, source and settings are\n"
+        "not included. Restoring it with set_state() makes later steps bit-identical.");
+  c.def(
+      "set_state",
+      [](Simulation& s, const py::dict& d) {
+        session::SimulationState st = stateFromDict(s, d);
+        py::gil_scoped_release release;
+        s.restoreState(st);
+      },
+      py::arg("state"),
+      "Restore a dict made by state() (same resolution). Every array must be float32 with its\n"
+      "field's shape and finite; checked before anything changes (InvalidArgumentError).");
   m.def(
       "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
       py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");

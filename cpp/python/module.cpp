@@ -6,5 +6,7 @@ PYBIND11_MODULE(_core, m) {
   hf::python::addErrors(m);
   hf::python::addDevice(m);
   hf::python::addSimulation(m);
+  hf::python::addHaptics(m);
   hf::python::addFalcon(m);
+  hf::python::addIo(m);
 }

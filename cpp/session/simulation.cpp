@@ -517,4 +517,99 @@ std::size_t Simulation::estimateBytes(const glm::ivec3& resolution) {
   return fluid::fieldBytes(g);
 }
 
+// ---- checkpoint / restore (bake resume) -------------------------------------------------------
+
+namespace {
+
+const char* fieldName(Field f) {
+  switch (f) {
+    case Field::Density: return "density";
+    case Field::Temperature: return "temperature";
+    case Field::Pressure: return "pressure";
+    case Field::DynamicPressure: return "dynamic pressure";
+    case Field::VelocityX: return "velocity x";
+    case Field::VelocityY: return "velocity y";
+    case Field::VelocityZ: return "velocity z";
+    case Field::CellClass: return "cell classes";
+  }
+  return "field";
+}
+
+gl::Texture3D& writableTexture(fluid::FluidFields& fl, Field f) {
+  switch (f) {
+    case Field::Density: return fl.density.cur();
+    case Field::Temperature: return fl.temperature.cur();
+    case Field::DynamicPressure: return fl.pressure.cur();
+    case Field::VelocityX: return fl.vel[0].cur();
+    case Field::VelocityY: return fl.vel[1].cur();
+    case Field::VelocityZ: return fl.vel[2].cur();
+    case Field::Pressure:
+    case Field::CellClass: break;
+  }
+  throw InvalidArgument(std::string(fieldName(f)) + " cannot be written");
+}
+
+void checkWritable(Field f, const std::vector<float>& data, const glm::ivec3& shape) {
+  if (f == Field::Pressure || f == Field::CellClass) {
+    throw InvalidArgument(std::string(fieldName(f)) +
+                          " cannot be written: write the dynamic pressure (the hydrostatic part is analytic); "
+                          "cell classes are recomputed every step");
+  }
+  const std::size_t n = static_cast<std::size_t>(shape.x) * shape.y * shape.z;
+  if (data.size() != n) {
+    throw InvalidArgument(std::string(fieldName(f)) + " needs " + std::to_string(n) + " values (shape " +
+                          resText(shape) + "), got " + std::to_string(data.size()));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(data[i])) {
+      throw InvalidArgument(std::string(fieldName(f)) + " holds a non-finite value at flat index " +
+                            std::to_string(i));
+    }
+  }
+}
+
+}  // namespace
+
+void Simulation::writeFloat(Field f, const std::vector<float>& data) {
+  checkWritable(f, data, fieldShape(f));
+  onGl([&](Engine& e) { writableTexture(e.solver.fields(), f).upload(data.data(), data.size() * sizeof(float)); });
+}
+
+SimulationState Simulation::saveState() {
+  SimulationState s;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    s.time_s = time_s_;
+    s.steps = steps_;
+  }
+  s.velocity_x = readFloat(Field::VelocityX);
+  s.velocity_y = readFloat(Field::VelocityY);
+  s.velocity_z = readFloat(Field::VelocityZ);
+  s.density = readFloat(Field::Density);
+  s.temperature = readFloat(Field::Temperature);
+  s.dynamic_pressure = readFloat(Field::DynamicPressure);
+  return s;
+}
+
+void Simulation::restoreState(const SimulationState& s) {
+  const std::pair<Field, const std::vector<float>*> fields[] = {
+      {Field::VelocityX, &s.velocity_x}, {Field::VelocityY, &s.velocity_y},
+      {Field::VelocityZ, &s.velocity_z}, {Field::Density, &s.density},
+      {Field::Temperature, &s.temperature}, {Field::DynamicPressure, &s.dynamic_pressure}};
+  for (const auto& [f, data] : fields) checkWritable(f, *data, fieldShape(f));
+  if (!std::isfinite(s.time_s) || s.time_s < 0.0) {
+    throw InvalidArgument("state time must be finite and >= 0 s, got " + num(s.time_s));
+  }
+  if (s.steps < 0) throw InvalidArgument("state step count must be >= 0, got " + std::to_string(s.steps));
+  onGl([&](Engine& e) {
+    for (const auto& [f, data] : fields) {
+      writableTexture(e.solver.fields(), f).upload(data->data(), data->size() * sizeof(float));
+    }
+  });
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  time_s_ = s.time_s;
+  steps_ = s.steps;
+  last_ = StepReport{};
+}
+
 }  // namespace hf::session

@@ -46,6 +46,19 @@ struct StepReport {
   std::vector<std::pair<std::string, double>> gpu_ms;  // GPU time per stage, ms
 };
 
+// Everything one step carries into the next (a checkpoint for resuming a bake): the MAC
+// velocities, smoke, temperature, the dynamic pressure (the next solve's warm start) and the
+// clock. Arrays are x fastest with the shapes of fieldShape(). Probe, source and settings are
+// not part of it (they are inputs the caller sets before each step).
+struct SimulationState {
+  std::vector<float> velocity_x, velocity_y, velocity_z;  // m/s on x-, y-, z-faces
+  std::vector<float> density;                             // smoke concentration
+  std::vector<float> temperature;                         // K above ambient
+  std::vector<float> dynamic_pressure;                    // Pa, without the hydrostatic part
+  double time_s = 0.0;
+  std::int64_t steps = 0;
+};
+
 // The probe as the host set it: a sphere, or a closed mesh with a rigid pose.
 struct ProbeState {
   enum class Kind { Sphere, Mesh };
@@ -106,6 +119,14 @@ class Simulation {
   glm::ivec3 fieldShape(Field f) const;
   std::vector<float> readFloat(Field f);
   std::vector<std::uint8_t> readCellClasses();
+  // Overwrites one field (same shape and layout as readFloat); Pressure (it has the analytic
+  // hydrostatic part) and CellClass (recomputed every step) are not writable: throws InvalidArgument.
+  void writeFloat(Field f, const std::vector<float>& data);
+  // Checkpoint and restore: restoring a saved state makes the following steps bit-identical to
+  // those the saved simulation would have taken (same settings, probe and source). restoreState
+  // checks every array's size and finiteness before it changes anything.
+  SimulationState saveState();
+  void restoreState(const SimulationState& state);
 
   // GPU memory the fields of a grid take, bytes; throws InvalidArgument for a bad resolution.
   static std::size_t estimateBytes(const glm::ivec3& resolution);

@@ -19,6 +19,8 @@ from typing import Callable, List, Optional, Sequence
 import hapticfluid as hf
 from hapticfluid import demo as _demo
 from hapticfluid import devices_cli as _devices_cli
+from hapticfluid import haptic_cli as _haptic_cli
+from hapticfluid.bench.runner import add_parser as _add_bench
 
 
 # ---------------------------------------------------------------------------- argument types
@@ -141,10 +143,20 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+# ---------------------------------------------------------------------------- bake
+
+
+def _add_bake(sub) -> None:
+    from hapticfluid.bake import command as _bake_command
+
+    _bake_command.add_parser(sub, _cells)
+
+
 # ---------------------------------------------------------------------------- main
 
 # Add a new subcommand by appending its _add_<name> function.
-_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices]
+_COMMANDS: List[Callable] = [_add_demo, _add_info, _devices_cli.add_devices, _add_bake,
+                             _haptic_cli._add_haptic, _add_bench]
 
 
 def build_parser() -> argparse.ArgumentParser:

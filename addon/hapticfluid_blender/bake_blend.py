@@ -1,0 +1,48 @@
+"""Bake a .blend from the command line, without the UI:
+
+    blender --background scene.blend --python addon/hapticfluid_blender/bake_blend.py -- [--resume] \
+        [--resolution N] [--save]
+
+Registers the add-on (from this folder) if needed, bakes with the scene's hapticfluid settings
+(domain, probe, source, frames, cache folder), and with --save stores the .blend with the Volume
+object pointing at the frames. Exits non-zero when the bake fails.
+"""
+
+import argparse
+import os
+import sys
+
+import bpy
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(prog="bake_blend.py", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--resume", action="store_true", help="continue after the last complete frame")
+    parser.add_argument("--resolution", type=int, default=None, help="cells along the domain's longest edge")
+    parser.add_argument("--save", action="store_true", help="save the .blend after baking")
+    args = parser.parse_args(argv)
+
+    addon_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    if addon_parent not in sys.path:
+        sys.path.insert(0, addon_parent)
+    import hapticfluid_blender
+
+    if not hasattr(bpy.types.Scene, "hapticfluid_bake"):
+        hapticfluid_blender.register()
+    scene = bpy.context.scene
+    if args.resolution is not None:
+        scene.hapticfluid_bake.resolution = args.resolution
+    op = bpy.ops.hapticfluid.bake_resume if args.resume else bpy.ops.hapticfluid.bake
+    result = op()
+    print("hapticfluid:", scene.hapticfluid_bake.status)
+    if "FINISHED" not in result:
+        return 1
+    if args.save:
+        bpy.ops.wm.save_mainfile()
+    return 0
+
+
+if __name__ == "__main__":
+    code = main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    if code:
+        sys.exit(code)

@@ -1,0 +1,97 @@
+"""The bake's settings, stored on the scene as ``scene.hapticfluid_bake``."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+
+
+def _is_mesh(_self, obj):
+    return obj.type == "MESH"
+
+
+class HapticFluidBakeSettings(bpy.types.PropertyGroup):
+    domain: PointerProperty(
+        name="Domain", type=bpy.types.Object, poll=_is_mesh,
+        description="Mesh whose world-space bounding box is the simulated box (it must not be rotated)")
+    probe: PointerProperty(
+        name="Probe", type=bpy.types.Object,
+        description="Object whose animation (matrix_world per frame) moves the probe (its mesh, or a sphere: "
+                    "see Probe Shape)")
+    probe_shape: EnumProperty(
+        name="Probe Shape", default="MESH",
+        items=(("MESH", "Mesh", "The probe object's own closed mesh (modifiers applied, at the current frame), "
+                                "moved rigidly by its animation"),
+               ("SPHERE", "Sphere", "A sphere of half the object's largest local extent, scaled with the object")),
+        description="What the probe pushes the fluid with")
+    source: PointerProperty(
+        name="Smoke Source", type=bpy.types.Object,
+        description="Object marking the smoke emitter: its location is the centre, half its largest "
+                    "dimension the radius (m); empty for no emitter")
+    resolution: IntProperty(
+        name="Resolution", default=64, min=8, max=1024, soft_max=256,
+        description="Cells along the domain's longest edge (bake resolution, independent of the "
+                    "interactive one)")
+    frame_start: IntProperty(name="Start", default=1, min=0, max=9999,
+                             description="First frame to bake (the fluid is at rest one frame before)")
+    frame_end: IntProperty(name="End", default=48, min=0, max=9999, description="Last frame to bake (inclusive)")
+    substeps: IntProperty(name="Substeps", default=2, min=1, max=64,
+                          description="Simulation steps per frame (when not adaptive)")
+    adaptive_substeps: BoolProperty(
+        name="Adaptive Substeps", default=False,
+        description="Choose the steps per frame from the fastest velocity (CFL condition)")
+    cfl: FloatProperty(name="CFL", default=1.0, min=0.1, max=10.0,
+                       description="Cells the fastest flow may cross per step when adaptive")
+    max_substeps: IntProperty(name="Max Substeps", default=16, min=1, max=256,
+                              description="Upper limit of adaptive steps per frame")
+    cache_dir: StringProperty(
+        name="Cache Folder", subtype="DIR_PATH", default="//hapticfluid_cache",
+        description="Folder of the bake (data/fluid_data_####.vdb, checkpoint, manifest); // is the "
+                    ".blend's folder")
+    write_velocity: BoolProperty(name="Velocity", default=False,
+                                 description="Also write the 'velocity' grid (cell-centred, m/s)")
+    write_pressure: BoolProperty(name="Pressure", default=False,
+                                 description="Also write the 'pressure' grid (dynamic pressure, Pa)")
+    half_float: BoolProperty(name="Half Floats", default=True,
+                             description="Store grids as 16-bit floats (about half the disk space)")
+    compression: EnumProperty(
+        name="Compression", default="blosc",
+        items=(("blosc", "Blosc", "Fast compression (what Blender's own fluid cache uses)"),
+               ("zip", "Zip", "Smaller, slower"),
+               ("none", "None", "Uncompressed")),
+        description="Compression of the VDB files")
+    tolerance: FloatProperty(name="Sparse Tolerance", default=1e-4, min=0.0, max=1.0, precision=5,
+                             description="Values at or below this are left out of the files (sparse)")
+    fluid_density: FloatProperty(name="Fluid Density", default=1.2, min=1e-3, max=1e5, unit="NONE",
+                                 description="Density of the fluid (kg/m^3): 1.2 air, 1000 water")
+    open_top: BoolProperty(name="Open Top", default=True,
+                           description="The domain's top is open (smoke leaves) instead of a lid")
+    vorticity: FloatProperty(name="Vorticity", default=0.4, min=0.0, max=100.0,
+                             description="Vorticity confinement (dimensionless): curlier smoke")
+    heat_buoyancy: FloatProperty(name="Heat Buoyancy", default=1.0, min=0.0, max=1000.0,
+                                 description="Upward acceleration per kelvin above ambient (m/s^2/K)")
+    smoke_dissipation: FloatProperty(name="Smoke Dissipation", default=0.05, min=0.0, max=1000.0,
+                                     description="Rate the smoke fades (1/s)")
+    heat_dissipation: FloatProperty(name="Heat Dissipation", default=0.4, min=0.0, max=1000.0,
+                                    description="Rate the heat fades (1/s)")
+    source_density: FloatProperty(name="Source Density", default=1.0, min=0.0, max=1000.0,
+                                  description="Smoke concentration held in the emitter")
+    source_temperature: FloatProperty(name="Source Temperature", default=8.0, min=0.0, max=10000.0,
+                                      description="Temperature above ambient held in the emitter (K)")
+    pressure_iterations: IntProperty(name="Pressure Iterations", default=40, min=1, max=100000,
+                                     description="Pressure solver sweeps per step")
+    density_scale: FloatProperty(name="Render Density", default=20.0, min=0.0, max=10000.0,
+                                 description="Density multiplier of the smoke material (Principled Volume)")
+    volume_object: PointerProperty(name="Volume", type=bpy.types.Object,
+                                   description="The Volume object showing the baked frames")
+    # Status, written by the operators (not user settings).
+    is_baking: BoolProperty(name="Baking", default=False, description="A bake is running")
+    progress: FloatProperty(name="Progress", default=0.0, min=0.0, max=1.0, subtype="FACTOR",
+                            description="Share of the frames baked")
+    status: StringProperty(name="Status", default="", description="What the last bake did")
+
+
+def attach():
+    bpy.types.Scene.hapticfluid_bake = PointerProperty(type=HapticFluidBakeSettings)
+
+
+def detach():
+    del bpy.types.Scene.hapticfluid_bake

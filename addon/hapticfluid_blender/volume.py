@@ -1,0 +1,49 @@
+"""The Volume object that shows a baked frame sequence, with a smoke material for Cycles/Eevee."""
+
+import bpy
+
+VOLUME_NAME = "hapticfluid Smoke"
+MATERIAL_NAME = "hapticfluid Smoke"
+
+
+def smoke_material(density_scale: float):
+    mat = bpy.data.materials.get(MATERIAL_NAME) or bpy.data.materials.new(MATERIAL_NAME)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    out.location = (300, 0)
+    vol = nodes.new("ShaderNodeVolumePrincipled")
+    vol.location = (0, 0)
+    vol.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    vol.inputs["Density"].default_value = density_scale
+    vol.inputs["Density Attribute"].default_value = "density"
+    links.new(vol.outputs["Volume"], out.inputs["Volume"])
+    return mat
+
+
+def show_sequence(scene, first_file: str, frame_start: int, frame_count: int, density_scale: float,
+                  existing=None):
+    """Create or update the Volume object reading ``first_file`` (the frame_start file) as a
+    sequence: scene frame f shows the file numbered f. Returns the object."""
+    obj = existing if existing is not None and existing.type == "VOLUME" else None
+    if obj is None:
+        data = bpy.data.volumes.new(VOLUME_NAME)
+        obj = bpy.data.objects.new(VOLUME_NAME, data)
+        scene.collection.objects.link(obj)
+    vol = obj.data
+    vol.filepath = first_file
+    vol.is_sequence = True
+    vol.frame_start = frame_start
+    vol.frame_duration = frame_count
+    # Blender reads file number (scene frame - frame_start + 1 + offset): offset makes it f.
+    vol.frame_offset = frame_start - 1
+    vol.sequence_mode = "CLIP"
+    # The files carry the world transform (voxel size, origin): the object stays at identity.
+    obj.matrix_world.identity()
+    mat = smoke_material(density_scale)
+    if vol.materials:
+        vol.materials[0] = mat
+    else:
+        vol.materials.append(mat)
+    return obj

@@ -1,0 +1,140 @@
+"""Runs inside `blender --background --factory-startup --python-exit-code 1`: the add-on bakes an
+animated probe through a smoke plume (Bake operator, synchronous in background mode), the
+frames load as a Volume sequence with the right grids and bounds, Cycles renders the smoke,
+bake_blend.py bakes a saved .blend from the command line, and Free deletes the frames."""
+
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import bpy
+
+SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
+sys.path.insert(0, os.path.join(SOURCE, "addon"))
+
+import hapticfluid_blender  # noqa: E402
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def build_scene(cache_dir):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
+    domain = bpy.context.active_object
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.12, location=(0.3, 0.5, 0.55))
+    probe = bpy.context.active_object
+    probe.keyframe_insert("location", frame=1)
+    probe.location = (0.65, 0.5, 0.55)
+    probe.keyframe_insert("location", frame=4)
+    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.1, location=(0.5, 0.5, 0.2))
+    source = bpy.context.active_object
+    source.hide_render = True
+    s = scene.hapticfluid_bake
+    s.domain, s.probe, s.source = domain, probe, source
+    s.resolution, s.frame_start, s.frame_end, s.substeps = 24, 1, 4, 1
+    s.cache_dir = cache_dir
+    s.write_velocity = True
+    s.tolerance = 0.0
+    s.heat_buoyancy, s.source_temperature, s.density_scale = 2.0, 10.0, 40.0
+    scene.frame_start, scene.frame_end = 1, 4
+    return scene, s
+
+
+def main():
+    hapticfluid_blender.register()
+    tmp = tempfile.mkdtemp(prefix="hf_blender_bake_")
+    cache = os.path.join(tmp, "cache")
+    scene, s = build_scene(cache)
+
+    result = bpy.ops.hapticfluid.bake()
+    check(result == {"FINISHED"}, f"Bake operator finished ({result}, status: {s.status})")
+    files = sorted(os.listdir(os.path.join(cache, "data")))
+    check(files == [f"fluid_data_{f:04d}.vdb" for f in range(1, 5)], f"four frame files: {files}")
+    check(s.volume_object is not None and s.volume_object.type == "VOLUME", "a Volume object shows the bake")
+
+    obj = s.volume_object
+    vol = obj.data
+    check(vol.is_sequence and vol.frame_duration == 4, "the volume is a 4-frame sequence")
+    check(obj.active_material is not None and any(
+        n.bl_idname == "ShaderNodeVolumePrincipled" for n in obj.active_material.node_tree.nodes),
+        "the volume has a Principled Volume material")
+    for frame in (2, 4):
+        scene.frame_set(frame)
+        deps = bpy.context.evaluated_depsgraph_get()
+        ev = obj.evaluated_get(deps)
+        grids = ev.data.grids
+        check(grids.load(), f"frame {frame}: grids load")
+        names = {g.name: g.data_type for g in grids}
+        check(names.get("density") == "FLOAT" and names.get("velocity") == "VECTOR_FLOAT",
+              f"frame {frame}: grids density (float) and velocity (vector): {names}")
+        check(grids.frame_filepath.endswith(f"fluid_data_{frame:04d}.vdb"),
+              f"scene frame {frame} reads {os.path.basename(grids.frame_filepath)}")
+        corners = [obj.matrix_world @ __import__("mathutils").Vector(c) for c in ev.bound_box]
+        lo = [min(c[i] for c in corners) for i in range(3)]
+        hi = [max(c[i] for c in corners) for i in range(3)]
+        h = 1.0 / 24
+        check(all(-h <= lo[i] <= h and 1 - h <= hi[i] <= 1 + h for i in range(3)),
+              f"frame {frame}: the volume's bounds {lo} .. {hi} are the domain 0..1 m (within a cell)")
+
+    # Cycles renders the smoke (the domain is hidden from render after the bake).
+    check(s.domain.hide_render, "the domain mesh is hidden from render")
+    scene.frame_set(4)
+    cam_data = bpy.data.cameras.new("cam")
+    cam = bpy.data.objects.new("cam", cam_data)
+    scene.collection.objects.link(cam)
+    cam.location = (0.5, -2.2, 0.5)
+    cam.rotation_euler = (1.5708, 0.0, 0.0)
+    scene.camera = cam
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 4
+    scene.cycles.use_denoising = False
+    scene.render.film_transparent = True
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 40, 40, 100
+    png = os.path.join(tmp, "render.png")
+    scene.render.filepath = png
+    bpy.ops.render.render(write_still=True)
+    img = bpy.data.images.load(png)
+    alpha = list(img.pixels)[3::4]
+    covered = sum(1 for a in alpha if a > 0.05)
+    check(covered > 20, f"Cycles renders the smoke: {covered} of {len(alpha)} pixels covered")
+
+    # A saved .blend bakes from the command line with bake_blend.py.
+    s.cache_dir = "//cli_cache"
+    blend = os.path.join(tmp, "scene.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
+    run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", blend, "--python-exit-code", "1",
+                          "--python", script, "--", "--resolution", "16"],
+                         capture_output=True, text=True, timeout=300)
+    print(run.stdout[-2000:], run.stderr[-2000:])
+    check(run.returncode == 0, "bake_blend.py exits 0")
+    cli_files = sorted(os.listdir(os.path.join(tmp, "cli_cache", "data")))
+    check(len(cli_files) == 4, f"bake_blend.py wrote the frames next to the .blend: {cli_files}")
+
+    # Free deletes the bake's files.
+    s.cache_dir = cache
+    check(bpy.ops.hapticfluid.bake_free() == {"FINISHED"}, "Free operator finished")
+    check(not os.path.exists(os.path.join(cache, "data")), "Free removed the frames")
+
+    # A missing cache parent is reported before any work.
+    s.cache_dir = os.path.join(tmp, "missing", "deeper", "cache")
+    try:
+        bpy.ops.hapticfluid.bake()
+    except RuntimeError as err:  # background mode turns an ERROR report into an exception
+        check("does not exist" in str(err), f"missing cache parent reported: {err}")
+    else:
+        raise AssertionError("a bake into a missing folder's child did not fail")
+    hapticfluid_blender.unregister()
+    shutil.rmtree(tmp, ignore_errors=True)
+    print("blender bake add-on test passed")
+
+
+main()

@@ -1,0 +1,54 @@
+#include "haptics/force_pipeline.h"
+
+namespace hf::haptics {
+
+void PipelineSettings::validate() const {
+  map.validate();
+  filter.validate();
+  safety.validate();
+}
+
+ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), safety_(s.safety) { s_.validate(); }
+
+TickOutput ForcePipeline::tick(const TickInput& in) {
+  TickOutput out;
+  if (in.have_force) {
+    out.sim_force_n = in.force.force_n;
+    out.force_age_s = in.now_s - in.force.publish_time_s;
+    if (in.new_frame && s_.prediction && allFinite(in.force.force_n)) {
+      predictor_.addFrame(in.force.force_n, in.force.probe_velocity_m_s);
+    }
+    out.predicted_n = out.sim_force_n;
+    if (s_.prediction && predictor_.frames() > 0) {
+      out.predicted_n = predictor_.predict(s_.map.velocityToDomain(in.state.velocity_m_s));
+    }
+  }
+  glm::vec3 smoothed = out.predicted_n;
+  if (s_.filter.enabled) {
+    out.cutoff_hz = cutoffForRate(s_.filter, in.have_force ? in.force.sim_rate_hz : 0.0);
+    if (allFinite(out.predicted_n)) {
+      smoothed = filter_.update(out.predicted_n, in.dt_s, out.cutoff_hz);
+    } else {
+      filter_.reset();  // never let a NaN into the filter's memory
+    }
+  }
+  out.filtered_n = s_.map.forceToDevice(smoothed);
+
+  SafetyInput safe;
+  safe.force_n = out.filtered_n;
+  safe.dt_s = in.dt_s;
+  safe.force_age_s = in.have_force ? out.force_age_s : 0.0;
+  safe.homed = in.state.homed;
+  safe.enabled = in.enabled && in.have_force;
+  out.commanded_n = safety_.apply(safe);
+  if (!safe.homed || !safe.enabled) filter_.reset();
+  return out;
+}
+
+void ForcePipeline::reset() {
+  predictor_.reset();
+  filter_.reset();
+  safety_.reset();
+}
+
+}  // namespace hf::haptics

@@ -1,0 +1,60 @@
+#pragma once
+// ForcePipeline: one haptic period's force computation, free of threads and clocks so it can be
+// tested sample by sample:
+//   latest simulation force (fluid N) -> [prediction F0 + B (v - v0)] -> low-pass (cutoff from
+//   the simulation rate) -> workspace map (gain, axis signs) -> safety -> commanded device force.
+#include <cstdint>
+
+#include "haptics/device.h"
+#include "haptics/drag_predictor.h"
+#include "haptics/force_safety.h"
+#include "haptics/frames.h"
+#include "haptics/low_pass_filter.h"
+#include "haptics/workspace_map.h"
+
+namespace hf::haptics {
+
+struct PipelineSettings {
+  WorkspaceMap map;
+  LowPassSettings filter;
+  bool prediction = false;
+  SafetySettings safety;
+  void validate() const;
+};
+
+struct TickInput {
+  double now_s = 0.0;
+  double dt_s = 0.001;            // period since the last tick, s
+  DeviceState state;              // this period's device reading
+  bool have_force = false;        // a ForceFrame has arrived (force is valid)
+  bool new_frame = false;         // force is a frame not seen before
+  ForceFrame force;
+  bool enabled = true;            // false: paused, failed or stopping -> zero
+};
+
+struct TickOutput {
+  glm::vec3 sim_force_n{0.0f};        // latest simulation force, fluid N
+  glm::vec3 predicted_n{0.0f};        // after prediction (= sim force without it), fluid N
+  glm::vec3 filtered_n{0.0f};         // low-passed and mapped, device N
+  glm::vec3 commanded_n{0.0f};        // after safety, device N
+  double cutoff_hz = 0.0;
+  double force_age_s = 0.0;
+};
+
+class ForcePipeline {
+ public:
+  explicit ForcePipeline(const PipelineSettings& s);
+  TickOutput tick(const TickInput& in);
+  void reset();
+  const PipelineSettings& settings() const { return s_; }
+  const ForceSafety& safety() const { return safety_; }
+  const DragPredictor& predictor() const { return predictor_; }
+
+ private:
+  PipelineSettings s_;
+  DragPredictor predictor_;
+  LowPassFilter filter_;
+  ForceSafety safety_;
+};
+
+}  // namespace hf::haptics

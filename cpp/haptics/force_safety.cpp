@@ -1,0 +1,75 @@
+#include "haptics/force_safety.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/error.h"
+
+namespace hf::haptics {
+
+void SafetySettings::validate() const {
+  if (!std::isfinite(max_force_n) || max_force_n <= 0.0f) {
+    throw InvalidArgument("max_force must be a positive number of newtons, got " + std::to_string(max_force_n));
+  }
+  if (!std::isfinite(slew_rate_n_s) || slew_rate_n_s <= 0.0f) {
+    throw InvalidArgument("slew_rate must be a positive number of N/s, got " + std::to_string(slew_rate_n_s));
+  }
+  if (!std::isfinite(ramp_s) || ramp_s < 0.0) {
+    throw InvalidArgument("ramp_time must be >= 0 s, got " + std::to_string(ramp_s));
+  }
+  if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0) {
+    throw InvalidArgument("stale_after must be > 0 s, got " + std::to_string(stale_after_s));
+  }
+  if (!std::isfinite(fade_s) || fade_s <= 0.0) {
+    throw InvalidArgument("fade_time must be > 0 s, got " + std::to_string(fade_s));
+  }
+}
+
+bool allFinite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+glm::vec3 clampMagnitude(const glm::vec3& v, float max_n) {
+  const float len = glm::length(v);
+  if (!(len > max_n)) return v;
+  // A little inside the bound, so float rounding of the scaled vector never exceeds it.
+  return v * (max_n * (1.0f - 1e-6f) / len);
+}
+
+glm::vec3 slewLimit(const glm::vec3& previous, const glm::vec3& target, float max_step_n) {
+  return previous + clampMagnitude(target - previous, max_step_n);
+}
+
+double rampFactor(double since_start_s, double ramp_s) {
+  if (ramp_s <= 0.0) return 1.0;
+  return std::clamp(since_start_s / ramp_s, 0.0, 1.0);
+}
+
+double staleFactor(double age_s, double stale_after_s, double fade_s) {
+  if (!(age_s > stale_after_s)) return 1.0;
+  return std::clamp(1.0 - (age_s - stale_after_s) / fade_s, 0.0, 1.0);
+}
+
+glm::vec3 ForceSafety::apply(const SafetyInput& in) {
+  if (!in.homed || !in.enabled) {
+    reset();
+    return last_;
+  }
+  if (!allFinite(in.force_n) || !std::isfinite(in.force_age_s)) {
+    ++non_finite_;
+    last_ = glm::vec3(0.0f);
+    ramp_time_s_ = 0.0;
+    return last_;
+  }
+  ramp_time_s_ += in.dt_s;
+  const double scale = rampFactor(ramp_time_s_, s_.ramp_s) * staleFactor(in.force_age_s, s_.stale_after_s, s_.fade_s);
+  const glm::vec3 target = clampMagnitude(static_cast<float>(scale) * in.force_n, s_.max_force_n);
+  last_ = clampMagnitude(slewLimit(last_, target, s_.slew_rate_n_s * static_cast<float>(in.dt_s)), s_.max_force_n);
+  return last_;
+}
+
+void ForceSafety::reset() {
+  last_ = glm::vec3(0.0f);
+  ramp_time_s_ = 0.0;
+}
+
+}  // namespace hf::haptics

@@ -1,0 +1,57 @@
+#pragma once
+// The safety stage between the filtered force and the device, as small units (each tested alone)
+// and ForceSafety, which chains them once per haptic period:
+//   not homed / output disabled  -> zero now, and the ramp starts again when force may resume
+//   NaN or Inf anywhere          -> zero now (counted)
+//   stale simulation force       -> faded linearly to zero (age past stale_after_s, over fade_s)
+//   ramp-in                      -> scaled by t / ramp_s for ramp_s after force (re)starts
+//   clamp                        -> |F| <= max_force_n (already the device's max at most)
+//   slew limit                   -> |F - F_previous| <= slew_rate_n_s * dt, up or down; the hard
+//                                   stops above (zero now) are the only exception.
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace hf::haptics {
+
+struct SafetySettings {
+  float max_force_n = 5.0f;       // |commanded force| bound, N (> 0)
+  float slew_rate_n_s = 200.0f;   // largest change of the commanded force per second, N/s (> 0)
+  double ramp_s = 2.0;            // ramp-in after (re)start, s (>= 0)
+  double stale_after_s = 0.1;     // simulation force this old starts fading, s (> 0)
+  double fade_s = 0.2;            // ... and reaches zero this much later, s (> 0)
+  void validate() const;          // throws InvalidArgument naming the bad value
+};
+
+bool allFinite(const glm::vec3& v);
+glm::vec3 clampMagnitude(const glm::vec3& v, float max_n);
+glm::vec3 slewLimit(const glm::vec3& previous, const glm::vec3& target, float max_step_n);
+double rampFactor(double since_start_s, double ramp_s);             // 0 .. 1
+double staleFactor(double age_s, double stale_after_s, double fade_s);  // 1 .. 0
+
+struct SafetyInput {
+  glm::vec3 force_n{0.0f};   // wanted force (device frame, N)
+  double dt_s = 0.001;       // haptic period, s
+  double force_age_s = 0.0;  // age of the simulation force behind it, s
+  bool homed = false;
+  bool enabled = true;       // false: paused, failed or stopping
+};
+
+class ForceSafety {
+ public:
+  explicit ForceSafety(const SafetySettings& s) : s_(s) {}
+  glm::vec3 apply(const SafetyInput& in);
+  void reset();
+  double rampS() const { return ramp_time_s_; }
+  std::uint64_t nonFiniteCount() const { return non_finite_; }
+  const glm::vec3& last() const { return last_; }
+  const SafetySettings& settings() const { return s_; }
+
+ private:
+  SafetySettings s_;
+  glm::vec3 last_{0.0f};
+  double ramp_time_s_ = 0.0;  // time since force was last allowed to start
+  std::uint64_t non_finite_ = 0;
+};
+
+}  // namespace hf::haptics

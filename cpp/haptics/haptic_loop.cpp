@@ -1,0 +1,196 @@
+#include "haptics/haptic_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "common/error.h"
+#include "haptics/clock.h"
+#include "haptics/periodic_clock.h"
+
+namespace hf::haptics {
+
+namespace {
+
+DevicePtr requireDevice(DevicePtr device) {
+  if (!device) throw InvalidArgument("haptic loop: give a device (got None)");
+  return device;
+}
+
+HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
+  const float device_max = device.info().max_force_n;
+  if (!(device_max > 0.0f)) {
+    throw InvalidArgument("device '" + device.info().name + "' reports no maximum force (max_force_n = " +
+                          std::to_string(device_max) + "); the haptic loop cannot bound its output");
+  }
+  if (s.pipeline.safety.max_force_n > device_max) {
+    throw InvalidArgument("max_force " + std::to_string(s.pipeline.safety.max_force_n) + " N is above the maximum of '" +
+                          device.info().name + "' (" + std::to_string(device_max) + " N); give at most that");
+  }
+  return s;
+}
+
+}  // namespace
+
+void HapticLoopSettings::validate() const {
+  if (!std::isfinite(rate_hz) || rate_hz < 100.0 || rate_hz > 10000.0) {
+    throw InvalidArgument("haptic rate must be between 100 and 10000 Hz, got " + std::to_string(rate_hz));
+  }
+  if (realtime_priority < 1 || realtime_priority > 99) {
+    throw InvalidArgument("realtime_priority must be 1..99 (SCHED_FIFO), got " + std::to_string(realtime_priority));
+  }
+  if (trace_capacity > (std::size_t{1} << 24)) {
+    throw InvalidArgument("trace capacity must be at most 16777216 records, got " + std::to_string(trace_capacity));
+  }
+  pipeline.validate();
+}
+
+HapticLoop::HapticLoop(DevicePtr device, Mailbox<PoseFrame>& poses, const Mailbox<ForceFrame>& forces,
+                       const HapticLoopSettings& settings)
+    : device_(requireDevice(std::move(device))),
+      poses_(poses),
+      forces_(forces),
+      s_((settings.validate(), checkedAgainst(settings, *device_))),
+      pipeline_(s_.pipeline),
+      trace_(s_.trace_capacity) {}
+
+HapticLoop::~HapticLoop() { stop(); }
+
+void HapticLoop::start() {
+  if (thread_.joinable()) throw Error("haptic loop: already started; a loop runs once (make a new one)");
+  stop_ = false;
+  running_ = true;
+  thread_ = std::thread([this] { run(); });
+}
+
+void HapticLoop::stop() {
+  stop_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+}
+
+void HapticLoop::setEnabled(bool on) { enabled_.store(on, std::memory_order_release); }
+
+std::string HapticLoop::error() const { return failed() ? error_ : std::string(); }
+
+void HapticLoop::run() {
+  if (s_.realtime) {
+    scheduling_ = requestRealtimePriority(s_.realtime_priority);
+    realtime_ = scheduling_.empty();
+    if (!scheduling_.empty()) std::fprintf(stderr, "hapticfluid: warning: %s\n", scheduling_.c_str());
+  } else {
+    scheduling_ = "real-time priority not requested (realtime=False); the period may jitter under load";
+  }
+  sched_known_.store(true, std::memory_order_release);
+
+  PeriodicClock clock(1.0 / s_.rate_hz);
+  const double nominal_s = clock.periodS();
+  try {
+    clock.start();
+    double previous_s = monotonicNowS();
+    while (!stop_.load(std::memory_order_acquire)) {
+      const double now_s = clock.waitNext();
+      const double dt_s = now_s - previous_s;
+      previous_s = now_s;
+      if (ticks_.load(std::memory_order_relaxed) > 0) periods_ms_.add(static_cast<float>(1e3 * dt_s));
+      skipped_.store(clock.skipped(), std::memory_order_relaxed);
+      // The filter and the slew limit see at most two nominal periods, so one late wake-up
+      // cannot open a large force step.
+      tickOnce(now_s, std::min(dt_s, 2.0 * nominal_s));
+      ticks_.fetch_add(1, std::memory_order_relaxed);
+    }
+    device_->writeForce(glm::vec3(0.0f));
+  } catch (const std::exception& e) {
+    error_ = std::string("haptic loop stopped: ") + e.what();
+    failed_.store(true, std::memory_order_release);
+    try {
+      device_->writeForce(glm::vec3(0.0f));
+    } catch (...) {  // the device is gone; nothing more can be commanded
+    }
+  }
+  latest_.write(TickOutput{});  // the host sees zero force once the loop has ended
+  running_.store(false, std::memory_order_release);
+}
+
+void HapticLoop::tickOnce(double now_s, double dt_s) {
+  const DeviceState state = device_->read();
+  latest_state_.write(state);
+  const WorkspaceMap& map = s_.pipeline.map;
+  PoseFrame pose;
+  pose.position_m = map.positionToDomain(state.position_m);
+  pose.velocity_m_s = map.velocityToDomain(state.velocity_m_s);
+  pose.time_s = now_s;
+  pose.homed = state.homed;
+  poses_.write(pose);
+
+  TickInput in;
+  std::uint64_t version = 0;
+  ForceFrame frame;
+  if (forces_.tryRead(frame, &version)) {
+    force_ = frame;
+    have_force_ = true;
+    in.new_frame = version != force_version_;
+    if (in.new_frame) {
+      force_version_ = version;
+      frames_.fetch_add(1, std::memory_order_relaxed);
+      if (force_.pose_time_s > 0.0) latencies_ms_.add(static_cast<float>(1e3 * (now_s - force_.pose_time_s)));
+    }
+  }
+  in.now_s = now_s;
+  in.dt_s = dt_s;
+  in.state = state;
+  in.have_force = have_force_;
+  in.force = force_;
+  in.enabled = enabled_.load(std::memory_order_acquire);
+  const TickOutput out = pipeline_.tick(in);
+  device_->writeForce(out.commanded_n);
+
+  non_finite_.store(pipeline_.safety().nonFiniteCount(), std::memory_order_relaxed);
+  latest_.write(out);
+  if (trace_.capacity() > 0) {
+    TraceSample t;
+    t.time_s = now_s;
+    t.position_m = state.position_m;
+    t.sim_force_n = out.sim_force_n;
+    t.filtered_n = out.filtered_n;
+    t.commanded_n = out.commanded_n;
+    trace_.push(t);
+  }
+}
+
+LoopStats HapticLoop::stats() const {
+  LoopStats st;
+  st.running = running();
+  st.ticks = ticks_.load(std::memory_order_relaxed);
+  const std::vector<float> periods = periods_ms_.values();
+  st.period_ms = summarize(periods);
+  std::vector<float> jitter(periods.size());
+  const float nominal_ms = static_cast<float>(1e3 / s_.rate_hz);
+  std::transform(periods.begin(), periods.end(), jitter.begin(), [&](float p) { return std::fabs(p - nominal_ms); });
+  st.jitter_ms = summarize(std::move(jitter));
+  st.rate_hz = st.period_ms.mean > 0.0 ? 1e3 / st.period_ms.mean : 0.0;
+  st.latency_ms = summarize(latencies_ms_.values());
+  st.skipped = skipped_.load(std::memory_order_relaxed);
+  st.frames = frames_.load(std::memory_order_relaxed);
+  st.non_finite = non_finite_.load(std::memory_order_relaxed);
+  st.trace_dropped = trace_.dropped();
+  if (sched_known_.load(std::memory_order_acquire)) {
+    st.realtime = realtime_.load(std::memory_order_relaxed);
+    st.scheduling = scheduling_;
+  }
+  st.error = error();
+  return st;
+}
+
+TickOutput HapticLoop::latest() const {
+  TickOutput out;
+  latest_.tryRead(out);
+  return out;
+}
+
+DeviceState HapticLoop::latestState() const {
+  DeviceState s;
+  latest_state_.tryRead(s);
+  return s;
+}
+
+}  // namespace hf::haptics

@@ -1,0 +1,109 @@
+#pragma once
+// HapticLoop: the 1 kHz thread. Each period (absolute deadlines, SCHED_FIFO where permitted):
+//   device.read() -> publish the pose (domain frame) to `poses` -> take the latest simulation
+//   force from `forces` -> ForcePipeline (predict, filter, map, safety) -> device.writeForce().
+// It takes no lock and never waits for the simulation, the GPU or Python: both mailboxes are
+// lock-free, statistics and the trace are lock-free too. A device error (read or writeForce
+// throws) ends the loop: it stops commanding force (one last zero is attempted) and error()
+// says what happened. The host reads stats(), latest() and drainTrace() from any one thread.
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "haptics/device.h"
+#include "haptics/force_pipeline.h"
+#include "haptics/frames.h"
+#include "haptics/mailbox.h"
+#include "haptics/sample_window.h"
+#include "haptics/trace_ring.h"
+
+namespace hf::haptics {
+
+struct HapticLoopSettings {
+  double rate_hz = 1000.0;             // loop rate, Hz (100 .. 10000)
+  PipelineSettings pipeline;           // safety.max_force_n at most the device's maximum
+  bool realtime = true;                // ask for SCHED_FIFO
+  int realtime_priority = 80;          // 1 .. 99
+  std::size_t trace_capacity = 0;      // records kept for drainTrace() (0: no trace)
+  void validate() const;
+};
+
+struct TraceSample {                   // one haptic period
+  double time_s = 0.0;                 // monotonic clock
+  glm::vec3 position_m{0.0f};          // device frame
+  glm::vec3 sim_force_n{0.0f};         // fluid N
+  glm::vec3 filtered_n{0.0f};          // device N, before safety
+  glm::vec3 commanded_n{0.0f};         // device N
+};
+
+struct LoopStats {
+  bool running = false;
+  std::uint64_t ticks = 0;             // periods run
+  double rate_hz = 0.0;                // 1 / mean period over the window
+  Percentiles period_ms;               // measured periods
+  Percentiles jitter_ms;               // |period - nominal period|
+  Percentiles latency_ms;              // pose read -> first period using the force computed from it
+  std::uint64_t skipped = 0;           // deadlines missed by a whole period
+  std::uint64_t frames = 0;            // simulation force frames received
+  std::uint64_t non_finite = 0;        // NaN/Inf forces zeroed by the safety stage
+  std::uint64_t trace_dropped = 0;     // trace records lost (ring full)
+  bool realtime = false;               // SCHED_FIFO granted
+  std::string scheduling;              // "" or the warning about real-time priority
+  std::string error;                   // "" or the device error that ended the loop
+};
+
+class HapticLoop {
+ public:
+  HapticLoop(DevicePtr device, Mailbox<PoseFrame>& poses, const Mailbox<ForceFrame>& forces,
+             const HapticLoopSettings& settings);
+  ~HapticLoop();  // stops and joins
+  HapticLoop(const HapticLoop&) = delete;
+  HapticLoop& operator=(const HapticLoop&) = delete;
+
+  void start();                 // starts the thread (once)
+  void stop();                  // ends the thread within about a period, joins, zero force
+  void setEnabled(bool on);     // false: force to zero now; true: ramp in again
+  bool running() const { return running_.load(std::memory_order_acquire); }
+  bool failed() const { return failed_.load(std::memory_order_acquire); }
+  std::string error() const;    // "" unless failed()
+  LoopStats stats() const;
+  TickOutput latest() const;    // the latest period's forces
+  DeviceState latestState() const;
+  std::size_t drainTrace(std::vector<TraceSample>& out) { return trace_.drain(out); }
+  const HapticLoopSettings& settings() const { return s_; }
+
+ private:
+  void run();
+  void tickOnce(double now_s, double dt_s);
+
+  DevicePtr device_;
+  Mailbox<PoseFrame>& poses_;
+  const Mailbox<ForceFrame>& forces_;
+  HapticLoopSettings s_;
+  ForcePipeline pipeline_;  // haptic thread only
+
+  std::thread thread_;
+  std::atomic<bool> stop_{false}, running_{false}, failed_{false}, enabled_{true}, realtime_{false};
+  std::string error_;       // written once by the loop before failed_ is set
+  std::string scheduling_;  // written by the loop before sched_known_ is set
+  std::atomic<bool> sched_known_{false};
+
+  // Haptic-thread state.
+  ForceFrame force_{};
+  bool have_force_ = false;
+  std::uint64_t force_version_ = 0;
+
+  // Published to the host.
+  std::atomic<std::uint64_t> ticks_{0}, frames_{0};
+  std::atomic<std::uint64_t> skipped_{0};
+  SampleWindow<8192> periods_ms_;
+  SampleWindow<2048> latencies_ms_;
+  Mailbox<TickOutput> latest_;
+  Mailbox<DeviceState> latest_state_;
+  std::atomic<std::uint64_t> non_finite_{0};
+  TraceRing<TraceSample> trace_;
+};
+
+}  // namespace hf::haptics

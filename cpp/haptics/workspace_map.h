@@ -1,0 +1,22 @@
+#pragma once
+// WorkspaceMap: the device's workspace onto the fluid domain, and the fluid's force back.
+//   domain position = offset + scale * device position     (per axis; a negative scale flips it)
+//   domain velocity = scale * device velocity
+//   device force    = force_gain * sign(scale) * fluid force (device N per fluid N)
+// The force keeps its direction in the user's hand: an axis the map flips is flipped back.
+#include <glm/glm.hpp>
+
+namespace hf::haptics {
+
+struct WorkspaceMap {
+  glm::vec3 scale{1.0f};        // domain m per device m, per axis, nonzero
+  glm::vec3 offset_m{0.0f};     // domain position of the device origin, m
+  float force_gain = 1.0f;      // device N per fluid N, >= 0
+
+  void validate() const;        // throws InvalidArgument naming the bad value
+  glm::vec3 positionToDomain(const glm::vec3& p) const { return offset_m + scale * p; }
+  glm::vec3 velocityToDomain(const glm::vec3& v) const { return scale * v; }
+  glm::vec3 forceToDevice(const glm::vec3& f) const { return force_gain * glm::sign(scale) * f; }
+};
+
+}  // namespace hf::haptics

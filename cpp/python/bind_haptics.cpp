@@ -1,0 +1,384 @@
+// hapticfluid._core haptics: Device (+ DeviceInfo, DeviceState), the virtual devices' factories
+// and HapticSession. Argument conversion, docstrings and GIL release only.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "haptics/device.h"
+#include "haptics/host_device.h"
+#include "haptics/null_device.h"
+#include "haptics/scripted_device.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "session/haptic_session.h"
+#include "session/simulation.h"
+
+namespace py = pybind11;
+
+namespace hf::python {
+namespace {
+
+using haptics::Device;
+using haptics::DeviceInfo;
+using haptics::DevicePtr;
+using haptics::DeviceState;
+using session::HapticSession;
+using Vec3 = std::array<float, 3>;
+
+// A float (the same on every axis) or three floats.
+glm::vec3 scaleArg(const py::object& v, const char* name) {
+  if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) return glm::vec3(v.cast<float>());
+  try {
+    return toVec3(v.cast<Vec3>());
+  } catch (const py::cast_error&) {
+    throw InvalidArgument(std::string(name) + " must be a number or three numbers (x, y, z)");
+  }
+}
+
+py::dict percentiles(py::dict d, const std::string& name, const haptics::Percentiles& p) {
+  d[py::str(name + "_p50_ms")] = p.p50;
+  d[py::str(name + "_p99_ms")] = p.p99;
+  d[py::str(name + "_max_ms")] = p.max;
+  d[py::str(name + "_mean_ms")] = p.mean;
+  return d;
+}
+
+py::dict statsDict(const session::HapticSessionStats& s) {
+  py::dict d;
+  d["state"] = session::stateName(s.state);
+  d["haptic_rate_hz"] = s.haptic.rate_hz;
+  d["ticks"] = s.haptic.ticks;
+  percentiles(d, "period", s.haptic.period_ms);
+  percentiles(d, "jitter", s.haptic.jitter_ms);
+  percentiles(d, "latency", s.haptic.latency_ms);
+  d["latency_samples"] = s.haptic.latency_ms.count;
+  d["skipped_periods"] = s.haptic.skipped;
+  d["force_frames"] = s.haptic.frames;
+  d["non_finite_forces"] = s.haptic.non_finite;
+  d["trace_dropped"] = s.haptic.trace_dropped;
+  d["realtime"] = s.haptic.realtime;
+  d["scheduling"] = s.haptic.scheduling;
+  d["sim_rate_hz"] = s.sim_rate_hz;
+  d["sim_steps"] = s.sim_steps;
+  d["sim_step_ms"] = s.sim_step_ms;
+  d["sim_dt"] = s.sim_dt_s;
+  d["error"] = s.error.empty() ? py::object(py::none()) : py::object(py::str(s.error));
+  return d;
+}
+
+py::array_t<float> vec3Rows(const std::vector<haptics::TraceSample>& t, glm::vec3 haptics::TraceSample::*member) {
+  py::array_t<float> a({static_cast<py::ssize_t>(t.size()), py::ssize_t{3}});
+  auto r = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    for (int k = 0; k < 3; ++k) r(static_cast<py::ssize_t>(i), k) = (t[i].*member)[k];
+  }
+  return a;
+}
+
+const char* kSessionDoc = R"doc(
+A Simulation touched through a haptic Device: a 1 kHz haptic thread and a free-running
+simulation thread, started by start() (or by entering a `with` block) and ended by stop().
+
+Per haptic period: device pose -> (workspace map) -> probe pose for the simulation thread;
+latest simulation force -> [prediction] -> low-pass (cutoff = bandwidth_ratio x measured
+simulation rate) -> force_gain -> safety (NaN guard, homing gate, stale-force fade, ramp-in,
+max_force clamp, slew_rate limit) -> device.
+
+simulation: the Simulation to drive (kept alive by the session); the session steps it
+  continuously and its probe follows the device.
+device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...).
+workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
+workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
+  of the device's workspace (DeviceInfo) at the domain's centre.
+force_gain: device newtons per fluid newton (>= 0).
+probe_radius: the probe becomes a sphere of this radius (m, at least one cell); None = keep the
+  simulation's probe (a sphere, or a mesh from set_mesh_probe with its orientation), or a
+  0.1 m sphere if it has none.
+filter: 'lowpass' (the seed's first-order low-pass) or 'none'.
+bandwidth_ratio: low-pass cutoff / measured simulation rate (dimensionless, > 0).
+prediction: update the force between frames with a fitted local drag model F0 + B (v - v0).
+max_force: bound on the commanded force (N), at most the device's maximum; None = that maximum.
+slew_rate: largest change of the commanded force (N/s).
+ramp_time: force ramps in linearly over this long after start/resume/homing (s).
+stale_after, fade_time: a simulation force older than stale_after (s) fades to zero over
+  fade_time (s).
+rate: haptic loop rate (Hz, 100..10000).
+sim_dt: fixed simulation step (s), stepped as fast as the GPU goes; 0 = real time: each step
+  advances the smoothed wall time per step, within [min_sim_dt, max_sim_dt], and waits for
+  min_sim_dt of wall time (a voxelized probe gives force impulses ~ 1/dt as it crosses cells, so
+  the floor keeps them bounded and leaves the CPU/GPU some rest).
+min_sim_dt, max_sim_dt: real-time step range (s).
+realtime: ask for SCHED_FIFO priority (a warning in stats()['scheduling'] if not granted).
+trace: keep a record per haptic period for trace() (up to trace_seconds of them).
+)doc";
+
+}  // namespace
+
+void addHaptics(py::module_& m) {
+  py::class_<DeviceInfo>(m, "DeviceInfo", "What a haptic device is and can do (SI units).")
+      .def_readonly("name", &DeviceInfo::name)
+      .def_readonly("kind", &DeviceInfo::kind, "'falcon', 'simulated_falcon', 'scripted', 'host' or 'null'.")
+      .def_readonly("serial", &DeviceInfo::serial, "Serial number; '' if none.")
+      .def_property_readonly("workspace_min", [](const DeviceInfo& i) { return vec3Array(i.workspace_min_m); },
+                             "Reachable box, minimum corner (m, device frame).")
+      .def_property_readonly("workspace_max", [](const DeviceInfo& i) { return vec3Array(i.workspace_max_m); },
+                             "Reachable box, maximum corner (m, device frame).")
+      .def_readonly("max_force", &DeviceInfo::max_force_n, "Largest force the device is commanded (N).")
+      .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m, "N/m (informative).")
+      .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m, "N s/m (informative).")
+      .def("__repr__", [](const DeviceInfo& i) {
+        return "DeviceInfo(name='" + i.name + "', kind='" + i.kind + "', max_force=" + std::to_string(i.max_force_n) +
+               " N)";
+      });
+
+  py::class_<DeviceState>(m, "DeviceState", "One reading of a haptic device (device frame, SI units).")
+      .def_property_readonly("position", [](const DeviceState& s) { return vec3Array(s.position_m); },
+                             "End effector position (m).")
+      .def_property_readonly("velocity", [](const DeviceState& s) { return vec3Array(s.velocity_m_s); },
+                             "End effector velocity (m/s).")
+      .def_readonly("buttons", &DeviceState::buttons, "Bit i set: button i pressed.")
+      .def_readonly("homed", &DeviceState::homed, "False: no force may be commanded yet.")
+      .def_readonly("time", &DeviceState::time_s, "Time of the reading (s, time.monotonic() clock).")
+      .def("__repr__", [](const DeviceState& s) {
+        return "DeviceState(position=(" + std::to_string(s.position_m.x) + ", " + std::to_string(s.position_m.y) +
+               ", " + std::to_string(s.position_m.z) + ") m, homed=" + (s.homed ? "True" : "False") + ")";
+      });
+
+  py::class_<Device, DevicePtr>(m, "Device", R"doc(
+A haptic device (Falcon, simulated Falcon, scripted, host-driven or null). While a
+HapticSession drives it, leave read() and write_force() to the session.
+)doc")
+      .def("info", &Device::info, "A DeviceInfo: name, kind, workspace, max_force ...")
+      .def("read", &Device::read, py::call_guard<py::gil_scoped_release>(),
+           "The latest DeviceState. Raises HapticFluidError if the device is gone or closed.")
+      .def(
+          "write_force", [](Device& d, const Vec3& f) { d.writeForce(toVec3(f)); }, py::arg("force"),
+          py::call_guard<py::gil_scoped_release>(),
+          "Command a force (N, device frame). No safety stage here: a HapticSession adds one.")
+      .def("close", &Device::close, py::call_guard<py::gil_scoped_release>(),
+           "Zero force and release the device (idempotent).")
+      .def("__enter__", [](const DevicePtr& d) { return d; })
+      .def("__exit__", [](Device& d, py::args) {
+        py::gil_scoped_release release;
+        d.close();
+      });
+
+  py::class_<haptics::ScriptedDevice, Device, std::shared_ptr<haptics::ScriptedDevice>>(
+      m, "ScriptedDevice", "A handle following timed waypoints; made by scripted_device().")
+      .def_property_readonly("duration", &haptics::ScriptedDevice::durationS, "Last time - first time (s).")
+      .def_property_readonly("loops", &haptics::ScriptedDevice::loops, "True: starts over at the end.")
+      .def("state_at", &haptics::ScriptedDevice::stateAt, py::arg("t"),
+           "The DeviceState t seconds after the script started (no clock involved).")
+      .def_property_readonly("last_force",
+                             [](const haptics::ScriptedDevice& d) { return vec3Array(d.lastForce()); },
+                             "The latest force commanded to it (N).");
+
+  py::class_<haptics::HostDevice, Device, std::shared_ptr<haptics::HostDevice>>(
+      m, "HostDevice", "A handle whose pose the host pushes each frame; made by host_device().")
+      .def(
+          "push_pose",
+          [](haptics::HostDevice& d, const Vec3& position, std::optional<double> time) {
+            if (time) d.pushPose(toVec3(position), *time);
+            else d.pushPose(toVec3(position));
+          },
+          py::arg("position"), py::arg("time") = py::none(),
+          "Set the handle's position (m, device frame) sampled at `time` (s, increasing; default now\n"
+          "on time.monotonic()). The velocity is estimated from successive pushes. Never blocks the\n"
+          "haptic thread.")
+      .def_property_readonly("pushes", &haptics::HostDevice::pushes, "Poses pushed so far.")
+      .def("state_after", &haptics::HostDevice::stateAfter, py::arg("elapsed"),
+           "The DeviceState `elapsed` seconds after the latest push arrived (no clock involved).")
+      .def_property_readonly("last_force", [](const haptics::HostDevice& d) { return vec3Array(d.lastForce()); },
+                             "The latest force commanded to it (N), e.g. to show in the viewport.");
+
+  m.def(
+      "null_device", [](float max_force) -> DevicePtr { return std::make_shared<haptics::NullDevice>(max_force); },
+      py::arg("max_force") = 10.0f,
+      "A device that rests at the workspace origin, is homed and discards forces (max_force in N).");
+  m.def(
+      "scripted_device",
+      [](std::vector<double> times, std::vector<Vec3> positions, bool loop, float max_force) {
+        std::vector<glm::vec3> p;
+        p.reserve(positions.size());
+        for (const auto& v : positions) p.push_back(toVec3(v));
+        return std::make_shared<haptics::ScriptedDevice>(std::move(times), std::move(p), loop, max_force);
+      },
+      py::arg("times"), py::arg("positions"), py::arg("loop") = false, py::arg("max_force") = 10.0f,
+      "A device following waypoints: times (s, strictly increasing), positions (m, device frame,\n"
+      "one (x, y, z) per time), linearly interpolated; at the end it holds the last one or, with\n"
+      "loop=True, starts over. Time starts at its first read. max_force in N.");
+  m.def("scripted_device_from_csv", &haptics::ScriptedDevice::fromCsv, py::arg("path"), py::arg("loop") = false,
+        py::arg("max_force") = 10.0f,
+        "scripted_device() from a CSV file of t,x,y,z rows (s, m); '#' comments and a header line\n"
+        "are skipped.");
+  m.def(
+      "host_device",
+      [](float max_force, bool extrapolate) { return std::make_shared<haptics::HostDevice>(max_force, extrapolate); },
+      py::arg("max_force") = 10.0f, py::arg("extrapolate") = true,
+      "A device driven by the host: call push_pose() each frame (from any thread). With\n"
+      "extrapolate=True the 1 kHz loop carries the pose along the estimated velocity for up to one\n"
+      "push interval. Not homed (no force) until the first push. max_force in N.");
+
+  py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
+  c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& workspace_scale,
+                    const py::object& workspace_offset, float force_gain, std::optional<float> probe_radius,
+                    const std::string& filter, double bandwidth_ratio, bool prediction,
+                    std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
+                    double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
+                    double trace_seconds) {
+          if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
+          session::HapticSessionSettings s;
+          auto& p = s.loop.pipeline;
+          p.map.scale = scaleArg(workspace_scale, "workspace_scale");
+          if (workspace_offset.is_none()) {  // the middle of the device's workspace at the domain's centre
+            const DeviceInfo info = device->info();
+            p.map.offset_m = sim.grid().origin_m + 0.5f * sim.grid().sizeM() -
+                             p.map.scale * (0.5f * (info.workspace_min_m + info.workspace_max_m));
+          } else {
+            p.map.offset_m = scaleArg(workspace_offset, "workspace_offset");
+          }
+          p.map.force_gain = force_gain;
+          if (filter != "lowpass" && filter != "none") {
+            throw InvalidArgument("filter must be 'lowpass' or 'none', got '" + filter + "'");
+          }
+          p.filter.enabled = filter == "lowpass";
+          p.filter.bandwidth_ratio = bandwidth_ratio;
+          p.filter.max_cutoff_hz = 0.2 * rate;
+          p.prediction = prediction;
+          p.safety.max_force_n = max_force ? *max_force : device->info().max_force_n;
+          p.safety.slew_rate_n_s = slew_rate;
+          p.safety.ramp_s = ramp_time;
+          p.safety.stale_after_s = stale_after;
+          p.safety.fade_s = fade_time;
+          s.loop.rate_hz = rate;
+          s.loop.realtime = realtime;
+          if (trace) {
+            if (!(trace_seconds > 0.0) || trace_seconds * rate > double(std::size_t{1} << 24)) {
+              throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
+                                    std::to_string(trace_seconds) + " s");
+            }
+            s.loop.trace_capacity = static_cast<std::size_t>(trace_seconds * rate) + 1;
+          }
+          s.probe_radius_m = probe_radius;
+          s.sim_dt_s = sim_dt;
+          s.min_sim_dt_s = min_sim_dt;
+          s.max_sim_dt_s = max_sim_dt;
+          return std::make_unique<HapticSession>(sim, std::move(device), s);
+        }),
+        py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = 1.0f,
+        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = 1.0f, py::arg("probe_radius") = py::none(),
+        py::arg("filter") = "lowpass", py::arg("bandwidth_ratio") = 0.5, py::arg("prediction") = false,
+        py::arg("max_force") = py::none(), py::arg("slew_rate") = 200.0f, py::arg("ramp_time") = 2.0,
+        py::arg("stale_after") = 0.1, py::arg("fade_time") = 0.2, py::arg("rate") = 1000.0, py::arg("sim_dt") = 0.0,
+        py::arg("min_sim_dt") = 0.01, py::arg("max_sim_dt") = 0.05, py::arg("realtime") = true, py::arg("trace") = false,
+        py::arg("trace_seconds") = 600.0, py::keep_alive<1, 2>());
+  // Started sessions join a WeakSet on the module; an atexit hook stops those still running
+  // before the interpreter tears down (their threads must not outlive the objects they use).
+  py::module_ weakref = py::module_::import("weakref");
+  m.attr("_live_haptic_sessions") = weakref.attr("WeakSet")();
+  const auto start = [m](const py::object& self) {
+    m.attr("_live_haptic_sessions").attr("add")(self);
+    auto& s = self.cast<HapticSession&>();
+    py::gil_scoped_release release;
+    s.start();
+  };
+  c.def("start", start, "Start the haptic and simulation threads (once). Returns at once.");
+  c.def("pause", &HapticSession::pause, py::call_guard<py::gil_scoped_release>(),
+        "Force to zero now; the simulation holds after its current step.");
+  c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
+        "Step again; the force ramps in again over ramp_time.");
+  c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
+        "Force to zero and both threads ended: waits at most `timeout` s for the simulation's\n"
+        "current step (HapticFluidError if it is still running: call again). Raises the error that\n"
+        "ended the session, if any (once), as HapticFluidError.");
+  c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.state()); },
+                          "'idle', 'running', 'paused', 'stopped' or 'failed'.");
+  c.def_property_readonly(
+      "error",
+      [](const HapticSession& s) -> py::object {
+        const std::string e = s.error();
+        return e.empty() ? py::object(py::none()) : py::object(py::str(e));
+      },
+      "The error that ended the session (device gone, solver failure), or None.");
+  c.def("stats", [](const HapticSession& s) { return statsDict(s.stats()); },
+        "A dict: state, haptic_rate_hz, period/jitter/latency p50, p99, max and mean (ms), ticks,\n"
+        "skipped_periods, force_frames, sim_rate_hz, sim_steps, sim_step_ms, sim_dt (s), realtime,\n"
+        "scheduling (warning or ''), error (or None). Latency: device read -> the first haptic period\n"
+        "that uses the force computed from that pose.");
+  c.def_property_readonly(
+      "latest_force", [](const HapticSession& s) { return vec3Array(s.latest().commanded_n); },
+      "The force commanded to the device in the latest haptic period (N, device frame).");
+  c.def(
+      "latest",
+      [](const HapticSession& s) {
+        const haptics::TickOutput o = s.latest();
+        py::dict d;
+        d["sim_force"] = vec3Array(o.sim_force_n);
+        d["predicted_force"] = vec3Array(o.predicted_n);
+        d["filtered_force"] = vec3Array(o.filtered_n);
+        d["commanded_force"] = vec3Array(o.commanded_n);
+        d["cutoff_hz"] = o.cutoff_hz;
+        d["force_age"] = o.force_age_s;
+        d["position"] = vec3Array(s.latestState().position_m);
+        return d;
+      },
+      "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, commanded_force\n"
+      "(device N), cutoff_hz, force_age (s), position (m, device frame).");
+  c.def(
+      "trace",
+      [](HapticSession& s) {
+        std::vector<haptics::TraceSample> t;
+        {
+          py::gil_scoped_release release;
+          t = s.drainTrace();
+        }
+        py::array_t<double> time(static_cast<py::ssize_t>(t.size()));
+        auto tr = time.mutable_unchecked<1>();
+        for (std::size_t i = 0; i < t.size(); ++i) tr(static_cast<py::ssize_t>(i)) = t[i].time_s;
+        py::dict d;
+        d["time"] = time;
+        d["position"] = vec3Rows(t, &haptics::TraceSample::position_m);
+        d["sim_force"] = vec3Rows(t, &haptics::TraceSample::sim_force_n);
+        d["filtered_force"] = vec3Rows(t, &haptics::TraceSample::filtered_n);
+        d["commanded_force"] = vec3Rows(t, &haptics::TraceSample::commanded_n);
+        return d;
+      },
+      "Hand over the haptic periods recorded since the last call (needs trace=True): a dict of\n"
+      "arrays time (s, monotonic clock), position (m, device frame), sim_force (fluid N),\n"
+      "filtered_force and commanded_force (device N), one row per period.");
+  c.def_property_readonly("device", [](const HapticSession& s) { return s.device(); }, "The Device it drives.");
+  c.def("__enter__", [start](const py::object& self) {
+    if (self.cast<HapticSession&>().state() == session::SessionState::Idle) start(self);
+    return self;
+  }, "Starts the session if it has not started.");
+  c.def("__exit__", [](HapticSession& s, const py::object& exc_type, const py::object&, const py::object&) {
+    py::gil_scoped_release release;
+    if (!exc_type.is_none()) {
+      try {
+        s.stop();
+      } catch (const Error&) {  // the exception already leaving the block is the one to see
+      }
+      return;
+    }
+    s.stop();
+  });
+
+  py::module_::import("atexit").attr("register")(py::cpp_function([m]() {
+    for (py::handle h : py::list(m.attr("_live_haptic_sessions"))) {
+      auto& s = h.cast<HapticSession&>();
+      py::gil_scoped_release release;
+      try {
+        s.stop(30.0);
+      } catch (const Error&) {  // exiting: the error was available through .error
+      }
+    }
+  }));
+}
+
+}  // namespace hf::python

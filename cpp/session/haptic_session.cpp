@@ -1,0 +1,293 @@
+#include "session/haptic_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/error.h"
+#include "fluid/validate.h"
+#include "haptics/clock.h"
+#include "haptics/rate_estimator.h"
+#include "session/simulation.h"
+
+namespace hf::session {
+
+namespace {
+constexpr double kDtSmoothing = 0.25;  // real time: weight of the newest wall period in the step
+constexpr float kDefaultProbeRadiusM = 0.1f;  // the sphere made when there is no probe to keep
+
+std::string vecText(const glm::vec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+}  // namespace
+
+const char* stateName(SessionState s) {
+  switch (s) {
+    case SessionState::Idle: return "idle";
+    case SessionState::Running: return "running";
+    case SessionState::Paused: return "paused";
+    case SessionState::Stopped: return "stopped";
+    case SessionState::Failed: return "failed";
+  }
+  return "unknown";
+}
+
+void HapticSessionSettings::validate() const {
+  loop.validate();
+  if (probe_radius_m && (!std::isfinite(*probe_radius_m) || *probe_radius_m <= 0.0f)) {
+    throw InvalidArgument("probe_radius must be a positive number of metres (or None: keep the simulation's probe), got " +
+                          std::to_string(*probe_radius_m));
+  }
+  if (!std::isfinite(max_sim_dt_s) || max_sim_dt_s < fluid::kMinTimeStep || max_sim_dt_s > fluid::kMaxTimeStep) {
+    throw InvalidArgument("max_sim_dt must be between 1e-6 and 10 s, got " + std::to_string(max_sim_dt_s));
+  }
+  if (!std::isfinite(min_sim_dt_s) || min_sim_dt_s < fluid::kMinTimeStep || min_sim_dt_s > max_sim_dt_s) {
+    throw InvalidArgument("min_sim_dt must be between 1e-6 s and max_sim_dt (" + std::to_string(max_sim_dt_s) +
+                          " s), got " + std::to_string(min_sim_dt_s));
+  }
+  if (!std::isfinite(sim_dt_s) || (sim_dt_s != 0.0 && (sim_dt_s < fluid::kMinTimeStep || sim_dt_s > fluid::kMaxTimeStep))) {
+    throw InvalidArgument("sim_dt must be 0 (real time) or between 1e-6 and 10 s, got " + std::to_string(sim_dt_s));
+  }
+}
+
+HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings)
+    : sim_(sim),
+      device_(std::move(device)),
+      s_((settings.validate(), settings)),
+      loop_(device_, poses_, forces_, s_.loop) {
+  const fluid::Grid& g = sim_.grid();
+  const std::optional<ProbeState> current = sim_.probe();
+  const float margin = g.cell_size_m * 1.001f;  // a hair more than the simulation's one cell
+  // The probe's world box relative to its origin (translation-invariant: orientation is kept).
+  glm::vec3 lo_offset(0.0f), hi_offset(0.0f);
+  if (s_.probe_radius_m || !current) {
+    // A new sphere in the middle of the domain: the simulation checks the radius against the
+    // grid here, with its own message, before any thread starts.
+    const float r = s_.probe_radius_m.value_or(kDefaultProbeRadiusM);
+    obstacle::SpherePose sphere;
+    sphere.centre_m = g.origin_m + 0.5f * g.sizeM();
+    sphere.radius_m = r;
+    sim_.setSphereProbe(sphere);
+    lo_offset = glm::vec3(-r);
+    hi_offset = glm::vec3(r);
+  } else if (current->kind == ProbeState::Kind::Sphere) {
+    lo_offset = glm::vec3(-current->sphere.radius_m);
+    hi_offset = glm::vec3(current->sphere.radius_m);
+  } else {
+    base_transform_ = current->pose.transform;
+    const obstacle::WorldBox box = obstacle::worldBox(current->extent, base_transform_);
+    const glm::vec3 origin(base_transform_[3]);
+    lo_offset = box.lo - origin;
+    hi_offset = box.hi - origin;
+  }
+  probe_lo_m_ = g.origin_m + margin - lo_offset;
+  probe_hi_m_ = g.origin_m + g.sizeM() - margin - hi_offset;
+  if (glm::any(glm::greaterThan(probe_lo_m_, probe_hi_m_))) {
+    throw InvalidArgument("the simulation's probe (" + vecText(hi_offset - lo_offset) +
+                          " m across) cannot move inside the domain with one cell of fluid to every wall; "
+                          "make it smaller or the domain larger");
+  }
+}
+
+HapticSession::~HapticSession() {
+  try {
+    stop(3600.0);
+  } catch (...) {  // errors were available through error(); a destructor must not throw
+  }
+  joinAll();
+}
+
+obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const {
+  obstacle::RigidPose p;
+  p.transform = base_transform_;
+  glm::vec3 origin = glm::clamp(pose.position_m, probe_lo_m_, probe_hi_m_);
+  glm::vec3 velocity = pose.velocity_m_s;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(origin[a])) origin[a] = 0.5f * (probe_lo_m_[a] + probe_hi_m_[a]);
+    // Held at a wall: the probe does not move along that axis.
+    if (origin[a] != pose.position_m[a] || !std::isfinite(velocity[a])) velocity[a] = 0.0f;
+  }
+  const float speed = glm::length(velocity);
+  if (speed > fluid::kMaxProbeSpeed) velocity *= fluid::kMaxProbeSpeed / speed;
+  p.transform[3] = glm::vec4(origin, 1.0f);
+  p.velocity_m_s = velocity;
+  return p;
+}
+
+void HapticSession::start() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (state_.load() != SessionState::Idle || sim_thread_.joinable()) {
+    throw Error("haptic session: start() runs once per session (state '" + std::string(stateName(state_.load())) +
+                "'); make a new HapticSession");
+  }
+  loop_.start();
+  sim_thread_ = std::thread([this] { simLoop(); });
+  state_.store(SessionState::Running, std::memory_order_release);
+}
+
+void HapticSession::pause() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const SessionState st = state_.load();
+  if (st == SessionState::Idle) throw Error("haptic session: pause() before start()");
+  if (st != SessionState::Running) return;  // already paused, stopped or failed: nothing to hold
+  paused_ = true;
+  loop_.setEnabled(false);
+  state_.store(SessionState::Paused, std::memory_order_release);
+}
+
+void HapticSession::resume() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const SessionState st = state_.load();
+    if (st == SessionState::Failed) throw Error("haptic session: cannot resume, it failed: " + error_);
+    if (st != SessionState::Paused) return;
+    paused_ = false;
+    loop_.setEnabled(true);
+    state_.store(SessionState::Running, std::memory_order_release);
+  }
+  cv_.notify_all();
+}
+
+void HapticSession::fail(const std::string& message) {
+  loop_.setEnabled(false);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (error_.empty()) error_ = message;
+  state_.store(SessionState::Failed, std::memory_order_release);
+}
+
+std::string HapticSession::error() const {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_.empty()) return error_;
+  }
+  return loop_.error();
+}
+
+void HapticSession::stop(double timeout_s) {
+  if (!(timeout_s >= 0.0) || !std::isfinite(timeout_s)) {
+    throw InvalidArgument("stop timeout must be a finite number of seconds >= 0, got " + std::to_string(timeout_s));
+  }
+  loop_.setEnabled(false);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_requested_ = true;
+  }
+  cv_.notify_all();
+  loop_.stop();  // within about one period; the device got its last zero
+  if (loop_.failed()) fail(loop_.error());
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (sim_thread_.joinable()) {
+    const auto limit = std::chrono::duration<double>(timeout_s);
+    if (!cv_.wait_for(lock, limit, [this] { return sim_done_; })) {
+      throw Error("haptic session: the simulation's current step is still running after " + std::to_string(timeout_s) +
+                  " s; force output has stopped; call stop() again to wait longer");
+    }
+    lock.unlock();
+    sim_thread_.join();
+    lock.lock();
+  }
+  if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
+  if (!error_.empty() && !error_raised_) {
+    error_raised_ = true;
+    throw Error(error_);
+  }
+}
+
+void HapticSession::joinAll() {
+  loop_.stop();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_requested_ = true;
+  }
+  cv_.notify_all();
+  if (sim_thread_.joinable()) sim_thread_.join();
+}
+
+void HapticSession::simLoop() {
+  haptics::RateEstimator rate;
+  double last_start_s = -1.0;
+  double smooth_dt_s = s_.min_sim_dt_s;
+  try {
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (paused_) {
+          cv_.wait(lock, [this] { return stop_requested_ || !paused_; });
+          last_start_s = -1.0;  // real time restarts after a pause
+          smooth_dt_s = s_.min_sim_dt_s;
+          rate.reset();
+        }
+        if (stop_requested_ || state_.load() == SessionState::Failed) break;
+      }
+      if (loop_.failed()) {
+        fail(loop_.error());
+        break;
+      }
+      haptics::PoseFrame pose;
+      if (!poses_.tryRead(pose)) {  // the haptic thread has not read the device yet
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        continue;
+      }
+      const obstacle::RigidPose probe = poseFor(pose);
+      sim_.setProbePose(probe);
+      const double start_s = haptics::monotonicNowS();
+      double dt_s = s_.sim_dt_s;
+      if (dt_s <= 0.0) {  // real time: the smoothed wall period, so one slow step does not jolt dt
+        if (last_start_s >= 0.0) smooth_dt_s += kDtSmoothing * (start_s - last_start_s - smooth_dt_s);
+        dt_s = std::clamp(smooth_dt_s, s_.min_sim_dt_s, s_.max_sim_dt_s);
+      }
+      last_start_s = start_s;
+      const StepReport report = sim_.step(dt_s);
+      const double done_s = haptics::monotonicNowS();
+      rate.add(done_s);
+      haptics::ForceFrame frame;
+      frame.force_n = report.force_n;
+      frame.probe_velocity_m_s = probe.velocity_m_s;
+      frame.pose_time_s = pose.time_s;
+      frame.publish_time_s = done_s;
+      frame.sim_rate_hz = rate.rateHz();
+      forces_.write(frame);
+      sim_steps_.fetch_add(1, std::memory_order_relaxed);
+      sim_rate_hz_.store(rate.rateHz(), std::memory_order_relaxed);
+      sim_step_ms_.store(1e3 * (done_s - start_s), std::memory_order_relaxed);
+      sim_dt_s_.store(dt_s, std::memory_order_relaxed);
+      if (s_.sim_dt_s <= 0.0) {  // real time: no faster than one step per min_sim_dt_s of wall time
+        std::unique_lock<std::mutex> lock(mutex_);
+        const auto until = std::chrono::duration<double>(start_s + s_.min_sim_dt_s - haptics::monotonicNowS());
+        if (until.count() > 0.0) cv_.wait_for(lock, until, [this] { return stop_requested_ || paused_; });
+      }
+    }
+  } catch (const std::exception& e) {
+    fail(std::string("simulation thread stopped: ") + e.what());
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    sim_done_ = true;
+  }
+  cv_.notify_all();
+}
+
+SessionState HapticSession::state() const {
+  return loop_.failed() ? SessionState::Failed : state_.load(std::memory_order_acquire);
+}
+
+HapticSessionStats HapticSession::stats() const {
+  HapticSessionStats st;
+  st.haptic = loop_.stats();
+  st.state = state();
+  st.sim_rate_hz = sim_rate_hz_.load(std::memory_order_relaxed);
+  st.sim_steps = sim_steps_.load(std::memory_order_relaxed);
+  st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
+  st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
+  st.error = error();
+  return st;
+}
+
+std::vector<haptics::TraceSample> HapticSession::drainTrace() {
+  std::vector<haptics::TraceSample> out;
+  std::lock_guard<std::mutex> lock(mutex_);  // one consumer at a time
+  loop_.drainTrace(out);
+  return out;
+}
+
+}  // namespace hf::session

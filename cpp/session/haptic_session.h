@@ -1,0 +1,118 @@
+#pragma once
+// HapticSession: a Simulation touched through a haptic Device. Three threads:
+//   haptic thread (haptics::HapticLoop, 1 kHz): device -> pose mailbox; force mailbox ->
+//     filter, map, safety -> device. It never waits on this object, the GPU or Python.
+//   simulation thread (owned here, free-running): latest pose -> probe -> Simulation::step ->
+//     force mailbox. A step takes as long as the GPU needs; the haptic thread does not notice.
+//   host (Python, Blender): start/pause/resume/stop, stats(), latest(), drainTrace(); none of
+//     these waits for a GPU step except stop(), which waits at most its timeout.
+// An error on either thread (device gone, solver failure) stops force output at once and is
+// kept: error() returns it and stop() throws it as hf::Error after a clean shutdown.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "haptics/device.h"
+#include "haptics/haptic_loop.h"
+#include "haptics/mailbox.h"
+#include "obstacle/triangle_mesh.h"
+
+namespace hf::session {
+
+class Simulation;
+
+struct HapticSessionSettings {
+  haptics::HapticLoopSettings loop;
+  // A sphere of this radius (m, >= one cell) becomes the probe; none: the simulation's current
+  // probe (sphere or mesh, its orientation kept) is moved, or a 0.1 m sphere if it has none.
+  std::optional<float> probe_radius_m = 0.1f;
+  double sim_dt_s = 0.0;           // fixed simulation step, s (free-running); 0 = real time
+  // Real time: each step advances the (smoothed) wall time since the last one, within
+  // [min_sim_dt_s, max_sim_dt_s]; a step that finishes early waits for min_sim_dt_s of wall time.
+  // The floor matters: a voxelized probe gives force impulses ~ 1/dt when it crosses cells.
+  double min_sim_dt_s = 0.01;
+  double max_sim_dt_s = 0.05;
+  void validate() const;
+};
+
+enum class SessionState { Idle, Running, Paused, Stopped, Failed };
+const char* stateName(SessionState s);
+
+struct HapticSessionStats {
+  SessionState state = SessionState::Idle;
+  haptics::LoopStats haptic;
+  double sim_rate_hz = 0.0;        // smoothed simulation steps per second
+  std::uint64_t sim_steps = 0;     // steps taken by this session
+  double sim_step_ms = 0.0;        // host time of the latest step, ms
+  double sim_dt_s = 0.0;           // time step of the latest step, s
+  std::string error;               // "" or the first error
+};
+
+class HapticSession {
+ public:
+  // The simulation must outlive the session (Python keeps it alive). Throws InvalidArgument
+  // for bad settings (probe radius against the grid included) before anything starts.
+  HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings);
+  ~HapticSession();  // stops and joins both threads; never throws
+  HapticSession(const HapticSession&) = delete;
+  HapticSession& operator=(const HapticSession&) = delete;
+
+  void start();   // starts both threads (once)
+  void pause();   // force to zero now, simulation holds after its current step
+  void resume();  // simulation steps again, force ramps in again
+  // Force to zero and the haptic thread joined at once; then waits up to timeout_s for the
+  // simulation's current step. Throws hf::Error if that step is still running (call again),
+  // or the error that ended the session (after the threads are down).
+  void stop(double timeout_s = 10.0);
+
+  SessionState state() const;  // Failed as soon as either thread has failed
+  HapticSessionStats stats() const;
+  haptics::TickOutput latest() const { return loop_.latest(); }
+  haptics::DeviceState latestState() const { return loop_.latestState(); }
+  std::string error() const;
+  std::vector<haptics::TraceSample> drainTrace();
+  const HapticSessionSettings& settings() const { return s_; }
+  const haptics::DevicePtr& device() const { return device_; }
+
+  // The probe pose for a published device pose (the one place the probe is placed): the probe's
+  // transform at the start with its translation at the mapped device position, kept inside the
+  // region the simulation accepts (one cell of fluid from every wall); the velocity is zero
+  // along an axis held at a wall. Applied with Simulation::setProbePose (sphere or mesh).
+  obstacle::RigidPose poseFor(const haptics::PoseFrame& pose) const;
+
+ private:
+  void simLoop();
+  void fail(const std::string& message);
+  void joinAll();
+
+  Simulation& sim_;
+  haptics::DevicePtr device_;
+  HapticSessionSettings s_;
+  haptics::Mailbox<haptics::PoseFrame> poses_;
+  haptics::Mailbox<haptics::ForceFrame> forces_;
+  haptics::HapticLoop loop_;
+  glm::mat4 base_transform_{1.0f};                 // the probe's orientation (and scale)
+  glm::vec3 probe_lo_m_{0.0f}, probe_hi_m_{0.0f};  // where the probe's origin may go
+
+  std::atomic<SessionState> state_{SessionState::Idle};
+  std::thread sim_thread_;
+  mutable std::mutex mutex_;           // guards the fields below (never taken by the haptic thread)
+  std::condition_variable cv_;
+  bool stop_requested_ = false;
+  bool paused_ = false;
+  bool sim_done_ = false;
+  std::string error_;
+  bool error_raised_ = false;
+
+  std::atomic<double> sim_rate_hz_{0.0};
+  std::atomic<std::uint64_t> sim_steps_{0};
+  std::atomic<double> sim_step_ms_{0.0};
+  std::atomic<double> sim_dt_s_{0.0};
+};
+
+}  // namespace hf::session

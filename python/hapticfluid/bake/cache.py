@@ -1,0 +1,230 @@
+"""Where a bake's files go, and how each is written so that a kill never corrupts one.
+
+Layout (like Mantaflow's OpenVDB cache, so tools that know Blender's fluid caches find it)::
+
+    <cache>/data/fluid_data_####.vdb     one file per frame (frame number, 4 digits)
+    <cache>/checkpoint/state.npz         the simulation state after the last complete frame
+    <cache>/hapticfluid_bake.json        the manifest: scene settings, frames done, timings
+
+Every file is written under a temporary name in its own folder and renamed into place when
+complete (a rename within a folder is atomic), so each path holds either its old content or
+its new one. The checkpoint carries a SHA-256 of each array and of the scene's settings, so a
+damaged checkpoint, or one from other settings, is refused with a clear error.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import re
+import tempfile
+import zipfile
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional, Tuple
+
+import numpy as np
+
+from hapticfluid import HapticFluidError
+
+DATA_DIR = "data"
+CHECKPOINT_DIR = "checkpoint"
+CHECKPOINT_FILE = "state.npz"
+MANIFEST_FILE = "hapticfluid_bake.json"
+FRAME_PREFIX = "fluid_data_"
+FRAME_PATTERN = re.compile(r"^fluid_data_(\d{4})\.vdb$")
+CHECKPOINT_FORMAT = 1
+
+
+class BakeError(HapticFluidError):
+    """A bake cannot start or continue: cache folder, checkpoint or manifest problems."""
+
+
+def frame_path(cache_dir: "str | os.PathLike", frame: int) -> Path:
+    return Path(cache_dir) / DATA_DIR / f"{FRAME_PREFIX}{frame:04d}.vdb"
+
+
+def checkpoint_path(cache_dir: "str | os.PathLike") -> Path:
+    return Path(cache_dir) / CHECKPOINT_DIR / CHECKPOINT_FILE
+
+
+def manifest_path(cache_dir: "str | os.PathLike") -> Path:
+    return Path(cache_dir) / MANIFEST_FILE
+
+
+def list_frames(cache_dir: "str | os.PathLike") -> List[int]:
+    """Frame numbers of the complete frame files in the cache (temporary files excluded)."""
+    folder = Path(cache_dir) / DATA_DIR
+    if not folder.is_dir():
+        return []
+    return sorted(int(m.group(1)) for m in (FRAME_PATTERN.match(p.name) for p in folder.iterdir()) if m)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def atomic_write(path: Path, write: Callable[[Any], None], binary: bool = False) -> None:
+    """Write ``path`` through a temporary file in its folder, flushed, then renamed into place."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
+    """Make ``<cache>/data`` and ``<cache>/checkpoint`` and prove they are writable, before any
+    simulation work. The cache folder itself may be created, its parent must exist."""
+    cache = Path(cache_dir)
+    parent = cache.absolute().parent
+    if not cache.exists() and not parent.is_dir():
+        raise BakeError(f"cache folder '{cache}' cannot be made: its parent folder '{parent}' does not exist; "
+                        "create it or choose another cache folder")
+    if cache.exists() and not cache.is_dir():
+        raise BakeError(f"cache path '{cache}' exists and is not a folder; choose a folder")
+    try:
+        for sub in (cache, cache / DATA_DIR, cache / CHECKPOINT_DIR):
+            sub.mkdir(exist_ok=True)
+            fd, probe = tempfile.mkstemp(prefix=".write-test.", dir=sub)
+            os.close(fd)
+            os.unlink(probe)
+    except OSError as exc:
+        raise BakeError(f"cache folder '{cache}' is not writable ({exc.strerror or exc}); "
+                        "choose a folder you can write to") from None
+    return cache
+
+
+def free_cache(cache_dir: "str | os.PathLike") -> int:
+    """Delete the bake's own files (frames, checkpoint, manifest, stale temporaries); returns
+    how many. Other files in the folder are left alone."""
+    cache = Path(cache_dir)
+    removed = 0
+    candidates = []
+    for folder, pattern in ((cache / DATA_DIR, FRAME_PATTERN), (cache / CHECKPOINT_DIR, None), (cache, None)):
+        if not folder.is_dir():
+            continue
+        for p in folder.iterdir():
+            name = p.name
+            ours = (pattern is not None and pattern.match(name)) or name in (CHECKPOINT_FILE, MANIFEST_FILE) \
+                or (name.startswith(f".{FRAME_PREFIX}") or name.startswith(f".{CHECKPOINT_FILE}.")
+                    or name.startswith(f".{MANIFEST_FILE}.")) and name.endswith(".tmp")
+            if ours and p.is_file():
+                candidates.append(p)
+    for p in candidates:
+        p.unlink()
+        removed += 1
+    for folder in (cache / DATA_DIR, cache / CHECKPOINT_DIR):
+        try:
+            folder.rmdir()  # only if now empty
+        except OSError:
+            pass
+    return removed
+
+
+def remove_temporaries(cache_dir: "str | os.PathLike") -> int:
+    """Delete temporary files a killed bake left behind (never a complete file); returns how many."""
+    cache = Path(cache_dir)
+    removed = 0
+    for folder in (cache, cache / DATA_DIR, cache / CHECKPOINT_DIR):
+        if not folder.is_dir():
+            continue
+        for p in folder.iterdir():
+            if p.name.startswith(".") and p.name.endswith(".tmp") and p.is_file() and any(
+                    p.name.startswith(f".{stem}") for stem in (FRAME_PREFIX, CHECKPOINT_FILE, MANIFEST_FILE)):
+                p.unlink()
+                removed += 1
+    return removed
+
+
+# ---- manifest ------------------------------------------------------------------------------
+
+def write_manifest(cache_dir: "str | os.PathLike", manifest: Dict[str, Any]) -> None:
+    path = manifest_path(cache_dir)
+    atomic_write(path, lambda f: json.dump(manifest, f, indent=2, sort_keys=True))
+
+
+def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
+    path = manifest_path(cache_dir)
+    if not path.exists():
+        return None
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as exc:
+        raise BakeError(f"bake manifest '{path}' cannot be read ({exc}); free the cache and bake again") from None
+
+
+# ---- checkpoint ----------------------------------------------------------------------------
+
+def settings_digest(fingerprint: Dict[str, Any]) -> str:
+    return hashlib.sha256(json.dumps(fingerprint, sort_keys=True).encode()).hexdigest()
+
+
+def _array_digest(a: np.ndarray) -> str:
+    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
+
+
+def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str, Any],
+                    fingerprint: Dict[str, Any]) -> Path:
+    """Write the state after ``frame`` (a dict from Simulation.state()) atomically."""
+    arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
+    scalars = {k: v for k, v in state.items() if not isinstance(v, np.ndarray)}
+    meta = {
+        "format": CHECKPOINT_FORMAT,
+        "frame": int(frame),
+        "scalars": {k: (float(v) if isinstance(v, float) else int(v)) for k, v in scalars.items()},
+        "settings_sha256": settings_digest(fingerprint),
+        "arrays": {k: {"sha256": _array_digest(a), "shape": list(a.shape), "dtype": str(a.dtype),
+                       "fortran": bool(a.flags.f_contiguous and not a.flags.c_contiguous)}
+                   for k, a in arrays.items()},
+    }
+    buf = io.BytesIO()
+    np.savez(buf, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8),
+             **{k: np.ascontiguousarray(a) for k, a in arrays.items()})
+    path = checkpoint_path(cache_dir)
+    atomic_write(path, lambda f: f.write(buf.getvalue()), binary=True)
+    return path
+
+
+def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any]) -> Tuple[int, Dict[str, Any]]:
+    """(frame, state dict for Simulation.set_state) of the cache's checkpoint; BakeError if it is
+    missing, damaged, or was written for other settings."""
+    path = checkpoint_path(cache_dir)
+    if not path.exists():
+        raise BakeError(f"no checkpoint to resume from in '{Path(cache_dir)}' (expected {path}); bake without "
+                        "resume to start from the first frame")
+    fix = "delete the cache's checkpoint folder (or free the cache) and bake from the start"
+    try:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:  # our handle: closed on errors too
+            meta = json.loads(bytes(z["meta"]).decode())
+            arrays = {k: z[k] for k in meta["arrays"]}
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError, UnicodeDecodeError, TypeError) as exc:
+        raise BakeError(f"checkpoint '{path}' is damaged or incomplete ({type(exc).__name__}: {exc}); {fix}") from None
+    if meta.get("format") != CHECKPOINT_FORMAT:
+        raise BakeError(f"checkpoint '{path}' has format {meta.get('format')!r}, this version reads "
+                        f"{CHECKPOINT_FORMAT}; {fix}")
+    if meta.get("settings_sha256") != settings_digest(fingerprint):
+        raise BakeError(f"checkpoint '{path}' was baked with other settings (resolution, fluid, probe keys, "
+                        "frames, grids or substeps differ); resume with the same scene and resolution, or bake "
+                        "from the start")
+    state: Dict[str, Any] = {}
+    for k, info in meta["arrays"].items():
+        a = arrays[k]
+        if list(a.shape) != info["shape"] or str(a.dtype) != info["dtype"] or _array_digest(a) != info["sha256"]:
+            raise BakeError(f"checkpoint '{path}': array '{k}' does not match its checksum (the file is "
+                            f"damaged); {fix}")
+        state[k] = np.asfortranarray(a) if info.get("fortran") else a
+    state.update(meta["scalars"])
+    return int(meta["frame"]), state

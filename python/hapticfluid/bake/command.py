@@ -1,0 +1,88 @@
+"""``python3 -m hapticfluid bake SCENE.json [--resume] [--resolution N] ...``.
+
+Bakes the scene (format: :mod:`hapticfluid.bake.scene`) into its cache folder and prints one
+line per frame with an ETA. Ctrl-C (SIGINT) or SIGTERM cancels between substeps, keeping every
+complete frame and the checkpoint; run again with ``--resume`` to continue.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from pathlib import Path
+
+from hapticfluid.bake import cache as _cache
+from hapticfluid.bake.driver import BakeProgress, bake
+from hapticfluid.bake.scene import load_scene
+
+
+def add_parser(sub, resolution_type) -> None:
+    p = sub.add_parser(
+        "bake",
+        help="bake a scene (probe trajectory + fluid settings) to an OpenVDB frame sequence",
+        description="Simulate the scene described by SCENE (JSON: domain, resolution, fluid, source, "
+                    "probe keys, frames, substeps, cache; see hapticfluid.bake.scene) and write "
+                    "<cache>/data/fluid_data_####.vdb per frame, a checkpoint and a manifest. "
+                    "Ctrl-C stops between substeps; --resume continues after the last complete frame.")
+    p.add_argument("scene", metavar="SCENE", help="scene description (.json)")
+    p.add_argument("--resume", action="store_true",
+                   help="continue after the cache's checkpoint instead of starting over")
+    p.add_argument("--resolution", type=resolution_type, default=None, metavar="N",
+                   help="cells along the domain's longest edge (overrides the scene's 'resolution')")
+    p.add_argument("--cache", default=None, metavar="DIR",
+                   help="cache folder (overrides the scene's cache.directory)")
+    p.add_argument("--quiet", action="store_true", help="print only errors and the summary")
+    p.set_defaults(func=cmd_bake)
+
+
+def cmd_bake(args: argparse.Namespace) -> int:
+    scene = load_scene(args.scene)
+    if args.resolution is not None:
+        scene = scene.with_resolution(args.resolution)
+    if args.cache is not None:
+        from dataclasses import replace
+        scene = replace(scene, cache_dir=Path(args.cache))
+
+    cancel = threading.Event()
+
+    def on_signal(signum, _frame):
+        if cancel.is_set():  # a second Ctrl-C: stop now (the frame in flight is lost, nothing else)
+            raise KeyboardInterrupt
+        print(f"\nbake: {signal.Signals(signum).name}: stopping after this substep "
+              "(again to stop at once)", file=sys.stderr, flush=True)
+        cancel.set()
+
+    previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    last_len = [0]
+
+    def show(p: BakeProgress) -> None:
+        if args.quiet or not sys.stdout.isatty():
+            return
+        line = f"  {p.text()}"
+        print("\r" + line.ljust(last_len[0]), end="", flush=True)
+        last_len[0] = len(line)
+
+    def log(line: str) -> None:
+        if not args.quiet:
+            if last_len[0]:
+                print("\r" + " " * last_len[0] + "\r", end="")
+                last_len[0] = 0
+            print(line, flush=True)
+
+    try:
+        result = bake(scene, resume=args.resume, progress=show, cancel=cancel, log=log)
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+    frames = _cache.list_frames(result.cache_dir)
+    print(f"bake {result.status}: {result.frames_written} frame(s) in {result.seconds:.1f} s"
+          + (f" ({result.seconds_per_frame:.2f} s/frame)" if result.frames_written else "")
+          + f"; cache {result.cache_dir} holds {len(frames)} frame file(s)"
+          + (f", last complete frame {result.last_frame}" if result.last_frame is not None else ""))
+    if result.status == "cancelled":
+        print(f"resume with: python3 -m hapticfluid bake {args.scene} --resume"
+              + (f" --resolution {args.resolution}" if args.resolution else ""))
+        return 130
+    return 0

@@ -1,0 +1,293 @@
+"""The bake loop: steps a Simulation along the probe's trajectory and writes one VDB per frame.
+
+Deterministic: the same scene gives bit-identical frames, whether baked in one go or stopped
+(cancel, crash, SIGKILL) and resumed, because every frame's inputs (probe motion per substep,
+substep count) are functions of the scene and the state after the previous frame, and that
+state is checkpointed exactly after each frame.
+
+Order of writes per frame f: the frame file (atomic), then the checkpoint for f (atomic), then
+the manifest. A kill between them loses at most frame f: resume restarts from the checkpoint
+and rewrites f identically.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Dict, Optional, Union
+
+import numpy as np
+
+import hapticfluid as hf
+from hapticfluid.bake import cache as _cache
+from hapticfluid.bake.scene import BakeScene, ProbeSpec
+from hapticfluid.bake.trajectory import Motion
+
+CancelCheck = Union[threading.Event, Callable[[], bool], None]
+
+
+@dataclass(frozen=True)
+class BakeProgress:
+    """What a progress callback receives (after every substep and every finished frame)."""
+
+    frame: int  # the frame being baked (or just finished)
+    frame_start: int
+    frame_end: int
+    frames_done: int  # complete frames in the cache (including earlier sessions)
+    substep: int  # substeps done in this frame
+    substeps: int  # substeps this frame takes
+    elapsed_s: float  # wall time of this session
+    eta_s: float  # estimated wall time left (nan until a frame has finished)
+    frame_finished: bool  # True on the call that follows writing `frame`
+
+    @property
+    def fraction(self) -> float:
+        total = self.frame_end - self.frame_start + 1
+        partial = self.substep / self.substeps if self.substeps and not self.frame_finished else 0.0
+        return min(1.0, (self.frames_done + partial) / total)
+
+    def text(self) -> str:
+        eta = "" if math.isnan(self.eta_s) else f", {self.eta_s:.0f} s left"
+        return (f"frame {self.frame} ({self.frames_done}/{self.frame_end - self.frame_start + 1} done, "
+                f"substep {self.substep}/{self.substeps}{eta})")
+
+
+@dataclass(frozen=True)
+class BakeResult:
+    status: str  # "finished" or "cancelled"
+    cache_dir: Path
+    frames_written: int  # in this session
+    last_frame: Optional[int]  # last complete frame in the cache
+    resumed_from: Optional[int]  # checkpoint frame this session started after
+    seconds: float  # wall time of this session
+    seconds_per_frame: float  # mean over this session's frames (nan if none)
+
+
+def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
+    """Put the probe where the trajectory says for one substep: the one place that knows how the
+    engine takes a probe. A sphere is placed whole (its radius follows the transform's scale); a
+    mesh is uploaded once, then only its pose changes (set_probe_pose: host-side, cheap)."""
+    if probe.shape == "sphere":
+        radius = probe.radius * float(np.max(np.abs(motion.pose.scale)))
+        sim.set_probe(tuple(motion.pose.translation), radius, velocity=tuple(motion.velocity),
+                      angular_velocity=tuple(motion.angular_velocity))
+    elif sim.probe is None or sim.probe.get("kind") != "mesh":
+        sim.set_mesh_probe(probe.vertices, probe.triangles, motion.pose.matrix(), velocity=tuple(motion.velocity),
+                           angular_velocity=tuple(motion.angular_velocity))
+    else:
+        sim.set_probe_pose(motion.pose.matrix(), velocity=tuple(motion.velocity),
+                           angular_velocity=tuple(motion.angular_velocity))
+
+
+def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int) -> None:
+    """Before any step: hand the engine every substep pose of frames first..end (fixed substeps;
+    max_substeps per frame when adaptive) so its own checks (domain margin, mesh validity, speed)
+    refuse a bad trajectory up front, naming the frame. Leaves no probe set."""
+    if scene.probe is None:
+        return
+    n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
+    dt = scene.frame_dt / n
+    try:
+        for frame in range(first, scene.frame_end + 1):
+            for s in range(n):
+                a, b = (frame - 1) + s / n, (frame - 1) + (s + 1) / n
+                try:
+                    apply_probe(sim, scene.probe, scene.probe.trajectory.motion(a, b, dt))
+                except hf.InvalidArgumentError as exc:
+                    raise hf.InvalidArgumentError(
+                        f"the probe's trajectory is refused at frame {frame} (substep {s + 1} of {n}): {exc}") from None
+    finally:
+        sim.clear_probe()
+
+
+def make_simulation(scene: BakeScene) -> "hf.Simulation":
+    f = scene.fluid
+    sim = hf.Simulation(resolution=scene.grid_resolution, domain_size=scene.grid_size, origin=scene.domain_origin,
+                        fluid_density=f["fluid_density"], gravity=tuple(f["gravity"]), open_top=f["open_top"],
+                        advection=f["advection"], vorticity=f["vorticity"], smoke_weight=f["smoke_weight"],
+                        heat_buoyancy=f["heat_buoyancy"], smoke_dissipation=f["smoke_dissipation"],
+                        heat_dissipation=f["heat_dissipation"], pressure_iterations=f["pressure_iterations"],
+                        compute_residual=False, device=scene.device)
+    if scene.source is not None:
+        s = scene.source
+        sim.set_smoke_source(s.centre, s.radius, density=s.density, temperature=s.temperature)
+    return sim
+
+
+def _max_face_speed(sim: "hf.Simulation") -> float:
+    return max(float(np.abs(c).max()) for c in sim.velocity())
+
+
+def substeps_for_frame(scene: BakeScene, sim: "hf.Simulation", frame: int) -> int:
+    """Fixed count, or the CFL count from the fastest face velocity now and the probe's speed
+    over the frame (deterministic: both come from the scene and the restored state)."""
+    if scene.substeps != "adaptive":
+        return int(scene.substeps)
+    speed = _max_face_speed(sim)
+    if scene.probe is not None:
+        m = scene.probe.trajectory.motion(frame - 1, frame, scene.frame_dt)
+        speed = max(speed, float(np.linalg.norm(m.velocity)))
+    n = math.ceil(speed * scene.frame_dt / (scene.cfl * scene.cell_size))
+    return max(1, min(scene.max_substeps, n))
+
+
+def frame_metadata(scene: BakeScene, frame: int, substeps: int) -> Dict[str, Any]:
+    f = scene.fluid
+    return {
+        "creator": f"hapticfluid {hf.__version__}",
+        "hapticfluid_version": hf.__version__,
+        "frame": int(frame),
+        "fps": float(scene.fps),
+        "time_s": float((frame - scene.frame_start + 1) / scene.fps),
+        "resolution": tuple(int(n) for n in scene.grid_resolution),
+        "file_base_resolution": tuple(int(n) for n in scene.grid_resolution),  # Mantaflow's name
+        "voxel_size": float(scene.cell_size),
+        "domain_origin": tuple(float(x) for x in scene.domain_origin),
+        "domain_size": tuple(float(x) for x in scene.grid_size),
+        "substeps": int(substeps),
+        "fluid_density": float(f["fluid_density"]),
+        "gravity": tuple(float(x) for x in f["gravity"]),
+        "open_top": bool(f["open_top"]),
+        "advection": str(f["advection"]),
+        "vorticity": float(f["vorticity"]),
+        "heat_buoyancy": float(f["heat_buoyancy"]),
+        "smoke_weight": float(f["smoke_weight"]),
+        "smoke_dissipation": float(f["smoke_dissipation"]),
+        "heat_dissipation": float(f["heat_dissipation"]),
+        "pressure_iterations": int(f["pressure_iterations"]),
+        "pressure_is_dynamic": True,
+    }
+
+
+def write_frame(scene: BakeScene, sim: "hf.Simulation", frame: int, substeps: int) -> Path:
+    path = _cache.frame_path(scene.cache_dir, frame)
+    hf.write_vdb(str(path), sim.density(), scene.cell_size, tuple(scene.domain_origin),
+                 velocity=sim.velocity() if "velocity" in scene.grids else None,
+                 pressure=sim.pressure(hydrostatic=False) if "pressure" in scene.grids else None,
+                 compression=scene.compression, half_float=scene.half_float, tolerance=scene.tolerance,
+                 metadata=frame_metadata(scene, frame, substeps))
+    return path
+
+
+def _cancel_check(cancel: CancelCheck) -> Callable[[], bool]:
+    if cancel is None:
+        return lambda: False
+    if isinstance(cancel, threading.Event):
+        return cancel.is_set
+    return cancel
+
+
+def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[BakeProgress], None]] = None,
+         cancel: CancelCheck = None, log: Optional[Callable[[str], None]] = None) -> BakeResult:
+    """Bake ``scene`` into its cache folder.
+
+    resume: continue after the cache's checkpoint (BakeError if there is none or it does not
+        match the scene); otherwise the cache's previous bake files are deleted first.
+    progress: called after every substep and every written frame with a BakeProgress.
+    cancel: a threading.Event or a callable; checked between substeps. A cancelled bake keeps
+        every complete frame and its checkpoint, so it can be resumed.
+    log: receives one line per frame.
+    Raises InvalidArgumentError (scene), BakeError (cache, checkpoint), HapticFluidError (engine).
+    """
+    say = log or (lambda _line: None)
+    is_cancelled = _cancel_check(cancel)
+    cache_dir = _cache.prepare_cache(scene.cache_dir)  # before any work: a clear error if unwritable
+    fingerprint = scene.fingerprint()
+    resumed_from = None
+    state = None
+    if resume:
+        resumed_from, state = _cache.load_checkpoint(cache_dir, fingerprint)
+        _cache.remove_temporaries(cache_dir)
+        if resumed_from < scene.frame_start - 1 or resumed_from > scene.frame_end:
+            raise _cache.BakeError(f"checkpoint is for frame {resumed_from}, outside this bake's frames "
+                                   f"{scene.frame_start}..{scene.frame_end}; bake from the start")
+
+
+    manifest: Dict[str, Any] = {
+        "format": "hapticfluid-bake",
+        "hapticfluid_version": hf.__version__,
+        "openvdb_version": hf.openvdb_version(),
+        "scene": scene.to_dict(),
+        "frame_files": f"{_cache.DATA_DIR}/{_cache.FRAME_PREFIX}####.vdb",
+        "frames_done": [],
+        "last_frame": None,
+        "complete": False,
+        "sessions": [],
+    }
+    if resume:
+        old = _cache.read_manifest(cache_dir) or {}
+        manifest["sessions"] = list(old.get("sessions", []))
+    first = scene.frame_start if resumed_from is None else resumed_from + 1
+    manifest["frames_done"] = list(range(scene.frame_start, first))
+    manifest["last_frame"] = first - 1 if first > scene.frame_start else None
+    session: Dict[str, Any] = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0,
+                               "seconds": 0.0, "device": None}
+    manifest["sessions"].append(session)
+
+    t0 = time.perf_counter()
+    written = 0
+    status = "finished"
+    with make_simulation(scene) as sim:
+        session["device"] = sim.device.get("renderer")
+        check_trajectory(sim, scene, first)  # a bad pose fails here, before the old bake is freed
+        if state is not None:
+            sim.set_state(state)
+        else:
+            _cache.free_cache(cache_dir)
+            _cache.prepare_cache(cache_dir)
+        _cache.write_manifest(cache_dir, manifest)
+        say(f"baking frames {first}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
+            f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "
+            f"{session['device']} into {cache_dir}")
+        for frame in range(first, scene.frame_end + 1):
+            n = substeps_for_frame(scene, sim, frame)
+            dt = scene.frame_dt / n
+            frame_t0 = time.perf_counter()
+            for s in range(n):
+                if is_cancelled():
+                    status = "cancelled"
+                    break
+                if scene.probe is not None:
+                    a = (frame - 1) + s / n
+                    b = (frame - 1) + (s + 1) / n
+                    apply_probe(sim, scene.probe, scene.probe.trajectory.motion(a, b, dt))
+                sim.step(dt)
+                if progress is not None:
+                    progress(_progress(scene, frame, first, written, s + 1, n, t0, False))
+            if status == "cancelled":
+                break
+            write_frame(scene, sim, frame, n)
+            _cache.save_checkpoint(cache_dir, frame, sim.state(), fingerprint)
+            written += 1
+            manifest["frames_done"].append(frame)
+            manifest["last_frame"] = frame
+            manifest["complete"] = frame == scene.frame_end
+            session["frames"] = written
+            session["seconds"] = time.perf_counter() - t0
+            _cache.write_manifest(cache_dir, manifest)
+            done = _progress(scene, frame, first, written, n, n, t0, True)
+            say(f"frame {frame}: {n} substeps, {(time.perf_counter() - frame_t0):.2f} s; "
+                f"{done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
+            if progress is not None:
+                progress(done)
+    seconds = time.perf_counter() - t0
+    if status == "cancelled":
+        say(f"cancelled; {written} frame(s) written this session; resume continues after frame "
+            f"{manifest['last_frame']}")
+    return BakeResult(status=status, cache_dir=cache_dir, frames_written=written,
+                      last_frame=manifest["last_frame"], resumed_from=resumed_from, seconds=seconds,
+                      seconds_per_frame=seconds / written if written else float("nan"))
+
+
+def _progress(scene: BakeScene, frame: int, first: int, written: int, substep: int, substeps: int,
+              t0: float, finished: bool) -> BakeProgress:
+    elapsed = time.perf_counter() - t0
+    done_before = first - scene.frame_start
+    remaining = scene.frame_end - first + 1 - written
+    eta = elapsed / written * remaining if written else float("nan")
+    return BakeProgress(frame=frame, frame_start=scene.frame_start, frame_end=scene.frame_end,
+                        frames_done=done_before + written, substep=substep, substeps=substeps,
+                        elapsed_s=elapsed, eta_s=eta, frame_finished=finished)

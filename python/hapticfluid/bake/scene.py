@@ -1,0 +1,427 @@
+"""What a bake simulates and writes: the scene description (a JSON file or a dict).
+
+Format (JSON; every length in metres, times in seconds or frames; keys marked * are required)::
+
+    {
+      "domain": {"origin": [0, 0, 0], "size": [1, 1, 1.5]},       * box, min corner + edges (m)
+      "resolution": 64,                  * cells along the domain's longest edge; the other edges
+                                           get round(edge / h) cells (at least 8) and the box
+                                           keeps its origin, so its edges become whole cells
+      "fluid": {                           Simulation settings (defaults in brackets)
+        "fluid_density": 1.2, "gravity": [0, 0, -9.81], "open_top": false,
+        "advection": "semi_lagrangian", "vorticity": 0.0, "smoke_weight": 0.0,
+        "heat_buoyancy": 0.0, "smoke_dissipation": 0.0, "heat_dissipation": 0.0,
+        "pressure_iterations": 40
+      },
+      "source": {"centre": [0.5, 0.5, 0.1], "radius": 0.06,        smoke emitter, or null / absent
+                 "density": 1.0, "temperature": 8.0},
+      "probe": {                           the moving body, or null / absent
+        "shape": "sphere", "radius": 0.08,   sphere radius (m) at scale 1 (scaled by the largest
+                                             axis scale of the transform), or
+        "shape": "mesh", "vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...],
+                                             a closed triangle mesh in its local frame (m), moved
+                                             rigidly (and scaled) by the keyed transforms
+        "keys": [                          * keyed transforms; linear/slerp between, held outside
+          {"frame": 1, "location": [0.2, 0.5, 0.5],
+           "rotation": [1, 0, 0, 0],         optional unit quaternion w, x, y, z
+           "scale": 1.0},                    optional number or [sx, sy, sz]
+          {"frame": 48, "matrix": [[1,0,0,0.8],[0,1,0,0.5],[0,0,1,0.5],[0,0,0,1]]}
+        ]                                    (a key gives "location" (+rotation, scale) or "matrix")
+      },
+      "frames": {"start": 1, "end": 48, "fps": 24},                 * frame range (inclusive), fps
+      "substeps": 2,                       fixed steps per frame, or "adaptive" [2]
+      "cfl": 1.0, "max_substeps": 16,      adaptive: steps = ceil(max speed * frame time /
+                                           (cfl * h)), at least 1, at most max_substeps
+      "cache": {
+        "directory": "cache",            * relative paths are relative to the scene file
+        "grids": ["density", "velocity"],  any of density (always written), velocity, pressure
+        "compression": "blosc",            blosc, zip or none
+        "half_float": false,               16-bit floats in the files
+        "tolerance": 0.0001                |value| <= tolerance -> inactive voxel (sparse)
+      },
+      "device": ""                         GL device ('' auto, 'software', or an EGL index)
+    }
+
+Frame f's file holds the state at frame f: the fluid starts at rest at frame start - 1 and each
+frame advances one frame time (1 / fps) in its substeps, the probe following the keys.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from hapticfluid import InvalidArgumentError
+from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
+
+GRID_NAMES = ("density", "velocity", "pressure")
+COMPRESSIONS = ("blosc", "zip", "none")
+FLUID_DEFAULTS: Dict[str, Any] = {
+    "fluid_density": 1.2,
+    "gravity": (0.0, 0.0, -9.81),
+    "open_top": False,
+    "advection": "semi_lagrangian",
+    "vorticity": 0.0,
+    "smoke_weight": 0.0,
+    "heat_buoyancy": 0.0,
+    "smoke_dissipation": 0.0,
+    "heat_dissipation": 0.0,
+    "pressure_iterations": 40,
+}
+
+
+def _err(where: str, message: str) -> InvalidArgumentError:
+    return InvalidArgumentError(f"scene {where}: {message}")
+
+
+def _number(where: str, value: Any, positive: bool = False, minimum: Optional[float] = None) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise _err(where, f"expected a number, got {value!r}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise _err(where, f"must be finite, got {value!r}")
+    if positive and v <= 0.0:
+        raise _err(where, f"must be > 0, got {value!r}")
+    if minimum is not None and v < minimum:
+        raise _err(where, f"must be >= {minimum:g}, got {value!r}")
+    return v
+
+
+def _integer(where: str, value: Any, minimum: Optional[int] = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise _err(where, f"expected an integer, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise _err(where, f"must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def _vec(where: str, value: Any, n: int = 3) -> Tuple[float, ...]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence) or len(value) != n:
+        raise _err(where, f"expected {n} numbers, got {value!r}")
+    return tuple(_number(f"{where}[{i}]", v) for i, v in enumerate(value))
+
+
+def _table(where: str, value: Any, allowed: Sequence[str]) -> Dict[str, Any]:
+    if not isinstance(value, dict):
+        raise _err(where, f"expected an object, got {value!r}")
+    unknown = sorted(set(value) - set(allowed))
+    if unknown:
+        raise _err(where, f"unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    return value
+
+
+@dataclass(frozen=True)
+class SmokeSource:
+    centre: Tuple[float, float, float]  # m
+    radius: float  # m
+    density: float = 1.0  # concentration
+    temperature: float = 0.0  # K above ambient
+
+
+@dataclass(frozen=True)
+class ProbeSpec:
+    shape: str  # "sphere" or "mesh"
+    radius: float  # m at scale 1 (sphere); the local bounding radius about the origin (mesh)
+    trajectory: Trajectory
+    vertices: Optional[np.ndarray] = None  # (N, 3) float64, local frame, m (mesh)
+    triangles: Optional[np.ndarray] = None  # (M, 3) int64 (mesh)
+
+    def mesh_digest(self) -> Optional[str]:
+        if self.vertices is None:
+            return None
+        import hashlib
+
+        h = hashlib.sha256(np.ascontiguousarray(self.vertices, dtype=np.float64).tobytes())
+        h.update(np.ascontiguousarray(self.triangles, dtype=np.int64).tobytes())
+        return h.hexdigest()
+
+
+@dataclass(frozen=True)
+class BakeScene:
+    """A validated scene: see the module docstring for the JSON form."""
+
+    domain_origin: Tuple[float, float, float]
+    domain_size: Tuple[float, float, float]
+    resolution: int  # cells along the longest edge
+    frame_start: int
+    frame_end: int
+    fps: float
+    cache_dir: Path
+    fluid: Dict[str, Any] = field(default_factory=lambda: dict(FLUID_DEFAULTS))
+    source: Optional[SmokeSource] = None
+    probe: Optional[ProbeSpec] = None
+    substeps: Any = 2  # int, or "adaptive"
+    cfl: float = 1.0
+    max_substeps: int = 16
+    grids: Tuple[str, ...] = ("density",)
+    compression: str = "blosc"
+    half_float: bool = False
+    tolerance: float = 1e-4
+    device: str = ""
+
+    # ---- derived grid ------------------------------------------------------------------
+    @property
+    def cell_size(self) -> float:
+        return max(self.domain_size) / self.resolution
+
+    @property
+    def grid_resolution(self) -> Tuple[int, int, int]:
+        h = self.cell_size
+        return tuple(max(8, int(round(s / h))) for s in self.domain_size)
+
+    @property
+    def grid_size(self) -> Tuple[float, float, float]:
+        """The simulated box's edges (m): whole cells, so possibly a hair off domain_size."""
+        h = self.cell_size
+        return tuple(n * h for n in self.grid_resolution)
+
+    @property
+    def frame_count(self) -> int:
+        return self.frame_end - self.frame_start + 1
+
+    @property
+    def frame_dt(self) -> float:
+        return 1.0 / self.fps
+
+    def with_resolution(self, resolution: int) -> "BakeScene":
+        scene = replace(self, resolution=_integer("resolution", resolution, 8))
+        scene.check_probe_path()
+        return scene
+
+    # ---- what a resume must match ------------------------------------------------------
+    def fingerprint(self) -> Dict[str, Any]:
+        """Everything that shapes the frames (not where they go): a resume must match it."""
+        probe = None
+        if self.probe is not None:
+            probe = {"shape": self.probe.shape, "radius": self.probe.radius,
+                     "keys": [[f, m.tolist()] for f, m in self.probe.trajectory.keys]}
+            if self.probe.shape == "mesh":  # the mesh by its digest: the manifest stays small
+                probe.update(vertex_count=len(self.probe.vertices), triangle_count=len(self.probe.triangles),
+                             mesh_sha256=self.probe.mesh_digest())
+        source = None if self.source is None else {
+            "centre": list(self.source.centre), "radius": self.source.radius,
+            "density": self.source.density, "temperature": self.source.temperature}
+        fluid = {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.fluid.items()}
+        return {
+            "domain_origin": list(self.domain_origin), "domain_size": list(self.domain_size),
+            "resolution": self.resolution, "grid_resolution": list(self.grid_resolution),
+            "frame_start": self.frame_start, "fps": self.fps, "fluid": fluid, "source": source,
+            "probe": probe, "substeps": self.substeps, "cfl": self.cfl,
+            "max_substeps": self.max_substeps, "grids": list(self.grids),
+            "compression": self.compression, "half_float": self.half_float,
+            "tolerance": self.tolerance,
+        }
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The scene in its JSON form (keys as matrices), for the manifest."""
+        d = self.fingerprint()
+        d["frame_end"] = self.frame_end
+        d["cache_dir"] = str(self.cache_dir)
+        d["device"] = self.device
+        return d
+
+    # ---- checks ------------------------------------------------------------------------
+    def probe_spheres(self) -> List[Tuple[float, np.ndarray, float]]:
+        """(frame, centre m, radius m) of the sphere probe at each of its keys."""
+        if self.probe is None or self.probe.shape != "sphere":
+            return []
+        return [(float(f), p.translation, self.probe.radius * float(np.max(np.abs(p.scale))))
+                for f, p in zip(self.probe.trajectory.frames, self.probe.trajectory.poses)]
+
+    def check_probe_path(self) -> None:
+        """The sphere stays a cell plus a hair from every wall at every key, hence (positions
+        and radii interpolate linearly, the allowed set is convex) everywhere in between."""
+        if self.probe is None:
+            return
+        h = self.cell_size
+        origin = np.asarray(self.domain_origin)
+        lo = origin + h * 1.001
+        hi = origin + np.asarray(self.grid_size) - h * 1.001
+        if self.probe.shape == "mesh":  # exact at the keys; the engine checks every substep's pose
+            for frame, matrix in self.probe.trajectory.keys:
+                world = self.probe.vertices @ matrix[:3, :3].T + matrix[:3, 3]
+                if np.any(world.min(axis=0) < lo) or np.any(world.max(axis=0) > hi):
+                    raise InvalidArgumentError(
+                        f"probe mesh at frame {frame:g} spans {np.round(world.min(axis=0), 4).tolist()} .. "
+                        f"{np.round(world.max(axis=0), 4).tolist()} m; it must keep one cell ({h:.4g} m) of "
+                        f"fluid from every wall: stay within {np.round(lo, 4).tolist()} .. "
+                        f"{np.round(hi, 4).tolist()} m")
+            return
+        for frame, centre, radius in self.probe_spheres():
+            if radius < h:
+                raise InvalidArgumentError(
+                    f"probe radius {radius:.4g} m (key at frame {frame:g}) is under one cell ({h:.4g} m) at "
+                    f"resolution {self.resolution}: raise the radius or the resolution")
+            if np.any(centre - radius < lo) or np.any(centre + radius > hi):
+                raise InvalidArgumentError(
+                    f"probe sphere at frame {frame:g} (centre {np.round(centre, 4).tolist()} m, radius "
+                    f"{radius:.4g} m) must keep one cell ({h:.4g} m) of fluid from every wall of the domain "
+                    f"{np.round(origin, 4).tolist()} .. {np.round(origin + self.grid_size, 4).tolist()} m; its "
+                    f"centre must stay within {np.round(lo + radius, 4).tolist()} .. "
+                    f"{np.round(hi - radius, 4).tolist()} m")
+
+
+def _key_matrix(where: str, key: Dict[str, Any]) -> np.ndarray:
+    _table(where, key, ("frame", "matrix", "location", "rotation", "scale"))
+    if "matrix" in key:
+        if any(k in key for k in ("location", "rotation", "scale")):
+            raise _err(where, "give either 'matrix' or 'location' (+ 'rotation', 'scale'), not both")
+        rows = key["matrix"]
+        if not isinstance(rows, Sequence) or len(rows) != 4:
+            raise _err(f"{where}.matrix", "expected 4 rows of 4 numbers")
+        return np.array([_vec(f"{where}.matrix[{i}]", r, 4) for i, r in enumerate(rows)])
+    if "location" not in key:
+        raise _err(where, "needs 'location' (m) or 'matrix'")
+    m = np.eye(4)
+    m[:3, 3] = _vec(f"{where}.location", key["location"])
+    q = np.array(_vec(f"{where}.rotation", key.get("rotation", (1.0, 0.0, 0.0, 0.0)), 4))
+    norm = float(np.linalg.norm(q))
+    if abs(norm - 1.0) > 1e-3:
+        raise _err(f"{where}.rotation", f"must be a unit quaternion (w, x, y, z), its length is {norm:.6g}")
+    scale = key.get("scale", 1.0)
+    s = (np.full(3, _number(f"{where}.scale", scale, positive=True)) if not isinstance(scale, Sequence)
+         else np.array(_vec(f"{where}.scale", scale)))
+    if np.any(s <= 0):
+        raise _err(f"{where}.scale", f"must be > 0, got {s.tolist()}")
+    m[:3, :3] = quat_to_matrix(q / norm) * s[np.newaxis, :]
+    return m
+
+
+def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -> BakeScene:
+    """Validate a scene dict (the JSON form) into a BakeScene; relative cache paths resolve
+    against ``base_dir``. Raises InvalidArgumentError naming the key to fix."""
+    top = _table("", data, ("domain", "resolution", "fluid", "source", "probe", "frames", "substeps",
+                            "cfl", "max_substeps", "cache", "device", "comment"))
+    for key in ("domain", "resolution", "frames", "cache"):
+        if key not in top:
+            raise _err(key, "is required")
+    dom = _table("domain", top["domain"], ("origin", "size"))
+    origin = _vec("domain.origin", dom.get("origin", (0.0, 0.0, 0.0)))
+    size = _vec("domain.size", dom.get("size"))
+    if min(size) <= 0:
+        raise _err("domain.size", f"edges must be > 0 m, got {list(size)}")
+    resolution = _integer("resolution", top["resolution"], 8)
+
+    fluid = dict(FLUID_DEFAULTS)
+    for k, v in _table("fluid", top.get("fluid", {}), tuple(FLUID_DEFAULTS)).items():
+        if k == "gravity":
+            fluid[k] = _vec("fluid.gravity", v)
+        elif k == "open_top":
+            if not isinstance(v, bool):
+                raise _err("fluid.open_top", f"expected true or false, got {v!r}")
+            fluid[k] = v
+        elif k == "advection":
+            if v not in ("semi_lagrangian", "maccormack"):
+                raise _err("fluid.advection", f"must be 'semi_lagrangian' or 'maccormack', got {v!r}")
+            fluid[k] = v
+        elif k == "pressure_iterations":
+            fluid[k] = _integer("fluid.pressure_iterations", v, 1)
+        else:
+            fluid[k] = _number(f"fluid.{k}", v)
+
+    source = None
+    if top.get("source") is not None:
+        s = _table("source", top["source"], ("centre", "radius", "density", "temperature"))
+        if "centre" not in s or "radius" not in s:
+            raise _err("source", "needs 'centre' (m) and 'radius' (m)")
+        source = SmokeSource(centre=_vec("source.centre", s["centre"]),
+                             radius=_number("source.radius", s["radius"], positive=True),
+                             density=_number("source.density", s.get("density", 1.0), minimum=0.0),
+                             temperature=_number("source.temperature", s.get("temperature", 0.0)))
+
+    probe = None
+    if top.get("probe") is not None:
+        p = _table("probe", top["probe"], ("shape", "radius", "keys", "vertices", "triangles"))
+        shape = p.get("shape", "sphere")
+        vertices = triangles = None
+        if shape == "sphere":
+            radius = _number("probe.radius", p.get("radius"), positive=True)
+        elif shape == "mesh":
+            try:
+                vertices = np.asarray(p.get("vertices"), dtype=np.float64)
+                triangles = np.asarray(p.get("triangles"), dtype=np.int64)
+            except (TypeError, ValueError):
+                raise _err("probe", "'vertices' must be [[x, y, z], ...] (m) and 'triangles' [[i, j, k], ...]") \
+                    from None
+            if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4 or not np.all(np.isfinite(vertices)):
+                raise _err("probe.vertices", f"needs at least 4 finite [x, y, z] rows, got shape {vertices.shape}")
+            if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) < 4:
+                raise _err("probe.triangles", f"needs at least 4 [i, j, k] rows, got shape {triangles.shape}")
+            if triangles.min() < 0 or triangles.max() >= len(vertices):
+                raise _err("probe.triangles", f"indices must be in 0 .. {len(vertices) - 1}")
+            radius = float(np.linalg.norm(vertices, axis=1).max())
+        else:
+            raise _err("probe.shape", f"must be 'sphere' or 'mesh', got {shape!r}")
+        keys = p.get("keys")
+        if not isinstance(keys, list) or not keys:
+            raise _err("probe.keys", "needs a non-empty list of {frame, location | matrix}")
+        items = []
+        for i, key in enumerate(keys):
+            where = f"probe.keys[{i}]"
+            if not isinstance(key, dict) or "frame" not in key:
+                raise _err(where, "needs 'frame'")
+            items.append((_number(f"{where}.frame", key["frame"]), _key_matrix(where, key)))
+        probe = ProbeSpec(shape=shape, radius=radius, trajectory=Trajectory(items), vertices=vertices,
+                          triangles=triangles)
+
+    fr = _table("frames", top["frames"], ("start", "end", "fps"))
+    start = _integer("frames.start", fr.get("start", 1), 0)
+    end = _integer("frames.end", fr.get("end"), start)
+    if end > 9999:
+        raise _err("frames.end", f"file names have 4 digits: at most 9999, got {end}")
+    fps = _number("frames.fps", fr.get("fps", 24), positive=True)
+
+    substeps = top.get("substeps", 2)
+    if substeps != "adaptive":
+        substeps = _integer("substeps", substeps, 1)
+    cfl = _number("cfl", top.get("cfl", 1.0), positive=True)
+    max_substeps = _integer("max_substeps", top.get("max_substeps", 16), 1)
+
+    c = _table("cache", top["cache"], ("directory", "grids", "compression", "half_float", "tolerance"))
+    directory = c.get("directory")
+    if not isinstance(directory, str) or not directory:
+        raise _err("cache.directory", f"must be a folder path, got {directory!r}")
+    cache_dir = Path(directory).expanduser()
+    if not cache_dir.is_absolute():
+        cache_dir = Path(base_dir) / cache_dir
+    grids = c.get("grids", ["density"])
+    if not isinstance(grids, list) or any(g not in GRID_NAMES for g in grids):
+        raise _err("cache.grids", f"must be a list of {list(GRID_NAMES)}, got {grids!r}")
+    grids = tuple(g for g in GRID_NAMES if g == "density" or g in grids)
+    compression = c.get("compression", "blosc")
+    if compression not in COMPRESSIONS:
+        raise _err("cache.compression", f"must be one of {list(COMPRESSIONS)}, got {compression!r}")
+    half = c.get("half_float", False)
+    if not isinstance(half, bool):
+        raise _err("cache.half_float", f"expected true or false, got {half!r}")
+    tolerance = _number("cache.tolerance", c.get("tolerance", 1e-4), minimum=0.0)
+    device = top.get("device", "")
+    if not isinstance(device, str):
+        raise _err("device", f"expected a string, got {device!r}")
+
+    scene = BakeScene(domain_origin=origin, domain_size=size, resolution=resolution, frame_start=start,
+                      frame_end=end, fps=fps, cache_dir=cache_dir, fluid=fluid, source=source, probe=probe,
+                      substeps=substeps, cfl=cfl, max_substeps=max_substeps, grids=grids,
+                      compression=compression, half_float=half, tolerance=tolerance, device=device)
+    scene.check_probe_path()
+    return scene
+
+
+def load_scene(path: "str | os.PathLike") -> BakeScene:
+    """Read and validate a scene JSON file (relative cache paths are relative to its folder)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InvalidArgumentError(f"cannot read the scene file '{p}': {exc.strerror or exc}") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InvalidArgumentError(f"scene file '{p}' is not valid JSON: {exc}") from None
+    return scene_from_dict(data, base_dir=p.resolve().parent)

@@ -1,0 +1,114 @@
+"""Benchmark: the haptic loop's rate, period jitter and pose-to-force latency.
+
+Scenarios: the loop idle (session paused: no simulation work beside it) and with a simulation
+running beside it (64^3 smoke scene, a scripted device sweeping the probe through it), each
+with and without SCHED_FIFO priority. Jitter is |period - 1 ms|; latency runs from the device
+read whose pose a simulation step used to the first haptic period that applies that step's force.
+
+Run alone: ``python3 -m hapticfluid.bench.haptic [--quick] [--json PATH]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from typing import Dict, List, Optional
+
+import hapticfluid as hf
+from hapticfluid import haptic_cli
+
+COLUMNS = ["scenario", "grid", "priority", "seconds", "loop rate (Hz)", "jitter p50 (ms)",
+           "jitter p99 (ms)", "jitter max (ms)", "skipped periods", "sim rate (Hz)",
+           "latency p50 (ms)", "latency p99 (ms)", "latency max (ms)"]
+
+
+def _measure(sim: hf.Simulation, seconds: float, realtime: bool, paused: bool) -> Dict[str, object]:
+    times, positions = haptic_cli.sweep_waypoints()
+    device = hf.scripted_device(times, positions, loop=True)
+    session = hf.HapticSession(sim, device, workspace_scale=6.0, probe_radius=0.1,
+                               realtime=realtime, ramp_time=0.5)
+    with session:
+        if paused:
+            session.pause()
+        time.sleep(seconds)
+        stats = session.stats()
+    device.close()
+    return stats
+
+
+def _row(name: str, grid: str, seconds: float, stats: Dict[str, object], sim_running: bool) -> List:
+    def r(x: object, digits: int = 3) -> Optional[float]:
+        return round(float(x), digits) if x is not None else None
+
+    priority = "SCHED_FIFO" if stats["realtime"] else "normal"
+    latency = sim_running and stats["latency_samples"] > 0
+    return [name, grid, priority, seconds, r(stats["haptic_rate_hz"], 1), r(stats["jitter_p50_ms"]),
+            r(stats["jitter_p99_ms"]), r(stats["jitter_max_ms"]), stats["skipped_periods"],
+            r(stats["sim_rate_hz"], 2) if sim_running else None,
+            r(stats["latency_p50_ms"], 1) if latency else None,
+            r(stats["latency_p99_ms"], 1) if latency else None,
+            r(stats["latency_max_ms"], 1) if latency else None]
+
+
+def run(quick: bool = False) -> dict:
+    """Measure each scenario; quick=True uses shorter runs and a 32^3 grid (under ~20 s)."""
+    idle_s, busy_s, n = (1.0, 3.0, 32) if quick else (5.0, 15.0, 64)
+    rows: List[List] = []
+    notes: List[str] = []
+    scheduling = ""
+    with hf.Simulation(resolution=(n, n, n), fluid_density=1000.0, gravity=(0.0, 0.0, 0.0),
+                       pressure_iterations=40) as sim:
+        sim.set_smoke_source(centre=(0.5, 0.5, 0.1), radius=0.08, density=1.0, temperature=10.0)
+        sim.heat_buoyancy = 0.5
+        renderer = sim.device["renderer"]
+        for realtime in (True, False):
+            stats = _measure(sim, idle_s, realtime, paused=True)
+            rows.append(_row("idle (paused)", "-", idle_s, stats, False))
+            scheduling = scheduling or (stats["scheduling"] if realtime else "")
+            stats = _measure(sim, busy_s, realtime, paused=False)
+            rows.append(_row("simulation running", f"{n}^3", busy_s, stats, True))
+            scheduling = scheduling or (stats["scheduling"] if realtime else "")
+    notes.append(f"GL renderer: {renderer}; {os.cpu_count()} CPUs; load average before: "
+                 f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    notes.append("Nominal period 1 ms; jitter = |measured period - 1 ms| over the last 8192 periods.")
+    notes.append("Latency: device read -> first haptic period applying the force computed from that "
+                 "pose (includes waiting for the running step, the step itself and the next period).")
+    if scheduling:
+        notes.append(f"SCHED_FIFO: {scheduling}")
+    notes.append("Taken on a shared machine: figures are under load unless said otherwise.")
+    return {"title": "Haptic loop: rate, jitter, pose-to-force latency", "columns": COLUMNS,
+            "rows": rows, "notes": notes}
+
+
+def _print_table(result: dict) -> None:
+    cols = result["columns"]
+    cells = [[("-" if v is None else str(v)) for v in row] for row in result["rows"]]
+    widths = [max(len(c), *(len(r[i]) for r in cells)) for i, c in enumerate(cols)]
+    print(result["title"])
+    print("  ".join(c.ljust(w) for c, w in zip(cols, widths)))
+    for r in cells:
+        print("  ".join(v.ljust(w) for v, w in zip(r, widths)))
+    for note in result["notes"]:
+        print(f"note: {note}")
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    parser = argparse.ArgumentParser(prog="python3 -m hapticfluid.bench.haptic", description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="short runs on a 32^3 grid (< ~20 s)")
+    parser.add_argument("--json", metavar="PATH", help="also write the result as JSON")
+    args = parser.parse_args(argv)
+    result = run(quick=args.quick)
+    _print_table(result)
+    if args.json:
+        tmp = f"{args.json}.tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(result, f, indent=2)
+        os.replace(tmp, args.json)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

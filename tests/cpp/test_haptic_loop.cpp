@@ -1,0 +1,213 @@
+// The 1 kHz HapticLoop on its thread, with stand-ins for the simulation. Timing is
+// never asserted tightly (a loaded 2-core machine): structure and generous bounds only.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "common/error.h"
+#include "haptics/clock.h"
+#include "haptics/haptic_loop.h"
+#include "haptics/host_device.h"
+#include "haptics/null_device.h"
+#include "haptics/scripted_device.h"
+
+namespace hf::haptics {
+namespace {
+
+using namespace std::chrono_literals;
+
+// A device that fails on a chosen read and records every force it is given.
+class FaultyDevice : public Device {
+ public:
+  explicit FaultyDevice(int fail_at_read) : fail_at_(fail_at_read) {}
+  DeviceInfo info() const override {
+    DeviceInfo i;
+    i.name = "faulty";
+    i.kind = "test";
+    i.max_force_n = 4.0f;
+    return i;
+  }
+  DeviceState read() override {
+    if (++reads_ >= fail_at_) {
+      failed_ = true;
+      throw Error("faulty device: cable pulled");
+    }
+    DeviceState s;
+    s.homed = true;
+    s.time_s = monotonicNowS();
+    return s;
+  }
+  void writeForce(const glm::vec3& f) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    forces_.push_back(f);
+    after_failure_.push_back(failed_);
+  }
+  void close() override {}
+  std::vector<glm::vec3> forces() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return forces_;
+  }
+  std::vector<bool> afterFailure() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return after_failure_;
+  }
+
+ private:
+  int fail_at_;
+  std::atomic<int> reads_{0};
+  std::atomic<bool> failed_{false};
+  std::mutex mutex_;
+  std::vector<glm::vec3> forces_;
+  std::vector<bool> after_failure_;
+};
+
+HapticLoopSettings loopSettings() {
+  HapticLoopSettings s;
+  s.pipeline.safety.max_force_n = 2.0f;  // at most every test device's maximum
+  s.pipeline.safety.ramp_s = 0.0;
+  s.pipeline.safety.slew_rate_n_s = 1e5f;
+  s.pipeline.filter.enabled = false;
+  s.trace_capacity = 100000;
+  return s;
+}
+
+template <class Pred>
+bool waitFor(Pred pred, std::chrono::milliseconds limit) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(2ms);
+  }
+  return pred();
+}
+
+TEST(HapticLoop, RunsPublishesPosesAndBoundsTheForce) {
+  auto device = std::make_shared<ScriptedDevice>(std::vector<double>{0.0, 1.0},
+                                                 std::vector<glm::vec3>{glm::vec3(0.0f), glm::vec3(0.01f, 0.0f, 0.0f)},
+                                                 true, 2.0f);
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.map.offset_m = glm::vec3(0.5f);
+  s.pipeline.map.scale = glm::vec3(10.0f);
+  s.pipeline.map.force_gain = 10.0f;  // 1 N of fluid force asks for 10 N: the device's 2 N bounds it
+  HapticLoop loop(device, poses, forces, s);
+  loop.start();
+  EXPECT_THROW(loop.start(), Error);
+  std::atomic<bool> stop_feeder{false};
+  std::thread feeder([&] {  // a stand-in simulation at ~100 Hz
+    while (!stop_feeder) {
+      PoseFrame p;
+      ForceFrame f;
+      if (poses.tryRead(p)) f.pose_time_s = p.time_s;
+      f.force_n = glm::vec3(1.0f, 0.0f, 0.0f);
+      f.publish_time_s = monotonicNowS();
+      f.sim_rate_hz = 100.0;
+      forces.write(f);
+      std::this_thread::sleep_for(10ms);
+    }
+  });
+  ASSERT_TRUE(waitFor([&] { return loop.stats().frames >= 5 && loop.stats().ticks >= 50; }, 10000ms));
+  stop_feeder = true;
+  feeder.join();
+  loop.stop();
+  EXPECT_FALSE(loop.running());
+  EXPECT_FALSE(loop.failed());
+  PoseFrame pose;
+  ASSERT_TRUE(poses.tryRead(pose));
+  EXPECT_NEAR(pose.position_m.y, 0.5f, 1e-6f);  // mapped into the domain
+  EXPECT_GE(pose.position_m.x, 0.5f);
+  EXPECT_LE(pose.position_m.x, 0.6f + 1e-6f);
+  std::vector<TraceSample> trace;
+  loop.drainTrace(trace);
+  ASSERT_FALSE(trace.empty());
+  float largest = 0.0f;
+  for (const auto& t : trace) largest = std::max(largest, glm::length(t.commanded_n));
+  EXPECT_LE(largest, 2.0f);
+  EXPECT_GT(largest, 1.9f);
+  EXPECT_EQ(device->lastForce(), glm::vec3(0.0f));  // the last command on stop is zero
+  const LoopStats st = loop.stats();
+  EXPECT_GT(st.rate_hz, 50.0);     // nominal 1000 Hz; generous for a loaded machine
+  EXPECT_LT(st.rate_hz, 1500.0);
+  EXPECT_GT(st.latency_ms.count, 0u);
+  EXPECT_GE(st.jitter_ms.max, st.jitter_ms.p99);
+  EXPECT_GE(st.jitter_ms.p99, st.jitter_ms.p50);
+  EXPECT_TRUE(st.realtime || !st.scheduling.empty());  // granted, or a warning says why not
+}
+
+TEST(HapticLoop, DeviceErrorStopsForceAndIsReported) {
+  auto device = std::make_shared<FaultyDevice>(200);
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  ForceFrame f;
+  f.force_n = glm::vec3(0.0f, 1.5f, 0.0f);
+  f.publish_time_s = 1e300;  // never stale
+  forces.write(f);
+  HapticLoop loop(device, poses, forces, loopSettings());
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return !loop.running(); }, 30000ms));
+  EXPECT_TRUE(loop.failed());
+  EXPECT_NE(loop.error().find("cable pulled"), std::string::npos) << loop.error();
+  EXPECT_NE(loop.stats().error.find("cable pulled"), std::string::npos);
+  const auto forces_seen = device->forces();
+  const auto after = device->afterFailure();
+  ASSERT_GE(forces_seen.size(), 100u);
+  EXPECT_NEAR(forces_seen[150].y, 1.5f, 1e-5f);  // it was commanding force before the fault
+  for (std::size_t i = 0; i < forces_seen.size(); ++i) {
+    if (after[i]) {
+      EXPECT_EQ(forces_seen[i], glm::vec3(0.0f)) << "command " << i << " after the fault";
+    }
+  }
+  EXPECT_TRUE(after.back());  // a last zero was sent after the fault
+  EXPECT_EQ(loop.latest().commanded_n, glm::vec3(0.0f));
+  loop.stop();  // harmless after a failure
+}
+
+TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
+  auto device = std::make_shared<HostDevice>(5.0f);
+  device->pushPose(glm::vec3(0.0f));
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.stale_after_s = 0.05;
+  s.pipeline.safety.fade_s = 0.05;
+  HapticLoop loop(device, poses, forces, s);
+  ForceFrame f;
+  f.force_n = glm::vec3(0.0f, 0.0f, -2.0f);
+  f.publish_time_s = monotonicNowS();  // published once, then the "simulation" stalls
+  forces.write(f);
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return loop.stats().ticks > 0; }, 10000ms));
+  // Once older than 0.1 s (stale 0.05 + fade 0.05) nothing may be commanded.
+  std::this_thread::sleep_for(200ms);
+  ASSERT_TRUE(waitFor([&] { return device->lastForce() == glm::vec3(0.0f); }, 10000ms));
+  std::vector<TraceSample> trace;
+  loop.drainTrace(trace);
+  loop.stop();
+  ASSERT_FALSE(trace.empty());
+  for (const auto& t : trace) {
+    if (t.time_s > f.publish_time_s + 0.1 + 1e-3) {
+      ASSERT_EQ(t.commanded_n, glm::vec3(0.0f)) << t.time_s;
+    }
+  }
+}
+
+TEST(HapticLoop, RejectsBadSettings) {
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  HapticLoopSettings s = loopSettings();
+  s.rate_hz = 50.0;
+  EXPECT_THROW(HapticLoop(std::make_shared<NullDevice>(), poses, forces, s), InvalidArgument);
+  EXPECT_THROW(HapticLoop(nullptr, poses, forces, loopSettings()), InvalidArgument);
+  s = loopSettings();
+  s.pipeline.safety.max_force_n = 11.0f;  // above the null device's 10 N
+  EXPECT_THROW(HapticLoop(std::make_shared<NullDevice>(10.0f), poses, forces, s), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace hf::haptics

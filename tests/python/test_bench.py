@@ -1,0 +1,169 @@
+"""The benchmark command (python3 -m hapticfluid bench): structure of its tables and JSON.
+
+No timing thresholds: timings depend on the machine and its load. The checks are the shape of
+the results, that every measured number is finite and positive, and the byte counts, which have
+known answers.
+"""
+
+import json
+import math
+import os
+import subprocess
+import sys
+
+import pytest
+
+import hapticfluid as hf
+from hapticfluid.bench import report, runner
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _bench(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "hapticfluid", "bench", *args], capture_output=True,
+                          text=True, timeout=600, cwd=cwd, env=dict(os.environ))
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    path = out / "bench.json"
+    proc = _bench("--quick", "--sections", "engine,readback,mantaflow", "--json", str(path),
+                  "--plot", str(out / "plot.png"))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    with open(path, encoding="utf-8") as f:
+        return json.load(f), proc.stdout, out
+
+
+def _positive(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0
+
+
+def _rows(section):
+    return [dict(zip(section["columns"], row)) for row in section["rows"]]
+
+
+def test_json_describes_the_machine_and_each_section(quick_run):
+    doc, stdout, out = quick_run
+    assert doc["schema"] == report.SCHEMA_VERSION and doc["quick"] is True
+    machine = doc["machine"]
+    assert machine["gl_renderer"] == hf.probe_device()["renderer"]
+    assert machine["cpu_cores"] >= 1 and machine["cpu_model"]
+    assert machine["date_utc"].startswith("20")
+    assert list(doc["sections"]) == ["engine", "readback", "mantaflow"]
+    for name, section in doc["sections"].items():
+        report.check_section(name, section)  # raises if the format is wrong
+        assert section["rows"], name
+        assert section["title"] in stdout  # one printed table per section
+        assert _positive(section["seconds"])
+    # Atomic write: no temporary file left beside the results.
+    assert sorted(p.name for p in out.iterdir()) == ["bench.json", "plot.png"]
+    assert (out / "plot.png").read_bytes().startswith(PNG_SIGNATURE)
+
+
+def test_engine_rows_have_positive_timings_per_stage(quick_run):
+    section = quick_run[0]["sections"]["engine"]
+    rows = _rows(section)
+    assert [r["grid"] for r in rows] == ["16^3", "20x20x14"]
+    assert [r["cells"] for r in rows] == [16 ** 3, 20 * 20 * 14]
+    stages = [c for c in section["columns"] if c.endswith(" ms") and c not in ("GPU ms total",)]
+    for name in ("advect ms", "pressure ms", "project ms", "force ms"):
+        assert name in stages
+    for r in rows:
+        assert r["solver"] == runner_solver_label()
+        assert r["steps"] == 3
+        for key in ("steps/s", "wall ms median", "wall ms p90", "GPU ms total", *stages):
+            assert _positive(r[key]), (key, r[key])
+        assert r["wall ms p90"] >= r["wall ms median"]
+        # Every step's GPU stages run inside its wall time, so the medians keep that order
+        # (5 % and 0.5 ms for the two clocks' granularity).
+        assert r["GPU ms total"] <= 1.05 * r["wall ms median"] + 0.5
+        assert 0.0 <= r["rel. residual"] < 1.0
+        assert r["pressure iterations"] == 40
+
+
+def runner_solver_label():
+    from hapticfluid.bench import engine
+
+    return engine.SOLVERS[0][0]
+
+
+def test_readback_bytes_are_the_field_sizes(quick_run):
+    rows = _rows(quick_run[0]["sections"]["readback"])
+    by_name = {r["read-back"]: r for r in rows}
+    n = 16
+    assert by_name["density()"]["bytes"] == n ** 3 * 4
+    assert by_name["velocity()"]["bytes"] == 3 * (n + 1) * n * n * 4  # three MAC face fields
+    assert by_name["force (GPU reduction)"]["bytes"] == 32
+    for r in rows:
+        assert _positive(r["ms median"]) and r["ms p90"] >= r["ms median"]
+    assert _positive(by_name["density()"]["MB/s"])
+
+
+def test_mantaflow_and_engine_ran_the_same_frames(quick_run):
+    rows = _rows(quick_run[0]["sections"]["mantaflow"])
+    from hapticfluid.bench import engine
+
+    manta, ours_rows = rows[0], rows[1:]
+    assert manta["solver"].startswith("Mantaflow")
+    # One row per pressure solver of the engine section.
+    assert [r["solver"] for r in ours_rows] == [f"hapticfluid ({label})" for label, _ in engine.SOLVERS]
+    for ours in ours_rows:
+        _check_same_frames(manta, ours)
+
+
+def _check_same_frames(manta, ours):
+    assert manta["grid"] == ours["grid"] == "20x20x14"
+    assert manta["frames"] == ours["frames"] == 3
+    for r in (manta, ours):
+        for key in ("total s", "ms/frame", "steady ms/frame", "CPU ms/frame"):
+            assert _positive(r[key]), (key, r[key])
+        assert r["ms/frame"] == pytest.approx(r["total s"] * 1000.0 / r["frames"], rel=1e-6)
+    assert ours["Mantaflow/this"] == pytest.approx(manta["ms/frame"] / ours["ms/frame"], rel=1e-6)
+    assert ours["Mantaflow/this steady"] == pytest.approx(
+        manta["steady ms/frame"] / ours["steady ms/frame"], rel=1e-6)
+    assert ours["Mantaflow/this CPU"] == pytest.approx(manta["CPU ms/frame"] / ours["CPU ms/frame"], rel=1e-6)
+
+
+def test_replot_draws_from_the_json(quick_run, tmp_path):
+    _, _, out = quick_run
+    png = tmp_path / "again.png"
+    proc = _bench("--replot", "--json", str(out / "bench.json"), "--plot", str(png))
+    assert proc.returncode == 0, proc.stderr
+    assert png.read_bytes().startswith(PNG_SIGNATURE)
+
+
+def test_unknown_section_is_a_usage_error(tmp_path):
+    proc = _bench("--quick", "--sections", "engine,warp_drive", "--json", str(tmp_path / "b.json"))
+    assert proc.returncode == 2
+    assert "unknown section(s) warp_drive" in proc.stderr
+    assert not (tmp_path / "b.json").exists()
+
+
+def test_a_listed_section_without_a_module_is_an_error(monkeypatch):
+    monkeypatch.setattr(runner, "SECTIONS", [*runner.SECTIONS, "no_such_section"])
+    with pytest.raises(hf.HapticFluidError, match="no_such_section.py is missing"):
+        runner.run_sections(["engine", "no_such_section"], quick=True)
+
+
+def test_check_section_names_the_problem():
+    good = {"title": "t", "columns": ["a", "b"], "rows": [[1, 2.5]], "notes": []}
+    assert report.check_section("x", good) is good
+    with pytest.raises(ValueError, match="lacks notes"):
+        report.check_section("x", {"title": "t", "columns": [], "rows": []})
+    with pytest.raises(ValueError, match="row 0 must be a list of 2 values"):
+        report.check_section("x", {**good, "rows": [[1]]})
+    with pytest.raises(ValueError, match="not plain JSON"):
+        report.check_section("x", {**good, "rows": [[1, float("nan")]]})
+
+
+def test_statistics_and_table_format():
+    assert report.median([3.0, 1.0, 2.0]) == 2.0
+    assert report.median([1.0, 2.0, 3.0, 4.0]) == 2.5
+    assert report.p90(list(range(11))) == pytest.approx(9.0)
+    text = report.format_table({"title": "T", "columns": ["name", "ms"],
+                                "rows": [["a", 1.23456], ["bb", None]], "notes": ["n1"]})
+    assert text.splitlines() == ["T", "=", "name    ms", "----  ----", "a     1.23",
+                                 "bb       -", "* n1"]
+    md = report.format_table({"title": "T", "columns": ["x"], "rows": [[2]], "notes": []}, markdown=True)
+    assert "| x |" in md and "| 2 |" in md
