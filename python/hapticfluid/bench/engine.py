@@ -26,8 +26,6 @@ from hapticfluid.bench.scene import SEED_DOMAIN, SEED_RESOLUTION, BenchScene
 # Pressure solvers to compare: (label, Simulation keyword arguments). A new solver is one line.
 SOLVERS: List[Tuple[str, Dict[str, object]]] = [
     ("jacobi-40", {"pressure_iterations": 40}),
-    # About the work of 40 sweeps (a CG iteration costs ~10), and a residual near 1e-4.
-    ("multigrid-4", {"pressure_solver": "multigrid", "pressure_iterations": 4}),
 ]
 
 
