@@ -41,6 +41,15 @@ class Device {
   // Commands a force (N, device frame). The caller has already applied safety limits; a device
   // still never exceeds info().max_force_n.
   virtual void writeForce(const glm::vec3& force_n) = 0;
+  // Zero force, on the hardware before this returns: the haptic loop's last command when it
+  // stops or fails. A device whose writeForce() only takes effect with its next read() (the
+  // Falcon) sends the zero here, or the last force would stay on. Never throws.
+  virtual void zeroForce() noexcept {
+    try {
+      writeForce(glm::vec3(0.0f));
+    } catch (...) {  // the device is gone: nothing more can be commanded
+    }
+  }
   // Zero force, release the hardware. Idempotent; never throws.
   virtual void close() = 0;
 };

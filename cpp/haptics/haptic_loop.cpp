@@ -98,14 +98,11 @@ void HapticLoop::run() {
       tickOnce(now_s, std::min(dt_s, 2.0 * nominal_s));
       ticks_.fetch_add(1, std::memory_order_relaxed);
     }
-    device_->writeForce(glm::vec3(0.0f));
+    device_->zeroForce();
   } catch (const std::exception& e) {
     error_ = std::string("haptic loop stopped: ") + e.what();
     failed_.store(true, std::memory_order_release);
-    try {
-      device_->writeForce(glm::vec3(0.0f));
-    } catch (...) {  // the device is gone; nothing more can be commanded
-    }
+    device_->zeroForce();  // never throws: the device may be gone
   }
   latest_.write(TickOutput{});  // the host sees zero force once the loop has ended
   running_.store(false, std::memory_order_release);

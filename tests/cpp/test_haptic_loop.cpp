@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "haptics/clock.h"
+#include "haptics/falcon/falcon.h"
 #include "haptics/haptic_loop.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
@@ -195,6 +196,28 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
       ASSERT_EQ(t.commanded_n, glm::vec3(0.0f)) << t.time_s;
     }
   }
+}
+
+// The Falcon sends a force with its next read(); the zero on stop must not wait for a read that
+// never comes, or the Falcon keeps pushing with the last force after the session ended.
+TEST(HapticLoop, StopLeavesTheFalconWithZeroForce) {
+  auto sim = std::make_shared<falcon::SimulatedFalconTransport>(falcon::SimulatedFalconOptions{});
+  falcon::FalconOptions options;
+  options.homingTimeout_s = 5.0;
+  auto device = falcon::openSimulatedFalcon(sim, options);
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  ForceFrame f;
+  f.force_n = glm::vec3(0.0f, 0.0f, 1.5f);
+  f.publish_time_s = 1e300;  // never stale
+  forces.write(f);
+  HapticLoop loop(device, poses, forces, loopSettings());
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return glm::length(sim->state().motorForce_n) > 1.0; }, 10000ms));
+  loop.stop();  // no pause first: the loop was commanding 1.5 N up to its last period
+  EXPECT_FALSE(loop.failed()) << loop.error();
+  EXPECT_EQ(sim->state().lastCommand.motor, (std::array<std::int16_t, 3>{0, 0, 0}));
+  EXPECT_LT(glm::length(sim->state().motorForce_n), 1e-9);
 }
 
 TEST(HapticLoop, RejectsBadSettings) {
