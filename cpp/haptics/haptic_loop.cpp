@@ -57,6 +57,7 @@ HapticLoop::HapticLoop(DevicePtr device, Mailbox<PoseFrame>& poses, const Mailbo
 HapticLoop::~HapticLoop() { stop(); }
 
 void HapticLoop::start() {
+  std::lock_guard<std::mutex> lock(thread_mutex_);
   if (thread_.joinable()) throw Error("haptic loop: already started; a loop runs once (make a new one)");
   stop_ = false;
   running_ = true;
@@ -65,6 +66,7 @@ void HapticLoop::start() {
 
 void HapticLoop::stop() {
   stop_.store(true, std::memory_order_release);
+  std::lock_guard<std::mutex> lock(thread_mutex_);
   if (thread_.joinable()) thread_.join();
 }
 

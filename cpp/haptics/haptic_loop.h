@@ -8,6 +8,7 @@
 // says what happened. The host reads stats(), latest() and drainTrace() from any one thread.
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -63,7 +64,7 @@ class HapticLoop {
   HapticLoop& operator=(const HapticLoop&) = delete;
 
   void start();                 // starts the thread (once)
-  void stop();                  // ends the thread within about a period, joins, zero force
+  void stop();                  // ends the thread within about a period, joins, zero force; any thread
   void setEnabled(bool on);     // false: force to zero now; true: ramp in again
   bool running() const { return running_.load(std::memory_order_acquire); }
   bool failed() const { return failed_.load(std::memory_order_acquire); }
@@ -85,6 +86,7 @@ class HapticLoop {
   ForcePipeline pipeline_;  // haptic thread only
 
   std::thread thread_;
+  std::mutex thread_mutex_;  // start() and stop() from several host threads: one joins
   std::atomic<bool> stop_{false}, running_{false}, failed_{false}, enabled_{true}, realtime_{false};
   std::string error_;       // written once by the loop before failed_ is set
   std::string scheduling_;  // written by the loop before sched_known_ is set

@@ -167,6 +167,7 @@ void HapticSession::stop(double timeout_s) {
   if (!(timeout_s >= 0.0) || !std::isfinite(timeout_s)) {
     throw InvalidArgument("stop timeout must be a finite number of seconds >= 0, got " + std::to_string(timeout_s));
   }
+  std::lock_guard<std::mutex> stopping(stop_mutex_);  // a second stop() waits, then finds the threads gone
   loop_.setEnabled(false);
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -194,6 +195,7 @@ void HapticSession::stop(double timeout_s) {
 }
 
 void HapticSession::joinAll() {
+  std::lock_guard<std::mutex> stopping(stop_mutex_);
   loop_.stop();
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -67,7 +67,8 @@ class HapticSession {
   void resume();  // simulation steps again, force ramps in again
   // Force to zero and the haptic thread joined at once; then waits up to timeout_s for the
   // simulation's current step. Throws hf::Error if that step is still running (call again),
-  // or the error that ended the session (after the threads are down).
+  // or the error that ended the session (after the threads are down). Callable from any host
+  // thread; concurrent calls take turns.
   void stop(double timeout_s = 10.0);
 
   SessionState state() const;  // Failed as soon as either thread has failed
@@ -101,6 +102,7 @@ class HapticSession {
 
   std::atomic<SessionState> state_{SessionState::Idle};
   std::thread sim_thread_;
+  std::mutex stop_mutex_;              // one stop()/joinAll() at a time (host threads, atexit)
   mutable std::mutex mutex_;           // guards the fields below (never taken by the haptic thread)
   std::condition_variable cv_;
   bool stop_requested_ = false;

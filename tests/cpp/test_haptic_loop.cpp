@@ -198,6 +198,33 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
   }
 }
 
+// Several host threads stop a loop at once (Python threads, atexit): one joins, the others wait
+// for it; none throws or hangs (two concurrent joins of one thread hang or crash).
+TEST(HapticLoop, StopFromManyThreadsAtOnce) {
+  auto device = std::make_shared<NullDevice>(5.0f);
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  for (int round = 0; round < 5; ++round) {
+    HapticLoop loop(device, poses, forces, loopSettings());
+    loop.start();
+    ASSERT_TRUE(waitFor([&] { return loop.stats().ticks > 3; }, 10000ms));
+    std::atomic<int> errors{0};
+    std::vector<std::thread> stoppers;
+    for (int i = 0; i < 4; ++i) {
+      stoppers.emplace_back([&] {
+        try {
+          loop.stop();
+        } catch (...) {
+          ++errors;
+        }
+      });
+    }
+    for (auto& t : stoppers) t.join();
+    EXPECT_EQ(errors.load(), 0);
+    EXPECT_FALSE(loop.running());
+  }
+}
+
 // The Falcon sends a force with its next read(); the zero on stop must not wait for a read that
 // never comes, or the Falcon keeps pushing with the last force after the session ended.
 TEST(HapticLoop, StopLeavesTheFalconWithZeroForce) {

@@ -5,6 +5,7 @@ import inspect
 import math
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
@@ -184,6 +185,27 @@ def test_context_manager_raises_the_device_error(sim):
             assert wait_until(lambda: session.stats()["ticks"] > 10)
             device.close()
             assert wait_until(lambda: session.state == "failed", timeout=10.0)
+
+
+def test_session_stop_from_several_threads_at_once(sim):
+    session = hf.HapticSession(sim, hf.null_device(), probe_radius=0.15, realtime=False)
+    session.start()
+    assert wait_until(lambda: session.stats()["ticks"] > 10)
+    errors = []
+
+    def stop():
+        try:
+            session.stop()
+        except Exception as exc:  # pragma: no cover - the failure this test looks for
+            errors.append(exc)
+
+    threads = [threading.Thread(target=stop) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=60.0)
+    assert not any(t.is_alive() for t in threads)
+    assert errors == [] and session.state == "stopped"
 
 
 @pytest.mark.parametrize("kwargs, match", [
