@@ -4,6 +4,7 @@
 // own workspace frame, SI units (m, m/s, N); the haptic loop maps that workspace onto the fluid
 // domain. A device is used by one thread at a time: the haptic loop calls read() then
 // writeForce() once per period (1 kHz), and neither may block for longer than about a period.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -52,6 +53,18 @@ class Device {
   }
   // Zero force, release the hardware. Idempotent; never throws.
   virtual void close() = 0;
+
+  // One driver at a time (see DeviceClaim): a haptic loop holds the device while it runs, a
+  // host's own read()/writeForce() call for its length. False: someone else holds it.
+  bool tryClaim() noexcept {
+    bool free = false;
+    return claimed_.compare_exchange_strong(free, true, std::memory_order_acq_rel);
+  }
+  void releaseClaim() noexcept { claimed_.store(false, std::memory_order_release); }
+  bool claimed() const noexcept { return claimed_.load(std::memory_order_acquire); }
+
+ private:
+  std::atomic<bool> claimed_{false};
 };
 
 // Python holds devices through this holder type (bindings use py::class_<Device, DevicePtr>).

@@ -6,6 +6,7 @@
 
 #include "common/error.h"
 #include "haptics/clock.h"
+#include "haptics/device_claim.h"
 #include "haptics/periodic_clock.h"
 
 namespace hf::haptics {
@@ -58,10 +59,18 @@ HapticLoop::~HapticLoop() { stop(); }
 
 void HapticLoop::start() {
   std::lock_guard<std::mutex> lock(thread_mutex_);
-  if (thread_.joinable()) throw Error("haptic loop: already started; a loop runs once (make a new one)");
+  if (thread_.joinable()) {
+    throw Error("haptic loop: already started; a loop runs once (make a new one)");
+  }
+  auto claim = std::make_shared<DeviceClaim>(*device_, "start a haptic loop on it");
   stop_ = false;
   running_ = true;
-  thread_ = std::thread([this] { run(); });
+  try {
+    thread_ = std::thread([this, claim] { run(); });  // the claim ends with the thread
+  } catch (...) {
+    running_ = false;
+    throw;
+  }
 }
 
 void HapticLoop::stop() {

@@ -63,7 +63,9 @@ class HapticLoop {
   HapticLoop(const HapticLoop&) = delete;
   HapticLoop& operator=(const HapticLoop&) = delete;
 
-  void start();                 // starts the thread (once)
+  // Starts the thread (once). Throws hf::Error if another loop (or a host call) holds the
+  // device: the loop holds it (DeviceClaim) until its thread ends.
+  void start();
   void stop();                  // ends the thread within about a period, joins, zero force; any thread
   void setEnabled(bool on);     // false: force to zero now; true: ramp in again
   bool running() const { return running_.load(std::memory_order_acquire); }

@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "haptics/device.h"
+#include "haptics/device_claim.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
 #include "haptics/scripted_device.h"
@@ -152,15 +153,29 @@ void addHaptics(py::module_& m) {
 
   py::class_<Device, DevicePtr>(m, "Device", R"doc(
 A haptic device (Falcon, simulated Falcon, scripted, host-driven or null). While a
-HapticSession drives it, leave read() and write_force() to the session.
+HapticSession drives it, read() and write_force() raise HapticFluidError, and a second
+session on it fails to start; close() still stops it (the session then fails with an error).
 )doc")
       .def("info", &Device::info, "A DeviceInfo: name, kind, workspace, max_force ...")
-      .def("read", &Device::read, py::call_guard<py::gil_scoped_release>(),
-           "The latest DeviceState. Raises HapticFluidError if the device is gone or closed.")
       .def(
-          "write_force", [](Device& d, const Vec3& f) { d.writeForce(toVec3(f)); }, py::arg("force"),
+          "read",
+          [](Device& d) {
+            const haptics::DeviceClaim claim(d, "read() it");
+            return d.read();
+          },
           py::call_guard<py::gil_scoped_release>(),
-          "Command a force (N, device frame). No safety stage here: a HapticSession adds one.")
+          "The latest DeviceState. Raises HapticFluidError if the device is gone or closed, or while\n"
+          "a HapticSession drives it.")
+      .def(
+          "write_force",
+          [](Device& d, const Vec3& f) {
+            const haptics::DeviceClaim claim(d, "write_force() to it");
+            d.writeForce(toVec3(f));
+          },
+          py::arg("force"), py::call_guard<py::gil_scoped_release>(),
+          "Command a force (N, device frame). No safety stage here: a HapticSession adds one.\n"
+          "Raises HapticFluidError while a HapticSession drives the device (its safety stage owns\n"
+          "the output).")
       .def("close", &Device::close, py::call_guard<py::gil_scoped_release>(),
            "Zero force and release the device (idempotent).")
       .def("__enter__", [](const DevicePtr& d) { return d; })

@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "haptics/clock.h"
+#include "haptics/device_claim.h"
 #include "haptics/falcon/falcon.h"
 #include "haptics/haptic_loop.h"
 #include "haptics/host_device.h"
@@ -196,6 +197,32 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
       ASSERT_EQ(t.commanded_n, glm::vec3(0.0f)) << t.time_s;
     }
   }
+}
+
+// Two loops on one device would each command force past the other's safety stage; the second
+// start() must fail, and the device must be free again once the first has stopped.
+TEST(HapticLoop, OneLoopPerDevice) {
+  auto device = std::make_shared<NullDevice>(5.0f);
+  Mailbox<PoseFrame> poses1, poses2;
+  Mailbox<ForceFrame> forces;
+  HapticLoop first(device, poses1, forces, loopSettings());
+  HapticLoop second(device, poses2, forces, loopSettings());
+  first.start();
+  try {
+    second.start();
+    ADD_FAILURE() << "a second loop started on a device already driven";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is in use"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(second.running());
+  EXPECT_THROW(DeviceClaim(*device, "write_force() to it"), Error);  // a host call is refused too
+  ASSERT_TRUE(waitFor([&] { return first.stats().ticks > 3; }, 10000ms));
+  first.stop();
+  EXPECT_FALSE(device->claimed());
+  second.start();  // the device is free again
+  EXPECT_TRUE(device->claimed());
+  second.stop();
+  EXPECT_FALSE(device->claimed());
 }
 
 // Several host threads stop a loop at once (Python threads, atexit): one joins, the others wait

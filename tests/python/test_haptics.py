@@ -187,6 +187,24 @@ def test_context_manager_raises_the_device_error(sim):
             assert wait_until(lambda: session.state == "failed", timeout=10.0)
 
 
+def test_a_driven_device_refuses_host_commands_and_a_second_session(sim):
+    device = hf.null_device(max_force=2.0)
+    first = hf.HapticSession(sim, device, probe_radius=0.15, realtime=False)
+    second = hf.HapticSession(sim, device, probe_radius=0.15, realtime=False)
+    with first:
+        assert wait_until(lambda: first.stats()["ticks"] > 10)
+        # Past the session's safety stage: refused, not interleaved with the session's commands.
+        with pytest.raises(hf.HapticFluidError, match="in use.*write_force"):
+            device.write_force((5.0, 0.0, 0.0))
+        with pytest.raises(hf.HapticFluidError, match="in use.*read"):
+            device.read()
+        with pytest.raises(hf.HapticFluidError, match="in use"):
+            second.start()
+        assert second.state == "idle"
+    assert device.read().homed  # free again
+    device.write_force((1.0, 0.0, 0.0))
+
+
 def test_session_stop_from_several_threads_at_once(sim):
     session = hf.HapticSession(sim, hf.null_device(), probe_radius=0.15, realtime=False)
     session.start()
