@@ -66,8 +66,10 @@ class HapticLoop {
   // Starts the thread (once). Throws hf::Error if another loop (or a host call) holds the
   // device: the loop holds it (DeviceClaim) until its thread ends.
   void start();
-  void stop();                  // ends the thread within about a period, joins, zero force; any thread
-  void setEnabled(bool on);     // false: force to zero now; true: ramp in again
+  // Slews the force down to zero (max_force / slew_rate, at most 0.25 s), ends the thread,
+  // joins, and sends a last zero. From any thread; concurrent calls take turns.
+  void stop();
+  void setEnabled(bool on);     // false: force slews down to zero; true: ramp in again
   bool running() const { return running_.load(std::memory_order_acquire); }
   bool failed() const { return failed_.load(std::memory_order_acquire); }
   std::string error() const;    // "" unless failed()
@@ -79,7 +81,7 @@ class HapticLoop {
 
  private:
   void run();
-  void tickOnce(double now_s, double dt_s);
+  void tickOnce(double now_s, double dt_s, bool may_enable);  // may_enable false: stopping
 
   DevicePtr device_;
   Mailbox<PoseFrame>& poses_;

@@ -305,13 +305,15 @@ session on it fails to start; close() still stops it (the session then fails wit
   };
   c.def("start", start, "Start the haptic and simulation threads (once). Returns at once.");
   c.def("pause", &HapticSession::pause, py::call_guard<py::gil_scoped_release>(),
-        "Force to zero now; the simulation holds after its current step.");
+        "Force down to zero at slew_rate (8 N at 200 N/s: 40 ms); the simulation holds after its\n"
+        "current step.");
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
   c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
-        "Force to zero and both threads ended: waits at most `timeout` s for the simulation's\n"
-        "current step (HapticFluidError if it is still running: call again). Raises the error that\n"
-        "ended the session, if any (once), as HapticFluidError.");
+        "Force down to zero at slew_rate (at most 0.25 s) and both threads ended: waits at most\n"
+        "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
+        "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
+        "Any thread may call it; concurrent calls take turns.");
   c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.state()); },
                           "'idle', 'running', 'paused', 'stopped' or 'failed'.");
   c.def_property_readonly(

@@ -6,7 +6,7 @@
 //     force mailbox. A step takes as long as the GPU needs; the haptic thread does not notice.
 //   host (Python, Blender): start/pause/resume/stop, stats(), latest(), drainTrace(); none of
 //     these waits for a GPU step except stop(), which waits at most its timeout.
-// An error on either thread (device gone, solver failure) stops force output at once and is
+// An error on either thread (device gone: zero at once; solver failure: slewed to zero) stops force output and is
 // kept: error() returns it and stop() throws it as hf::Error after a clean shutdown.
 #include <atomic>
 #include <condition_variable>
@@ -63,9 +63,9 @@ class HapticSession {
   HapticSession& operator=(const HapticSession&) = delete;
 
   void start();   // starts both threads (once)
-  void pause();   // force to zero now, simulation holds after its current step
+  void pause();   // force slews to zero (max_force / slew_rate), simulation holds after its current step
   void resume();  // simulation steps again, force ramps in again
-  // Force to zero and the haptic thread joined at once; then waits up to timeout_s for the
+  // Force slewed to zero (at most 0.25 s) and the haptic thread joined; then waits up to timeout_s for the
   // simulation's current step. Throws hf::Error if that step is still running (call again),
   // or the error that ended the session (after the threads are down). Callable from any host
   // thread; concurrent calls take turns.

@@ -199,6 +199,35 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
   }
 }
 
+// stop() slews the command down to zero at the slew rate before the thread ends (no 1.5 N to 0
+// step in the hand), and the last command is zero.
+TEST(HapticLoop, StopSlewsTheForceDownToZero) {
+  auto device = std::make_shared<FaultyDevice>(1 << 30);  // never fails; records every force
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  ForceFrame f;
+  f.force_n = glm::vec3(1.5f, 0.0f, 0.0f);
+  f.publish_time_s = 1e300;  // never stale
+  forces.write(f);
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.slew_rate_n_s = 100.0f;  // 0.1 N per period: 15 periods from 1.5 N to 0
+  HapticLoop loop(device, poses, forces, s);
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return glm::length(loop.latest().commanded_n) > 1.49f; }, 10000ms));
+  loop.stop();
+  const auto seen = device->forces();
+  ASSERT_GE(seen.size(), 20u);
+  EXPECT_EQ(seen.back(), glm::vec3(0.0f));
+  // Each period's step is at most slew * (two nominal periods, the loop's cap on dt).
+  const float max_step = 100.0f * 2e-3f * (1.0f + 1e-5f);
+  std::size_t peak = 0;
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    EXPECT_LE(glm::length(seen[i] - seen[i - 1]), max_step) << "command " << i << " of " << seen.size();
+    if (glm::length(seen[i]) > 1.49f) peak = i;
+  }
+  EXPECT_GE(seen.size() - peak, 8u);  // the way down took several periods
+}
+
 // Two loops on one device would each command force past the other's safety stage; the second
 // start() must fail, and the device must be free again once the first has stopped.
 TEST(HapticLoop, OneLoopPerDevice) {
