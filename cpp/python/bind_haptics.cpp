@@ -274,6 +274,11 @@ session on it fails to start; close() still stops it (the session then fails wit
           s.loop.rate_hz = rate;
           s.loop.realtime = realtime;
           if (trace) {
+            // The rate is checked (with its own message) when the session is made; a NaN or
+            // negative one must not reach the size_t conversion below first.
+            if (!(rate >= 100.0 && rate <= 10000.0)) {
+              throw InvalidArgument("haptic rate must be between 100 and 10000 Hz, got " + std::to_string(rate));
+            }
             if (!(trace_seconds > 0.0) || trace_seconds * rate > double(std::size_t{1} << 24)) {
               throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
                                     std::to_string(trace_seconds) + " s");
