@@ -91,6 +91,17 @@ def test_host_device_velocity_from_pushes():
     assert d.read().homed
 
 
+def test_host_device_rejects_pushes_too_close_for_a_finite_velocity():
+    d = hf.host_device()
+    d.push_pose((0.0, 0.0, 0.0), 0.0)
+    with pytest.raises(hf.InvalidArgumentError, match="too close"):
+        d.push_pose((0.01, 0.0, 0.0), 1e-300)  # dt > 0, but 0.01 m / 1e-300 s is no velocity
+    state = d.read()
+    assert np.all(np.isfinite(state.position)) and np.all(np.isfinite(state.velocity))
+    d.push_pose((0.01, 0.0, 0.0), 0.01)  # the rejected push changed nothing
+    np.testing.assert_allclose(d.state_after(0.0).velocity, (1.0, 0.0, 0.0), rtol=1e-6)
+
+
 def test_null_device_and_close():
     with hf.null_device() as d:
         s = d.read()
