@@ -320,7 +320,8 @@ session on it fails to start; close() still stops it (the session then fails wit
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
         "Any thread may call it; concurrent calls take turns.");
   c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.state()); },
-                          "'idle', 'running', 'paused', 'stopped' or 'failed'.");
+                          "'idle', 'running', 'paused', 'stopped' (force output ended, even if stop() timed out\n"
+                          "waiting for the last simulation step) or 'failed'.");
   c.def_property_readonly(
       "error",
       [](const HapticSession& s) -> py::object {

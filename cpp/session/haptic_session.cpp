@@ -174,9 +174,11 @@ void HapticSession::stop(double timeout_s) {
     stop_requested_ = true;
   }
   cv_.notify_all();
-  loop_.stop();  // within about one period; the device got its last zero
+  loop_.stop();  // slews down (at most 0.25 s), joins; the device got its last zero
   if (loop_.failed()) fail(loop_.error());
   std::unique_lock<std::mutex> lock(mutex_);
+  // Force output has ended: say so now, even if the simulation's last step is still running.
+  if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
   if (sim_thread_.joinable()) {
     const auto limit = std::chrono::duration<double>(timeout_s);
     if (!cv_.wait_for(lock, limit, [this] { return sim_done_; })) {

@@ -71,7 +71,9 @@ class HapticSession {
   // thread; concurrent calls take turns.
   void stop(double timeout_s = 10.0);
 
-  SessionState state() const;  // Failed as soon as either thread has failed
+  // Failed as soon as either thread has failed; Stopped once stop() has ended force output
+  // (the simulation's last step may still be finishing if stop() timed out).
+  SessionState state() const;
   HapticSessionStats stats() const;
   haptics::TickOutput latest() const { return loop_.latest(); }
   haptics::DeviceState latestState() const { return loop_.latestState(); }

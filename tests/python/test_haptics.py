@@ -237,6 +237,29 @@ def test_session_stop_from_several_threads_at_once(sim):
     assert errors == [] and session.state == "stopped"
 
 
+def test_stop_that_times_out_still_reports_the_force_output_stopped():
+    # 48^3 with a fixed step: the simulation thread is nearly always mid-step, so stop(0) times
+    # out waiting for it; force output has ended all the same and the state must say so.
+    with hf.Simulation(resolution=(48, 48, 48), pressure_iterations=60) as big:
+        timed_out = False
+        for _ in range(5):
+            session = hf.HapticSession(big, hf.null_device(), probe_radius=0.15, sim_dt=0.01, realtime=False)
+            session.start()
+            assert wait_until(lambda: session.stats()["sim_steps"] >= 1, timeout=60.0)
+            try:
+                session.stop(timeout=0.0)
+            except hf.HapticFluidError as exc:
+                assert "still running" in str(exc)
+                timed_out = True
+                assert session.state == "stopped"
+                np.testing.assert_array_equal(session.latest_force, [0.0, 0.0, 0.0])
+            session.stop(timeout=60.0)
+            assert session.state == "stopped"
+            if timed_out:
+                break
+        assert timed_out, "stop(0) never caught the simulation mid-step"
+
+
 @pytest.mark.parametrize("kwargs, match", [
     (dict(filter="median"), "filter"),
     (dict(workspace_scale=0.0), "workspace_scale"),
