@@ -39,10 +39,15 @@ CSV_COLUMNS = ["time_s", "x_m", "y_m", "z_m",
 
 
 def sweep_position(t: float, period: float = SWEEP_PERIOD_S) -> Tuple[float, float, float]:
-    """The built-in path (m, device frame) at time t (s): x = A sin(wt), z = B sin(2wt)."""
+    """The built-in path (m, device frame) at time t (s): x = A cos(wt), z = B cos(2wt).
+
+    It starts at rest (every velocity component is zero at t = 0), so the probe does not appear
+    in still fluid already moving: an impulsive start would give a physically right but large
+    added-mass force of m_added * v / dt on the first step.
+    """
     w = 2.0 * math.pi / period
     ax, ay, az = SWEEP_AMPLITUDE_M
-    return (ax * math.sin(w * t), ay * math.sin(w * t), az * math.sin(2.0 * w * t))
+    return (ax * math.cos(w * t), ay * math.cos(w * t), az * math.cos(2.0 * w * t))
 
 
 def sweep_waypoints(samples: int = 200, period: float = SWEEP_PERIOD_S):

@@ -72,3 +72,14 @@ def test_simulated_falcon_run(tmp_path):
     header, values = read_csv(tmp_path / haptic_cli.CSV_NAME)
     assert len(values) > 100 and np.all(np.isfinite(values))
     assert np.linalg.norm(values[:, 10:13], axis=1).max() <= 8.0 * (1 + 1e-5)  # the Falcon's maximum
+
+
+def test_built_in_path_starts_at_rest_and_loops():
+    h = 1e-4
+    start = np.array(haptic_cli.sweep_position(0.0))
+    velocity = (np.array(haptic_cli.sweep_position(h)) - start) / h
+    assert np.abs(velocity).max() < 1e-3  # m/s: no impulsive start
+    period = haptic_cli.SWEEP_PERIOD_S
+    assert np.allclose(haptic_cli.sweep_position(period), start, atol=1e-12)
+    times, positions = haptic_cli.sweep_waypoints()
+    assert np.ptp(positions[:, 0]) == pytest.approx(2 * haptic_cli.SWEEP_AMPLITUDE_M[0], rel=1e-3)
