@@ -14,6 +14,7 @@ damaged checkpoint, or one from other settings, is refused with a clear error.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import io
 import json
@@ -67,8 +68,26 @@ def _umask() -> int:
     return mask
 
 
+def sync_folder(folder: "str | os.PathLike") -> None:
+    """Flush a folder's entries (a rename in it) to the disk, so a power cut after the rename
+    cannot bring back the old file or lose the new name. Best effort where folders cannot be
+    opened (some file systems); real I/O errors raise."""
+    try:
+        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError as exc:
+        if exc.errno not in (errno.EINVAL, errno.ENOTSUP, errno.EBADF):  # folder fsync unsupported
+            raise
+    finally:
+        os.close(fd)
+
+
 def atomic_write(path: Path, write: Callable[[Any], None], binary: bool = False) -> None:
-    """Write ``path`` through a temporary file in its folder, flushed, then renamed into place."""
+    """Write ``path`` through a temporary file in its folder, flushed, then renamed into place;
+    the folder is flushed after the rename, so the new name survives a power cut."""
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as f:
@@ -83,6 +102,7 @@ def atomic_write(path: Path, write: Callable[[Any], None], binary: bool = False)
         except FileNotFoundError:
             pass
         raise
+    sync_folder(path.parent)
 
 
 def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
