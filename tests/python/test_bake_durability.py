@@ -36,3 +36,30 @@ def test_atomic_write_failure_leaves_no_file_and_no_temporary(tmp_path):
     with pytest.raises(RuntimeError):
         bake_cache.atomic_write(target, fail, binary=True)
     assert list(tmp_path.iterdir()) == []
+
+
+def _small_scene(cache, frames):
+    from hapticfluid.bake import scene_from_dict
+
+    return scene_from_dict({
+        "domain": {"origin": [0.0, 0.0, 0.0], "size": [1.0, 1.0, 1.0]},
+        "resolution": 8,
+        "fluid": {"pressure_iterations": 4},
+        "source": {"centre": [0.5, 0.5, 0.3], "radius": 0.2, "temperature": 5.0},
+        "frames": {"start": 1, "end": frames, "fps": 24},
+        "substeps": 1,
+        "cache": {"directory": str(cache)},
+    })
+
+
+def test_resuming_a_finished_bake_keeps_the_manifest_complete(tmp_path):
+    from hapticfluid.bake import bake, read_manifest
+
+    scene = _small_scene(tmp_path / "c", 2)
+    assert bake(scene).last_frame == 2
+    assert read_manifest(tmp_path / "c")["complete"] is True
+    again = bake(scene, resume=True)
+    assert again.frames_written == 0 and again.last_frame == 2 and again.resumed_from == 2
+    manifest = read_manifest(tmp_path / "c")
+    assert manifest["complete"] is True and manifest["frames_done"] == [1, 2]
+    assert [s["resumed_from"] for s in manifest["sessions"]] == [None, 2]

@@ -223,6 +223,7 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     first = scene.frame_start if resumed_from is None else resumed_from + 1
     manifest["frames_done"] = list(range(scene.frame_start, first))
     manifest["last_frame"] = first - 1 if first > scene.frame_start else None
+    manifest["complete"] = first > scene.frame_end  # resuming a finished bake: nothing left to do
     session: Dict[str, Any] = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0,
                                "seconds": 0.0, "device": None}
     manifest["sessions"].append(session)
