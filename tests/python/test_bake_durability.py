@@ -63,3 +63,22 @@ def test_resuming_a_finished_bake_keeps_the_manifest_complete(tmp_path):
     manifest = read_manifest(tmp_path / "c")
     assert manifest["complete"] is True and manifest["frames_done"] == [1, 2]
     assert [s["resumed_from"] for s in manifest["sessions"]] == [None, 2]
+
+
+def test_a_sheared_key_is_refused_not_silently_changed():
+    import numpy as np
+
+    import hapticfluid as hf
+    from hapticfluid.bake import Trajectory
+
+    # rotated by 30 degrees about z, then scaled 2x along world x: its axes are not perpendicular
+    c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
+    sheared = np.eye(4)
+    sheared[:3, :3] = np.diag([2.0, 1.0, 1.0]) @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    with pytest.raises(hf.InvalidArgumentError, match="sheared"):
+        Trajectory([(1.0, sheared)])
+    # rotation, non-uniform scale and a mirror without shear still round-trip exactly
+    good = np.eye(4)
+    good[:3, :3] = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ np.diag([-2.0, 0.5, 3.0])
+    good[:3, 3] = (0.1, 0.2, 0.3)
+    np.testing.assert_allclose(Trajectory([(1.0, good)]).pose(1.0).matrix(), good, atol=1e-12)
