@@ -424,6 +424,7 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
   m.def(
       "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
       py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
+  m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
   m.attr("CELL_OUTSIDE") = 0;
   m.attr("CELL_SURROUNDING") = 1;
   m.attr("CELL_BOUNDARY") = 2;

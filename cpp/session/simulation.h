@@ -129,6 +129,8 @@ class Simulation {
 
   // GPU memory the fields of a grid take, bytes; throws InvalidArgument for a bad resolution.
   static std::size_t estimateBytes(const glm::ivec3& resolution);
+  // Bytes step() reads back from the GPU (its one read-back: every result slot, vec4 each).
+  static std::size_t stepReadbackBytes();
 
  private:
   struct Engine;

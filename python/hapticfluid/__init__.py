@@ -15,6 +15,7 @@ Example::
 from hapticfluid._core import (
     CELL_BOUNDARY,
     CELL_INSIDE,
+    STEP_READBACK_BYTES,
     CELL_OUTSIDE,
     CELL_SURROUNDING,
     Device,
@@ -49,6 +50,7 @@ __version__ = "0.1.0"
 __all__ = [
     "CELL_BOUNDARY",
     "CELL_INSIDE",
+    "STEP_READBACK_BYTES",
     "CELL_OUTSIDE",
     "CELL_SURROUNDING",
     "Device",

@@ -9,6 +9,7 @@ CELL_OUTSIDE: int
 CELL_SURROUNDING: int
 CELL_BOUNDARY: int
 CELL_INSIDE: int
+STEP_READBACK_BYTES: int  # bytes one Simulation.step() reads back from the GPU
 
 Vec3 = Sequence[float]
 Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column
