@@ -289,7 +289,7 @@ velocity: velocity of the object's origin (the transform's translation), m/s.
 angular_velocity: rad/s, world frame, about the origin; faces the solid covers move at
     velocity + angular_velocity x (x - origin).
 torque_centre: world point (m) for StepReport.torque, or None for the centroid of the cells
-    the mesh covers.
+    the mesh covers. A given point is fixed in the world: set_probe_pose does not move it.
 
 The mesh must be closed and consistently oriented: after merging vertices at identical
 positions, every edge is used once in each direction (several shells are fine; zero-area
@@ -316,6 +316,9 @@ Move the current probe without re-uploading its shape: cheap, never waits for th
 transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity. For a sphere
     probe only its translation is used, as the centre.
 velocity: of the origin (m/s). angular_velocity: world frame (rad/s).
+A mesh's torque_centre, if one was given, stays the same world point; to take the torque
+about a point that moves with the body, compute it from the report's torque_centre, force and
+torque (tau_c = tau - (c - torque_centre) x force), or call set_mesh_probe again.
 Raises InvalidArgumentError if there is no probe or the pose leaves the domain's margin.
 )doc");
   c.def("clear_probe", &Simulation::clearProbe, "Remove the probe from the fluid.");
