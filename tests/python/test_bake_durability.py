@@ -82,3 +82,15 @@ def test_a_sheared_key_is_refused_not_silently_changed():
     good[:3, :3] = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ np.diag([-2.0, 0.5, 3.0])
     good[:3, 3] = (0.1, 0.2, 0.3)
     np.testing.assert_allclose(Trajectory([(1.0, good)]).pose(1.0).matrix(), good, atol=1e-12)
+
+
+@pytest.mark.parametrize("value", [2 ** 70, (1, 2, 2 ** 40), (1.0, "a", 2.0)])
+def test_vdb_metadata_that_cannot_be_stored_is_a_clear_invalid_argument(tmp_path, value):
+    import numpy as np
+
+    import hapticfluid as hf
+
+    target = tmp_path / "f.vdb"
+    with pytest.raises(hf.InvalidArgumentError, match="metadata 'bad'"):
+        hf.write_vdb(str(target), np.zeros((2, 2, 2), np.float32), 0.1, metadata={"ok": 1, "bad": value})
+    assert list(tmp_path.iterdir()) == []
