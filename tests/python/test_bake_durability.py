@@ -94,3 +94,18 @@ def test_vdb_metadata_that_cannot_be_stored_is_a_clear_invalid_argument(tmp_path
     with pytest.raises(hf.InvalidArgumentError, match="metadata 'bad'"):
         hf.write_vdb(str(target), np.zeros((2, 2, 2), np.float32), 0.1, metadata={"ok": 1, "bad": value})
     assert list(tmp_path.iterdir()) == []
+
+
+def test_resume_hint_keeps_the_cache_folder_and_resolution(tmp_path):
+    import argparse
+    import shlex
+
+    from hapticfluid.bake.command import resume_command
+
+    args = argparse.Namespace(scene="my scene.json", resolution=48, cache=str(tmp_path / "other cache"))
+    words = shlex.split(resume_command(args))
+    assert words[:6] == ["python3", "-m", "hapticfluid", "bake", "my scene.json", "--resume"]
+    assert words[words.index("--resolution") + 1] == "48"
+    assert words[words.index("--cache") + 1] == str(tmp_path / "other cache")
+    plain = shlex.split(resume_command(argparse.Namespace(scene="s.json", resolution=None, cache=None)))
+    assert "--cache" not in plain and "--resolution" not in plain
