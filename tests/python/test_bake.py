@@ -393,12 +393,18 @@ def test_example_scene_loads():
     assert scene.cache_dir.resolve() == (root / "out" / "bake_demo_cache").resolve()  # relative to the file
 
 
-def test_bake_benchmark_quick_runs():
+def test_bake_benchmark_quick_runs(tmp_path, capsys):
     from hapticfluid.bench import bake as bench
+    from hapticfluid.bench import report
 
-    res = bench.run(quick=True)
+    out = tmp_path / "bake.json"
+    assert report.section_main("bake", bench.run, ["--quick", "--json", str(out)]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["bake.json"]  # written atomically, no temporary left
+    res = json.loads(out.read_text())["sections"]["bake"]
     assert res["columns"][0] == "resolution" and len(res["rows"]) == 8
-    assert all(row[-1] == "finished" and row[4] > 0 and row[5] > 0 for row in res["rows"])
+    col = {c: i for i, c in enumerate(res["columns"])}
+    assert all(row[col["status"]] == "finished" and row[col["s/frame"]] > 0 and row[col["last frame KiB"]] > 0
+               and row[col["first frame s"]] > 0 for row in res["rows"])
     by_key = {(r[0], r[1], r[2]): r for r in res["rows"]}
     # Half floats make the files with velocity and pressure (dense fields) smaller.
     assert by_key[("24^3", "density+velocity+pressure", "half")][6] < \
