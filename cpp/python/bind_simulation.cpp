@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/validate.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/convert_mesh.h"
@@ -428,6 +429,8 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
       "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
       py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
   m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
+  m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
+  m.attr("MAX_TIME_STEP_S") = static_cast<double>(fluid::kMaxTimeStep);
   m.attr("CELL_OUTSIDE") = 0;
   m.attr("CELL_SURROUNDING") = 1;
   m.attr("CELL_BOUNDARY") = 2;

@@ -10,6 +10,8 @@ CELL_SURROUNDING: int
 CELL_BOUNDARY: int
 CELL_INSIDE: int
 STEP_READBACK_BYTES: int  # bytes one Simulation.step() reads back from the GPU
+MIN_TIME_STEP_S: float  # smallest dt Simulation.step() takes, s
+MAX_TIME_STEP_S: float  # largest dt Simulation.step() takes, s
 
 Vec3 = Sequence[float]
 Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column

@@ -109,3 +109,27 @@ def test_resume_hint_keeps_the_cache_folder_and_resolution(tmp_path):
     assert words[words.index("--cache") + 1] == str(tmp_path / "other cache")
     plain = shlex.split(resume_command(argparse.Namespace(scene="s.json", resolution=None, cache=None)))
     assert "--cache" not in plain and "--resolution" not in plain
+
+
+def test_a_frame_rate_the_engine_cannot_step_is_refused_when_the_scene_loads(tmp_path):
+    import hapticfluid as hf
+    from hapticfluid.bake import bake, list_frames, scene_from_dict
+
+    def scene(**overrides):
+        d = {"domain": {"size": [1.0, 1.0, 1.0]}, "resolution": 8, "frames": {"start": 1, "end": 1, "fps": 24},
+             "substeps": 1, "cache": {"directory": str(tmp_path / "c")}}
+        d.update(overrides)
+        return d
+
+    assert hf.MIN_TIME_STEP_S == pytest.approx(1e-6) and hf.MAX_TIME_STEP_S == pytest.approx(10.0)
+    bake(scene_from_dict(scene()))  # an earlier bake that a refused one must not free
+    # 0.05 fps, 1 substep: 20 s steps, twice the engine's longest step
+    with pytest.raises(hf.InvalidArgumentError, match=r"frames\.fps.*20 s"):
+        scene_from_dict(scene(frames={"start": 1, "end": 1, "fps": 0.05}))
+    # adaptive may take a single 20 s step too, though max_substeps alone would be fine
+    with pytest.raises(hf.InvalidArgumentError, match=r"frames\.fps.*adaptive"):
+        scene_from_dict(scene(frames={"start": 1, "end": 1, "fps": 0.05}, substeps="adaptive", max_substeps=4))
+    with pytest.raises(hf.InvalidArgumentError, match=r"frames\.fps.*at least"):
+        scene_from_dict(scene(frames={"start": 1, "end": 1, "fps": 1e5}, substeps=20))
+    scene_from_dict(scene(frames={"start": 1, "end": 1, "fps": 0.2}, substeps=2))  # 2.5 s steps are fine
+    assert list_frames(tmp_path / "c") == [1]

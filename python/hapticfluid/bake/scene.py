@@ -293,6 +293,22 @@ def _key_matrix(where: str, key: Dict[str, Any]) -> np.ndarray:
     return m
 
 
+def _check_step_range(fps: float, substeps: Any, max_substeps: int) -> None:
+    """The simulation steps (frame time / substeps) must be ones the engine takes; found here,
+    not at the first step of a bake that has already freed the old one."""
+    import hapticfluid as hf
+
+    lo_n, hi_n = (1, max_substeps) if substeps == "adaptive" else (substeps, substeps)
+    longest, shortest = 1.0 / (fps * lo_n), 1.0 / (fps * hi_n)
+    what = "adaptive substeps (1 .. max_substeps)" if substeps == "adaptive" else f"{substeps} substeps"
+    if longest > hf.MAX_TIME_STEP_S:
+        raise _err("frames.fps", f"{fps:g} fps with {what} gives steps of up to {longest:.4g} s; the engine "
+                                 f"steps at most {hf.MAX_TIME_STEP_S:g} s: raise fps or the substeps")
+    if shortest < hf.MIN_TIME_STEP_S:
+        raise _err("frames.fps", f"{fps:g} fps with {what} gives steps of {shortest:.3g} s; the engine "
+                                 f"steps at least {hf.MIN_TIME_STEP_S:g} s: lower fps, substeps or max_substeps")
+
+
 def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -> BakeScene:
     """Validate a scene dict (the JSON form) into a BakeScene; relative cache paths resolve
     against ``base_dir``. Raises InvalidArgumentError naming the key to fix."""
@@ -382,6 +398,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         substeps = _integer("substeps", substeps, 1)
     cfl = _number("cfl", top.get("cfl", 1.0), positive=True)
     max_substeps = _integer("max_substeps", top.get("max_substeps", 16), 1)
+    _check_step_range(fps, substeps, max_substeps)
 
     c = _table("cache", top["cache"], ("directory", "grids", "compression", "half_float", "tolerance"))
     directory = c.get("directory")
