@@ -133,3 +133,22 @@ def test_a_frame_rate_the_engine_cannot_step_is_refused_when_the_scene_loads(tmp
         scene_from_dict(scene(frames={"start": 1, "end": 1, "fps": 1e5}, substeps=20))
     scene_from_dict(scene(frames={"start": 1, "end": 1, "fps": 0.2}, substeps=2))  # 2.5 s steps are fine
     assert list_frames(tmp_path / "c") == [1]
+
+
+def test_mesh_triangle_indices_that_are_not_integers_are_refused():
+    import hapticfluid as hf
+    from hapticfluid.bake import scene_from_dict
+
+    def scene(triangles):
+        vertices = [[0.4, 0.4, 0.4], [0.6, 0.4, 0.4], [0.4, 0.6, 0.4], [0.4, 0.4, 0.6]]
+        return {"domain": {"size": [1.0, 1.0, 1.0]}, "resolution": 16, "frames": {"start": 1, "end": 1},
+                "cache": {"directory": "c"},
+                "probe": {"shape": "mesh", "vertices": vertices, "triangles": triangles,
+                          "keys": [{"frame": 1, "location": [0.0, 0.0, 0.0]}]}}
+
+    good = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    assert scene_from_dict(scene(good)).probe.triangles.tolist() == good
+    for bad in ([[0, 2, 1.5], [0, 1, 3], [0, 3, 2], [1, 2, 3]],   # was truncated to 1
+                [[0, 2, True], [0, 1, 3], [0, 3, 2], [1, 2, 3]]):  # booleans are not indices
+        with pytest.raises(hf.InvalidArgumentError, match=r"probe\.triangles: vertex indices must be integers"):
+            scene_from_dict(scene(bad))

@@ -361,10 +361,16 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         elif shape == "mesh":
             try:
                 vertices = np.asarray(p.get("vertices"), dtype=np.float64)
-                triangles = np.asarray(p.get("triangles"), dtype=np.int64)
+                raw_triangles = np.asarray(p.get("triangles"))
             except (TypeError, ValueError):
                 raise _err("probe", "'vertices' must be [[x, y, z], ...] (m) and 'triangles' [[i, j, k], ...]") \
                     from None
+            listed_bool = isinstance(p.get("triangles"), (list, tuple)) and any(
+                isinstance(i, bool) for row in p["triangles"] if isinstance(row, (list, tuple)) for i in row)
+            if listed_bool or (raw_triangles.size and not np.issubdtype(raw_triangles.dtype, np.integer)):
+                # a cast would truncate 2.5 to 2 (or true to 1) without a word
+                raise _err("probe.triangles", "vertex indices must be integers (no fractions, no true/false)")
+            triangles = raw_triangles.astype(np.int64)
             if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4 or not np.all(np.isfinite(vertices)):
                 raise _err("probe.vertices", f"needs at least 4 finite [x, y, z] rows, got shape {vertices.shape}")
             if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) < 4:
