@@ -152,3 +152,21 @@ def test_mesh_triangle_indices_that_are_not_integers_are_refused():
                 [[0, 2, True], [0, 1, 3], [0, 3, 2], [1, 2, 3]]):  # booleans are not indices
         with pytest.raises(hf.InvalidArgumentError, match=r"probe\.triangles: vertex indices must be integers"):
             scene_from_dict(scene(bad))
+
+
+def test_probe_keys_of_the_other_shape_are_refused_not_ignored():
+    import hapticfluid as hf
+    from hapticfluid.bake import scene_from_dict
+
+    base = {"domain": {"size": [1.0, 1.0, 1.0]}, "resolution": 16, "frames": {"start": 1, "end": 1},
+            "cache": {"directory": "c"}}
+    keys = [{"frame": 1, "location": [0.5, 0.5, 0.5]}]
+    vertices = [[-0.1, -0.1, -0.1], [0.1, -0.1, -0.1], [-0.1, 0.1, -0.1], [-0.1, -0.1, 0.1]]
+    triangles = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    with pytest.raises(hf.InvalidArgumentError, match=r"scene probe: a sphere probe takes no \['triangles', 'vertices'\]"):
+        scene_from_dict({**base, "probe": {"radius": 0.1, "vertices": vertices, "triangles": triangles, "keys": keys}})
+    with pytest.raises(hf.InvalidArgumentError, match=r"scene probe: a mesh probe takes no \['radius'\]"):
+        scene_from_dict({**base, "probe": {"shape": "mesh", "radius": 0.3, "vertices": vertices,
+                                           "triangles": triangles, "keys": keys}})
+    assert scene_from_dict({**base, "probe": {"shape": "mesh", "vertices": vertices, "triangles": triangles,
+                                              "keys": keys}}).probe.shape == "mesh"

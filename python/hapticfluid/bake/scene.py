@@ -356,6 +356,11 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         p = _table("probe", top["probe"], ("shape", "radius", "keys", "vertices", "triangles"))
         shape = p.get("shape", "sphere")
         vertices = triangles = None
+        ignored = {"sphere": ("vertices", "triangles"), "mesh": ("radius",)}.get(shape, ())
+        stray = sorted(k for k in ignored if k in p)
+        if stray:  # it would be ignored: say so rather than bake something other than meant
+            raise _err("probe", f"a {shape} probe takes no {stray}; remove {'them' if len(stray) > 1 else 'it'} "
+                                f"or set 'shape' to {'mesh' if shape == 'sphere' else 'sphere'}")
         if shape == "sphere":
             radius = _number("probe.radius", p.get("radius"), positive=True)
         elif shape == "mesh":
