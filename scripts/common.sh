@@ -12,7 +12,7 @@ HF_PACKAGES=(
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
   libusb-1.0-0-dev pkg-config clang libclang-rt-14-dev
-  blender
+  blender xvfb xauth
   libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
 
