@@ -17,7 +17,8 @@ def test_quick_run_gives_a_table(tmp_path):
     col = {name: i for i, name in enumerate(result["columns"])}
     for row in result["rows"]:
         assert len(row) == len(result["columns"])
-        assert 100.0 < row[col["loop rate (Hz)"]] < 2000.0  # nominal 1000 Hz; loaded machine
+        # the loop ran (its rate is a benchmark figure: the rules keep timings out of tests)
+        assert row[col["loop rate (Hz)"]] > 0.0
         assert 0.0 <= row[col["jitter p50 (ms)"]] <= row[col["jitter p99 (ms)"]] <= row[col["jitter max (ms)"]]
     busy = [r for r in result["rows"] if r[col["scenario"]] == "simulation running"]
     assert len(busy) == 2 and all(r[col["sim rate (Hz)"]] > 0.0 for r in busy)
