@@ -170,3 +170,22 @@ def test_probe_keys_of_the_other_shape_are_refused_not_ignored():
                                            "triangles": triangles, "keys": keys}})
     assert scene_from_dict({**base, "probe": {"shape": "mesh", "vertices": vertices, "triangles": triangles,
                                               "keys": keys}}).probe.shape == "mesh"
+
+
+def test_frames_no_bake_wrote_are_never_deleted(tmp_path):
+    from hapticfluid.bake import BakeError, bake, free_cache
+
+    cache = tmp_path / "mantaflow_cache"
+    (cache / "data").mkdir(parents=True)
+    foreign = cache / "data" / "fluid_data_0001.vdb"  # Blender's own fluid cache has this layout
+    foreign.write_bytes(b"someone else's frame")
+    with pytest.raises(BakeError, match="no hapticfluid_bake.json.*not deleted"):
+        bake(_small_scene(cache, 1))
+    with pytest.raises(BakeError, match="not deleted"):
+        free_cache(cache)
+    assert foreign.read_bytes() == b"someone else's frame"
+    # our own bake in the same place is freed and re-baked as before
+    foreign.unlink()
+    bake(_small_scene(cache, 1))
+    assert bake(_small_scene(cache, 1)).frames_written == 1
+    assert free_cache(cache) >= 3 and not (cache / "data").exists()

@@ -127,10 +127,24 @@ def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
     return cache
 
 
+def check_frames_are_ours(cache_dir: "str | os.PathLike") -> None:
+    """BakeError if the folder holds frame files but no manifest. A bake writes its manifest
+    before its first frame, so such frames come from elsewhere: the layout is Mantaflow's, and a
+    Blender fluid cache chosen as the folder would otherwise be deleted."""
+    frames = list_frames(cache_dir)
+    if frames and not manifest_path(cache_dir).exists():
+        raise BakeError(f"cache folder '{Path(cache_dir)}' holds {len(frames)} frame file(s) "
+                        f"({DATA_DIR}/{FRAME_PREFIX}####.vdb) but no {MANIFEST_FILE}, so no hapticfluid bake "
+                        "wrote them (a Mantaflow cache?); they are not deleted: choose another cache folder "
+                        "or remove them yourself")
+
+
 def free_cache(cache_dir: "str | os.PathLike") -> int:
     """Delete the bake's own files (frames, checkpoint, manifest, stale temporaries); returns
-    how many. Other files in the folder are left alone."""
+    how many. Other files in the folder are left alone, and frames that no hapticfluid bake
+    wrote are refused (BakeError, see check_frames_are_ours) before anything is deleted."""
     cache = Path(cache_dir)
+    check_frames_are_ours(cache)
     removed = 0
     candidates = []
     for folder, pattern in ((cache / DATA_DIR, FRAME_PATTERN), (cache / CHECKPOINT_DIR, None), (cache, None)):

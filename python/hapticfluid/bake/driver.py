@@ -198,6 +198,8 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     fingerprint = scene.fingerprint()
     resumed_from = None
     state = None
+    if not resume:
+        _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
     if resume:
         resumed_from, state = _cache.load_checkpoint(cache_dir, fingerprint)
         _cache.remove_temporaries(cache_dir)
