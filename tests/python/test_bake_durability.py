@@ -189,3 +189,29 @@ def test_frames_no_bake_wrote_are_never_deleted(tmp_path):
     bake(_small_scene(cache, 1))
     assert bake(_small_scene(cache, 1)).frames_written == 1
     assert free_cache(cache) >= 3 and not (cache / "data").exists()
+
+
+def test_a_bake_cancelled_before_its_first_step_keeps_the_earlier_bake(tmp_path):
+    from hapticfluid.bake import bake, list_frames, read_manifest, scene_from_dict
+
+    def scene(frames):
+        return scene_from_dict({
+            "domain": {"size": [1.0, 1.0, 1.0]}, "resolution": 8, "fluid": {"pressure_iterations": 2},
+            "probe": {"radius": 0.15, "keys": [{"frame": 0, "location": [0.35, 0.5, 0.5]},
+                                               {"frame": frames, "location": [0.65, 0.5, 0.5]}]},
+            "frames": {"start": 1, "end": frames, "fps": 24}, "substeps": 1,
+            "cache": {"directory": str(tmp_path / "c")}})
+
+    assert bake(scene(2)).last_frame == 2
+    before = {p.name: p.read_bytes() for p in (tmp_path / "c" / "data").iterdir()}
+    calls = []
+
+    def cancel_during_the_trajectory_check():
+        calls.append(1)
+        return len(calls) >= 3
+
+    result = bake(scene(40), cancel=cancel_during_the_trajectory_check)
+    assert result.status == "cancelled" and result.frames_written == 0 and result.last_frame is None
+    assert len(calls) < 40  # it stopped checking the 40-frame trajectory at once
+    assert {p.name: p.read_bytes() for p in (tmp_path / "c" / "data").iterdir()} == before
+    assert list_frames(tmp_path / "c") == [1, 2] and read_manifest(tmp_path / "c")["frames_done"] == [1, 2]
