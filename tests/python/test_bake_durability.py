@@ -215,3 +215,33 @@ def test_a_bake_cancelled_before_its_first_step_keeps_the_earlier_bake(tmp_path)
     assert len(calls) < 40  # it stopped checking the 40-frame trajectory at once
     assert {p.name: p.read_bytes() for p in (tmp_path / "c" / "data").iterdir()} == before
     assert list_frames(tmp_path / "c") == [1, 2] and read_manifest(tmp_path / "c")["frames_done"] == [1, 2]
+
+
+def test_a_second_bake_or_free_in_a_folder_being_baked_is_refused(tmp_path):
+    import subprocess
+    import sys
+    import textwrap
+
+    from hapticfluid.bake import BakeError, bake, free_cache, list_frames
+
+    scene = _small_scene(tmp_path / "c", 1)
+    bake(scene)
+    # another process holds the folder's lock, as a running bake does
+    holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
+        import sys, time
+        from hapticfluid.bake.cache import bake_lock
+        with bake_lock({str(tmp_path / "c")!r}):
+            print("locked", flush=True)
+            sys.stdin.readline()
+        """)], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+        env={**os.environ})
+    try:
+        assert holder.stdout.readline().strip() == "locked"
+        with pytest.raises(BakeError, match="another bake is running"):
+            bake(scene)
+        with pytest.raises(BakeError, match="another bake is running"):
+            free_cache(tmp_path / "c")
+        assert list_frames(tmp_path / "c") == [1]
+    finally:
+        holder.communicate("\n", timeout=60)
+    assert bake(scene).frames_written == 1  # the lock went with the holder

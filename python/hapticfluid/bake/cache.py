@@ -14,6 +14,7 @@ damaged checkpoint, or one from other settings, is refused with a clear error.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import hashlib
 import io
@@ -23,7 +24,7 @@ import re
 import tempfile
 import zipfile
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -139,10 +140,43 @@ def check_frames_are_ours(cache_dir: "str | os.PathLike") -> None:
                         "or remove them yourself")
 
 
+LOCK_FILE = ".hapticfluid_bake.lock"
+
+
+@contextlib.contextmanager
+def bake_lock(cache_dir: "str | os.PathLike") -> Iterator[None]:
+    """Hold the cache folder's lock for a bake: a second bake into the same folder (another
+    thread, process or Blender) gets a BakeError instead of interleaving its frames and
+    checkpoints with this one's. The kernel drops the lock when the process dies (SIGKILL too),
+    so a killed bake never leaves the folder locked."""
+    import fcntl
+
+    path = Path(cache_dir) / LOCK_FILE
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise BakeError(f"another bake is running in the cache folder '{Path(cache_dir)}' (it holds "
+                            f"{LOCK_FILE}); wait for it or cancel it, or choose another folder") from None
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
 def free_cache(cache_dir: "str | os.PathLike") -> int:
     """Delete the bake's own files (frames, checkpoint, manifest, stale temporaries); returns
     how many. Other files in the folder are left alone, and frames that no hapticfluid bake
-    wrote are refused (BakeError, see check_frames_are_ours) before anything is deleted."""
+    wrote are refused (BakeError, see check_frames_are_ours) before anything is deleted, as is
+    a folder another bake is running in (bake_lock)."""
+    if not Path(cache_dir).is_dir():
+        return 0
+    with bake_lock(cache_dir):
+        return free_cache_locked(cache_dir)
+
+
+def free_cache_locked(cache_dir: "str | os.PathLike") -> int:
+    """free_cache for a caller that holds bake_lock already (the bake driver)."""
     cache = Path(cache_dir)
     check_frames_are_ours(cache)
     removed = 0

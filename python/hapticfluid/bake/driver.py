@@ -202,6 +202,13 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     say = log or (lambda _line: None)
     is_cancelled = _cancel_check(cancel)
     cache_dir = _cache.prepare_cache(scene.cache_dir)  # before any work: a clear error if unwritable
+    with _cache.bake_lock(cache_dir):  # one bake per cache folder at a time (processes included)
+        return _bake_locked(scene, cache_dir, resume, progress, is_cancelled, say)
+
+
+def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
+                 progress: Optional[Callable[[BakeProgress], None]], is_cancelled: Callable[[], bool],
+                 say: Callable[[str], None]) -> BakeResult:
     fingerprint = scene.fingerprint()
     resumed_from = None
     state = None
@@ -251,7 +258,7 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
         if state is not None:
             sim.set_state(state)
         else:
-            _cache.free_cache(cache_dir)
+            _cache.free_cache_locked(cache_dir)
             _cache.prepare_cache(cache_dir)
         _cache.write_manifest(cache_dir, manifest)
         say(f"baking frames {first}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
