@@ -43,3 +43,39 @@ def main():
 
 
 main()
+
+
+def bake_blend_from_the_command_line():
+    """bake_blend.py registers the add-on after the file loads (no load handler ran): it must
+    still clear a stale is_baking, and refuse a --resolution Blender would clamp."""
+    import subprocess
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    hapticfluid_blender.register()
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
+    settings = bpy.context.scene.hapticfluid_bake
+    settings.domain = bpy.context.active_object
+    settings.frame_start, settings.frame_end, settings.substeps, settings.resolution = 1, 1, 1, 8
+    settings.pressure_iterations = 2
+    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
+    with tempfile.TemporaryDirectory() as tmp:
+        settings.cache_dir = os.path.join(tmp, "cache")
+        settings.is_baking = True  # saved in the middle of a bake
+        path = os.path.join(tmp, "saved_during_bake.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        hapticfluid_blender.unregister()
+
+        def run(*args):
+            return subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path,
+                                   "--python-exit-code", "1", "--python", script, "--", *args],
+                                  capture_output=True, text=True, timeout=300)
+
+        clamped = run("--resolution", "4")
+        check(clamped.returncode == 2 and "--resolution must be between 8 and 1024, got 4" in clamped.stderr,
+              f"a --resolution out of range is refused, not clamped (exit {clamped.returncode})")
+        baked = run()
+        check(baked.returncode == 0, f"bake_blend.py bakes a file saved during a bake: {baked.stdout[-400:]}")
+        check(os.path.exists(os.path.join(tmp, "cache", "data", "fluid_data_0001.vdb")), "frame 1 was written")
+
+
+bake_blend_from_the_command_line()
