@@ -1,6 +1,7 @@
 // Stage "pressure_shift": in a closed box the pressure is defined up to a constant, and float
 // rounding makes that constant drift from step to step; this subtracts the mean over fluid cells
-// (summed by pressure_sum + reduce into results[u_slot]) so it stays at 0. Per-texel update.
+// (summed by pressure_sum + reduce into results[u_slot]) so it stays at 0. The same removes the
+// rhs's mean before the solve (the closed box's compatibility condition). Per-texel update.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r32f, binding = 0) uniform image3D u_pressure;

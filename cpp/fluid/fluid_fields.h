@@ -39,7 +39,7 @@ struct FluidFields {
   PingPong& scratchFor(int field_kind, const glm::ivec3& size);
 };
 
-// Bytes of GPU memory a grid's fields take (MacCormack scratch included).
+// Bytes of GPU memory a grid's fields take (MacCormack scratch and multigrid included).
 std::size_t fieldBytes(const Grid& grid);
 
 }  // namespace hf::fluid

@@ -48,6 +48,15 @@ void validate(const FluidParams& p) {
     throw InvalidArgument("pressure iterations must be between 1 and " + std::to_string(kMaxPressureIterations) +
                           ", got " + std::to_string(p.pressure_iterations));
   }
+  requireFinite(p.pressure_tolerance, "pressure tolerance");
+  if (p.pressure_tolerance != 0.0f && (p.pressure_tolerance < kMinPressureTolerance || p.pressure_tolerance >= 1.0f)) {
+    throw InvalidArgument("pressure tolerance (relative residual, dimensionless) must be 0 (run a fixed number of "
+                          "iterations) or between " + num(kMinPressureTolerance) + " and 1 (exclusive), got " +
+                          num(p.pressure_tolerance));
+  }
+  if (p.pressure_solver != PressureSolverKind::Jacobi && p.pressure_solver != PressureSolverKind::Multigrid) {
+    throw InvalidArgument("pressure solver must be Jacobi or Multigrid");
+  }
 }
 
 void validate(const SmokeSource& s, const Grid& g) {

@@ -5,6 +5,7 @@
 namespace hf::fluid {
 
 enum class Advection { SemiLagrangian, MacCormack };
+enum class PressureSolverKind { Jacobi, Multigrid };
 
 struct FluidParams {
   float density_kg_m3 = 1.2f;                  // rho of the fluid (air 1.2, water 1000)
@@ -16,7 +17,13 @@ struct FluidParams {
   float heat_buoyancy_m_s2_k = 0.0f;           // upward acceleration per kelvin above ambient
   float density_dissipation_1_s = 0.0f;        // smoke fades as exp(-rate t)
   float temperature_dissipation_1_s = 0.0f;    // heat fades as exp(-rate t)
-  int pressure_iterations = 40;                // Jacobi sweeps per step
+  PressureSolverKind pressure_solver = PressureSolverKind::Jacobi;
+  // Jacobi: sweeps per step; multigrid: CG iterations (one V-cycle each). With a tolerance,
+  // the most the solve may run.
+  int pressure_iterations = 40;
+  // Relative residual ||rhs - A p|| / ||rhs|| (dimensionless) at which the solve stops; 0 runs
+  // exactly pressure_iterations.
+  float pressure_tolerance = 0.0f;
   bool compute_residual = true;                // measure the pressure solve's relative residual
 };
 

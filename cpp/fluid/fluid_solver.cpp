@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "fluid/pressure_jacobi.h"
+#include "fluid/pressure_multigrid.h"
+#include "fluid/row_reduction.h"
 #include "gl/workgroup.h"
 
 namespace hf::fluid {
@@ -25,11 +27,11 @@ FluidSolver::FluidSolver(const Grid& grid)
       apply_forces_("apply_forces.comp", gl::cellGroupDefines()),
       boundaries_("enforce_boundaries.comp", gl::cellGroupDefines()),
       divergence_("divergence.comp", gl::cellGroupDefines()),
-      residual_("residual.comp", gl::groupSumDefines()),
+      residual_("residual.comp", rowGroupDefines()),
       project_("project.comp", gl::cellGroupDefines()),
-      pressure_sum_("pressure_sum.comp", gl::groupSumDefines()),
+      pressure_sum_("pressure_sum.comp", rowGroupDefines()),
       pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
-      pressure_(std::make_unique<PressureJacobi>(grid)) {
+      jacobi_(std::make_unique<PressureJacobi>(grid)) {
   for (gl::ComputeProgram* p : {&advect_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
                                 &boundaries_, &divergence_, &residual_, &project_, &pressure_sum_,
                                 &pressure_shift_}) {
@@ -183,24 +185,37 @@ void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
   divergence_.dispatch(grid_.res);
 }
 
-SolveStats FluidSolver::solvePressure(const FluidParams& p) { return pressure_->solve(fields_, p); }
+SolveStats FluidSolver::solvePressure(const FluidParams& p) {
+  if (p.pressure_solver == PressureSolverKind::Multigrid) {
+    if (!multigrid_) multigrid_ = std::make_unique<PressureMultigrid>(grid_);
+    return multigrid_->solve(fields_, p);
+  }
+  return jacobi_->solve(fields_, p);
+}
+
+void FluidSolver::removeRhsMean(gl::GroupReducer& reducer, std::size_t slot) { removeMean(fields_.rhs, reducer, slot); }
 
 void FluidSolver::measureResidual(gl::GroupReducer& reducer, std::size_t slot) {
   fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
   fields_.rhs.bindImage(2, GL_READ_ONLY);
   fields_.nbmask.bindImage(3, GL_READ_ONLY);
   reducer.bindPartials(0);
-  residual_.dispatch(grid_.res);
-  reducer.reduce(gl::groupCount(grid_.res), slot);
+  residual_.dispatch(rowInvocations(grid_.res));
+  reducer.reduce(rowCount(grid_.res), slot);
 }
 
 void FluidSolver::removePressureMean(gl::GroupReducer& reducer, std::size_t slot) {
-  fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
+  removeMean(fields_.pressure.cur(), reducer, slot);
+}
+
+// pressure_sum + reduce + pressure_shift work on any cell-centred scalar.
+void FluidSolver::removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, std::size_t slot) {
+  field.bindImage(1, GL_READ_ONLY);
   fields_.nbmask.bindImage(2, GL_READ_ONLY);
   reducer.bindPartials(0);
-  pressure_sum_.dispatch(grid_.res);
-  reducer.reduce(gl::groupCount(grid_.res), slot);
-  fields_.pressure.cur().bindImage(0, GL_READ_WRITE);
+  pressure_sum_.dispatch(rowInvocations(grid_.res));
+  reducer.reduce(rowCount(grid_.res), slot);
+  field.bindImage(0, GL_READ_WRITE);
   reducer.bindResults(1);
   pressure_shift_.set("u_slot", static_cast<unsigned>(slot));
   pressure_shift_.dispatch(grid_.res);

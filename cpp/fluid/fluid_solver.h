@@ -27,8 +27,13 @@ class FluidSolver {
   void applyForces(float dt_s, const FluidParams& p);  // buoyancy + vorticity confinement
   void enforceBoundaries(const FluidParams& p);        // walls and solid faces
   void computeDivergence(float dt_s, const FluidParams& p);
+  // Closed box only: shifts the rhs so its mean over fluid cells is 0, the compatibility
+  // condition of the pure-Neumann problem (sum in `slot`). Call after computeDivergence().
+  void removeRhsMean(gl::GroupReducer& reducer, std::size_t slot);
+  // Runs the solver p.pressure_solver names (made on first use).
   SolveStats solvePressure(const FluidParams& p);
-  // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`.
+  // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`. This
+  // and the mean removals write rowCount(res) partials (fluid/row_reduction.h).
   void measureResidual(gl::GroupReducer& reducer, std::size_t slot);
   // Closed box only: shifts the pressure so its mean over fluid cells is 0 (sum into `slot`).
   void removePressureMean(gl::GroupReducer& reducer, std::size_t slot);
@@ -43,6 +48,7 @@ class FluidSolver {
                    const FluidParams& p);
   void bindVelocitySamplers();           // texture units 0-2, for trilinear sampling
   void bindVelocityImages(unsigned first);  // read-only image units first..first+2
+  void removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, std::size_t slot);
 
   Grid grid_;
   FluidFields fields_;
@@ -58,7 +64,8 @@ class FluidSolver {
   gl::ComputeProgram project_;
   gl::ComputeProgram pressure_sum_;
   gl::ComputeProgram pressure_shift_;
-  std::unique_ptr<PressureSolver> pressure_;
+  std::unique_ptr<PressureSolver> jacobi_;
+  std::unique_ptr<PressureSolver> multigrid_;
 };
 
 }  // namespace hf::fluid

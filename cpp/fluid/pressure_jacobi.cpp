@@ -2,6 +2,8 @@
 
 #include <GL/gl.h>
 
+#include <algorithm>
+
 #include "gl/workgroup.h"
 
 namespace hf::fluid {
@@ -10,17 +12,33 @@ PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.c
   sweep_.set("u_res", grid.res);
 }
 
-SolveStats PressureJacobi::solve(FluidFields& f, const FluidParams& params) {
+void PressureJacobi::sweeps(FluidFields& f, int count) {
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
-  for (int i = 0; i < params.pressure_iterations; ++i) {
+  for (int i = 0; i < count; ++i) {
     f.pressure.cur().bindImage(1, GL_READ_ONLY);
     f.pressure.next().bindImage(0, GL_WRITE_ONLY);
     sweep_.dispatch(grid_.res);
     f.pressure.swap();
   }
+}
+
+SolveStats PressureJacobi::solve(FluidFields& f, const FluidParams& params) {
   SolveStats stats;
-  stats.iterations = params.pressure_iterations;
+  if (params.pressure_tolerance <= 0.0f) {
+    sweeps(f, params.pressure_iterations);
+    stats.iterations = params.pressure_iterations;
+    return stats;
+  }
+  if (!meter_) meter_ = std::make_unique<ResidualMeter>(grid_);
+  stats.relative_residual = meter_->measure(f);
+  stats.initial_relative_residual = stats.relative_residual;
+  while (stats.relative_residual > params.pressure_tolerance && stats.iterations < params.pressure_iterations) {
+    const int n = std::min(kCheckInterval, params.pressure_iterations - stats.iterations);
+    sweeps(f, n);
+    stats.iterations += n;
+    stats.relative_residual = meter_->measure(f);
+  }
   return stats;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// The interface every pressure solver shares (Jacobi now; multigrid later): solve
+// The interface every pressure solver shares (PressureJacobi, PressureMultigrid): solve
 // sum_nb (p_nb - p) = rhs over the fluid cells into fields.pressure.cur(), warm-started from
 // the previous step's pressure.
 #include "fluid/fluid_fields.h"
@@ -10,6 +10,8 @@ namespace hf::fluid {
 struct SolveStats {
   int iterations = 0;
   float relative_residual = -1.0f;  // ||r|| / ||rhs||, filled in after the step's read-back; -1 = not measured
+  // Tolerance mode: ||r|| / ||rhs|| of the warm start, before the first iteration; -1 = not measured.
+  float initial_relative_residual = -1.0f;
 };
 
 class PressureSolver {

@@ -8,6 +8,8 @@
 namespace hf::fluid {
 
 inline constexpr int kMaxPressureIterations = 100000;
+// A float32 solve cannot go below about this relative residual.
+inline constexpr float kMinPressureTolerance = 1e-7f;
 inline constexpr float kMinFluidDensity = 1e-3f;  // kg/m^3
 inline constexpr float kMaxFluidDensity = 1e5f;   // kg/m^3 (mercury is 1.35e4)
 inline constexpr float kMaxGravity = 1e3f;        // m/s^2, also for buoyancy coefficients

@@ -30,6 +30,16 @@ std::string advectionName(fluid::Advection a) {
   return a == fluid::Advection::MacCormack ? "maccormack" : "semi_lagrangian";
 }
 
+fluid::PressureSolverKind parsePressureSolver(const std::string& s) {
+  if (s == "jacobi") return fluid::PressureSolverKind::Jacobi;
+  if (s == "multigrid") return fluid::PressureSolverKind::Multigrid;
+  throw InvalidArgument("pressure_solver must be 'jacobi' or 'multigrid', got '" + s + "'");
+}
+
+std::string pressureSolverName(fluid::PressureSolverKind k) {
+  return k == fluid::PressureSolverKind::Multigrid ? "multigrid" : "jacobi";
+}
+
 py::array_t<float> readField(Simulation& sim, Field f) {
   std::vector<float> data;
   {
@@ -126,9 +136,14 @@ void addSimulation(py::module_& m) {
                     "Number of boundary/surrounding faces summed into the force.")
       .def_readonly("solid_cells", &session::StepReport::solid_cells,
                     "Cells the probe covered this step (its voxelized volume is solid_cells * cell_size^3).")
-      .def_readonly("pressure_iterations", &session::StepReport::pressure_iterations, "Jacobi sweeps run.")
+      .def_readonly("pressure_iterations", &session::StepReport::pressure_iterations,
+                    "Jacobi sweeps or multigrid CG iterations the pressure solve ran.")
       .def_readonly("relative_residual", &session::StepReport::relative_residual,
-                    "||rhs - A p|| / ||rhs|| of the pressure solve (dimensionless); -1 if not measured.")
+                    "||rhs - A p|| / ||rhs|| of the pressure solve (dimensionless); with compute_residual off,\n"
+                    "the solver's own estimate in tolerance mode, else -1 (not measured).")
+      .def_readonly("initial_relative_residual", &session::StepReport::initial_relative_residual,
+                    "||rhs - A p|| / ||rhs|| of the warm start before the pressure solve (dimensionless), measured\n"
+                    "in tolerance mode (pressure_tolerance > 0); -1 otherwise.")
       .def_readonly("wall_ms", &session::StepReport::wall_ms, "Host time of the step (ms).")
       .def_property_readonly(
           "gpu_ms",
@@ -156,7 +171,8 @@ All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid ha
   c.def(py::init([](const IVec3& resolution, const Vec3& domain_size, const Vec3& origin, float fluid_density,
                     const Vec3& gravity, bool open_top, const std::string& advection, float vorticity,
                     float smoke_weight, float heat_buoyancy, float smoke_dissipation, float heat_dissipation,
-                    int pressure_iterations, bool compute_residual, const std::string& device) {
+                    int pressure_iterations, bool compute_residual, const std::string& pressure_solver,
+                    float pressure_tolerance, const std::string& device) {
           session::SimulationConfig cfg;
           cfg.resolution = glm::ivec3(resolution[0], resolution[1], resolution[2]);
           cfg.domain_size_m = toVec3(domain_size);
@@ -172,6 +188,8 @@ All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid ha
           cfg.params.temperature_dissipation_1_s = heat_dissipation;
           cfg.params.pressure_iterations = pressure_iterations;
           cfg.params.compute_residual = compute_residual;
+          cfg.params.pressure_solver = parsePressureSolver(pressure_solver);
+          cfg.params.pressure_tolerance = pressure_tolerance;
           cfg.device = device;
           py::gil_scoped_release release;
           return std::make_unique<Simulation>(cfg);
@@ -181,7 +199,8 @@ All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid ha
         py::arg("gravity") = Vec3{0.0f, 0.0f, -9.81f}, py::arg("open_top") = false,
         py::arg("advection") = "semi_lagrangian", py::arg("vorticity") = 0.0f, py::arg("smoke_weight") = 0.0f,
         py::arg("heat_buoyancy") = 0.0f, py::arg("smoke_dissipation") = 0.0f, py::arg("heat_dissipation") = 0.0f,
-        py::arg("pressure_iterations") = 40, py::arg("compute_residual") = true, py::arg("device") = "",
+        py::arg("pressure_iterations") = 40, py::arg("compute_residual") = true,
+        py::arg("pressure_solver") = "jacobi", py::arg("pressure_tolerance") = 0.0f, py::arg("device") = "",
         R"doc(
 resolution: cells per axis (nx, ny, nz), each >= 8.
 domain_size: box edges (m); must give cubic cells with the resolution.
@@ -194,8 +213,13 @@ vorticity: vorticity confinement epsilon (dimensionless, >= 0).
 smoke_weight: downward acceleration per unit smoke concentration (m/s^2).
 heat_buoyancy: upward acceleration per kelvin above ambient (m/s^2/K).
 smoke_dissipation, heat_dissipation: exponential fade rates (1/s).
-pressure_iterations: Jacobi sweeps per step (1..100000).
+pressure_iterations: per step, Jacobi sweeps or multigrid-preconditioned CG iterations (one
+    V-cycle each) (1..100000); with a pressure_tolerance, the most the solve may run.
 compute_residual: measure the pressure solve's relative residual each step.
+pressure_solver: 'jacobi' (cheap sweeps, slow to converge) or 'multigrid' (conjugate gradient
+    preconditioned by a geometric multigrid V-cycle: converges in tens of iterations).
+pressure_tolerance: relative residual ||rhs - A p|| / ||rhs|| (dimensionless) at which the solve
+    stops early; 0 runs exactly pressure_iterations. Between 1e-7 and 1 (exclusive), or 0.
 device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or an EGL device number.
 )doc");
 
@@ -243,7 +267,16 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
                        [](fluid::FluidParams& p, float v) { p.temperature_dissipation_1_s = v; },
                        "Heat fade rate (1/s).");
   paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
-                     [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; }, "Jacobi sweeps per step.");
+                     [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; },
+                     "Jacobi sweeps or multigrid CG iterations per step (the most, with a pressure_tolerance).");
+  paramProperty<std::string>(c, "pressure_solver",
+                             [](const fluid::FluidParams& p) { return pressureSolverName(p.pressure_solver); },
+                             [](fluid::FluidParams& p, const std::string& v) { p.pressure_solver = parsePressureSolver(v); },
+                             "'jacobi' or 'multigrid' (CG preconditioned by a geometric multigrid V-cycle).");
+  paramProperty<float>(c, "pressure_tolerance", [](const fluid::FluidParams& p) { return p.pressure_tolerance; },
+                       [](fluid::FluidParams& p, float v) { p.pressure_tolerance = v; },
+                       "Relative residual (dimensionless) at which the pressure solve stops; 0 = run exactly\n"
+                       "pressure_iterations. 0 or 1e-7 .. 1 (exclusive).");
   paramProperty<bool>(c, "compute_residual", [](const fluid::FluidParams& p) { return p.compute_residual; },
                       [](fluid::FluidParams& p, bool v) { p.compute_residual = v; },
                       "Measure the pressure residual each step.");

@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "fluid/fluid_solver.h"
+#include "fluid/row_reduction.h"
 #include "fluid/validate.h"
 #include "force/force_reducer.h"
 #include "gl/gl_worker.h"
@@ -187,7 +188,8 @@ void validateStep(double dt_s, const fluid::FluidParams& p, const fluid::Grid& g
 struct Simulation::Engine {
   explicit Engine(const fluid::Grid& g)
       : grid(g), solver(g), probe(g), classifier(g), force(g),
-        reducer(std::max(gl::groupCount(g.res + 1), force::ForceReducer::partialsNeeded(g)), kResultSlots) {}
+        reducer(std::max({gl::groupCount(g.res + 1), force::ForceReducer::partialsNeeded(g), fluid::rowCount(g.res)}),
+                kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<ProbeState>& pose,
                   const fluid::SmokeSource& source, const glm::vec3& rho_g, const glm::vec3& reference_m) {
@@ -219,6 +221,7 @@ struct Simulation::Engine {
     timer.mark("forces");
     solver.enforceBoundaries(p);
     solver.computeDivergence(dt, p);
+    if (!p.open_top) solver.removeRhsMean(reducer, kPressureMeanSlot);  // compatibility condition
     timer.mark("divergence");
     const fluid::SolveStats stats = solver.solvePressure(p);
     if (!p.open_top) solver.removePressureMean(reducer, kPressureMeanSlot);
@@ -243,9 +246,12 @@ struct Simulation::Engine {
     r.exposed_faces = bf.exposed_faces;
     r.solid_cells = bf.solid_cells;
     r.pressure_iterations = stats.iterations;
+    r.initial_relative_residual = stats.initial_relative_residual;
     if (p.compute_residual) {
       const glm::vec4 res = results[kResidualSlot];
       r.relative_residual = res.y > 0.0f ? std::sqrt(res.x / res.y) : (res.x == 0.0f ? 0.0f : NAN);
+    } else {
+      r.relative_residual = stats.relative_residual;  // the solver's own estimate in tolerance mode, else -1
     }
     r.gpu_ms = timer.collect();
     const glm::vec4 mean = results[kPressureMeanSlot];

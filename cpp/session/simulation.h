@@ -41,6 +41,7 @@ struct StepReport {
   int solid_cells = 0;                 // cells the probe covers
   int pressure_iterations = 0;
   float relative_residual = -1.0f;     // ||rhs - A p|| / ||rhs|| after the solve; -1 = not measured
+  float initial_relative_residual = -1.0f;  // the same before the solve (tolerance mode only, else -1)
   double wall_ms = 0.0;                // host time of the whole step, ms
   std::vector<std::pair<std::string, double>> gpu_ms;  // GPU time per stage, ms
 };

@@ -53,6 +53,8 @@ class StepReport:
     @property
     def relative_residual(self) -> float: ...
     @property
+    def initial_relative_residual(self) -> float: ...
+    @property
     def wall_ms(self) -> float: ...
     @property
     def gpu_ms(self) -> Dict[str, float]: ...
@@ -74,6 +76,8 @@ class Simulation:
         heat_dissipation: float = 0.0,  # 1/s
         pressure_iterations: int = 40,
         compute_residual: bool = True,
+        pressure_solver: str = "jacobi",  # 'jacobi' | 'multigrid'
+        pressure_tolerance: float = 0.0,  # relative residual; 0 = fixed iteration count
         device: str = "",
     ) -> None: ...
     @property
@@ -101,6 +105,8 @@ class Simulation:
     heat_dissipation: float
     pressure_iterations: int
     compute_residual: bool
+    pressure_solver: str
+    pressure_tolerance: float
     def set_probe(self, centre: Vec3, radius: float, velocity: Vec3 = ..., angular_velocity: Vec3 = ...) -> None: ...
     def set_mesh_probe(
         self,

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/row_reduction.h"
 #include "gl/compute_program.h"
 #include "gl/shader_sources.h"
 #include "gl/storage_buffer.h"
@@ -238,13 +239,17 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
       const bool group_sum = source.find("writeGroupSum") != std::string::npos;
       const bool linear = source.find("WG_LINEAR") != std::string::npos;  // per vertex/triangle stages
       const bool columns = source.find("local_size_z") == std::string::npos;  // per-column stages: z = 1
+      // Stages that reduce by rows of cells (fluid/row_reduction.h) take ROW_X, ROW_Y.
+      const bool rows = source.find("ROW_X") != std::string::npos;
       const Defines defines = reduce   ? Defines{{"REDUCE_SIZE", "256"}}
                               : linear ? linearGroupDefines()
+                              : rows   ? fluid::rowGroupDefines()
                                        : group_sum ? groupSumDefines() : cellGroupDefines();
       try {
         ComputeProgram p(file, defines);
         glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : linear ? glm::ivec3(kLinearGroup, 1, 1) : kCellGroup;
-        if (!reduce && !linear && columns) want.z = 1;
+        if (rows) want = glm::ivec3(fluid::kRowGroup, 1);
+        if (!reduce && !linear && !rows && columns) want.z = 1;
         if (p.localSize() != want) out += file + ": wrong local size\n";
         if (p.name() != file) out += file + ": wrong name\n";
       } catch (const std::exception& e) {

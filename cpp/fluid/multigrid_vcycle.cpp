@@ -1,0 +1,135 @@
+#include "fluid/multigrid_vcycle.h"
+
+#include <GL/gl.h>
+
+#include <algorithm>
+
+#include "gl/workgroup.h"
+
+namespace hf::fluid {
+
+std::vector<glm::ivec3> MultigridVCycle::levelResolutions(const glm::ivec3& fine) {
+  std::vector<glm::ivec3> out{fine};
+  while (std::max(out.back().x, std::max(out.back().y, out.back().z)) > kCoarsestCells) {
+    out.push_back((out.back() + 1) / 2);
+  }
+  return out;
+}
+
+MultigridVCycle::Coarse::Coarse(const glm::ivec3& r)
+    : mask(r, gl::TexelFormat::R8UI, "multigrid mask"),
+      x(r, gl::TexelFormat::R32F, "multigrid x"),
+      b(r, gl::TexelFormat::R32F, "multigrid b"),
+      res(r, gl::TexelFormat::R32F, "multigrid residual") {}
+
+MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
+    : res_(levelResolutions(fine_res)),
+      coarsen_("mg_coarsen_mask.comp", gl::cellGroupDefines()),
+      smooth_("mg_smooth.comp", gl::cellGroupDefines()),
+      residual_("mg_residual.comp", gl::cellGroupDefines()),
+      restrict_("mg_restrict.comp", gl::cellGroupDefines()),
+      prolong_("mg_prolong.comp", gl::cellGroupDefines()) {
+  coarse_.reserve(res_.size());
+  for (std::size_t l = 1; l < res_.size(); ++l) coarse_.emplace_back(res_[l]);
+}
+
+void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
+                                  const glm::ivec3& coarse_res, gl::Texture3D& coarse_mask) {
+  fine_mask.bindImage(1, GL_READ_ONLY);
+  coarse_mask.bindImage(0, GL_WRITE_ONLY);
+  coarsen_.set("u_res", coarse_res);
+  coarsen_.set("u_fine_size", fine_res);
+  coarsen_.dispatch(coarse_res);
+}
+
+void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, gl::Texture3D& x,
+                             const gl::Texture3D& b, int colour, bool zero_guess) {
+  x.bindImage(0, GL_READ_WRITE);
+  b.bindImage(1, GL_READ_ONLY);
+  mask.bindImage(2, GL_READ_ONLY);
+  smooth_.set("u_res", res);
+  smooth_.set("u_colour", colour);
+  smooth_.set("u_zero_guess", zero_guess ? 1 : 0);
+  smooth_.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
+}
+
+void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& x,
+                               const gl::Texture3D& b, gl::Texture3D& out) {
+  x.bindImage(1, GL_READ_ONLY);
+  b.bindImage(2, GL_READ_ONLY);
+  mask.bindImage(3, GL_READ_ONLY);
+  out.bindImage(0, GL_WRITE_ONLY);
+  residual_.set("u_res", res);
+  residual_.dispatch(res);
+}
+
+void MultigridVCycle::restrictResidual(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
+                                       const gl::Texture3D& fine_res_tex, const glm::ivec3& coarse_res,
+                                       gl::Texture3D& coarse_b, float scale) {
+  fine_res_tex.bindImage(1, GL_READ_ONLY);
+  fine_mask.bindImage(2, GL_READ_ONLY);
+  coarse_b.bindImage(0, GL_WRITE_ONLY);
+  restrict_.set("u_res", coarse_res);
+  restrict_.set("u_fine_size", fine_res);
+  restrict_.set("u_scale", scale);
+  restrict_.dispatch(coarse_res);
+}
+
+void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, gl::Texture3D& fine_x,
+                                 const gl::Texture3D& coarse_x) {
+  fine_x.bindImage(0, GL_READ_WRITE);
+  coarse_x.bindImage(1, GL_READ_ONLY);
+  fine_mask.bindImage(2, GL_READ_ONLY);
+  prolong_.set("u_res", fine_res);
+  prolong_.dispatch(fine_res);
+}
+
+void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask) {
+  const gl::Texture3D* finer = &fine_mask;
+  for (std::size_t l = 1; l < res_.size(); ++l) {
+    coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask);
+    finer = &coarse_[l - 1].mask;
+  }
+}
+
+void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D& r, gl::Texture3D& z,
+                            gl::Texture3D& scratch) {
+  // Level l's textures: level 0 is (fine_mask, z, r, scratch).
+  struct View {
+    const gl::Texture3D* mask;
+    gl::Texture3D* x;
+    const gl::Texture3D* b;
+    gl::Texture3D* res;
+  };
+  std::vector<View> v;
+  v.push_back({&fine_mask, &z, &r, &scratch});
+  for (auto& c : coarse_) v.push_back({&c.mask, &c.x, &c.b, &c.res});
+  const int last = levels() - 1;
+  auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
+
+  for (int l = 0; l < last; ++l) {
+    for (int s = 0; s < kSmoothSweeps; ++s) {
+      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 0, s == 0);
+      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 1, false);
+    }
+    residual(level(l), *v[l].mask, *v[l].x, *v[l].b, *v[l].res);
+    restrictResidual(level(l), *v[l].mask, *v[l].res, level(l + 1), coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
+  }
+  for (int s = 0; s < kCoarsestSweeps; ++s) {
+    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 0, s == 0);
+    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 1, false);
+  }
+  for (int s = 0; s < kCoarsestSweeps; ++s) {
+    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 1, false);
+    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 0, false);
+  }
+  for (int l = last - 1; l >= 0; --l) {
+    prolongAdd(level(l), *v[l].mask, *v[l].x, *v[l + 1].x);
+    for (int s = 0; s < kSmoothSweeps; ++s) {
+      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 1, false);
+      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 0, false);
+    }
+  }
+}
+
+}  // namespace hf::fluid

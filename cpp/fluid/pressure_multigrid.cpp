@@ -1,0 +1,143 @@
+#include "fluid/pressure_multigrid.h"
+
+#include <GL/gl.h>
+
+#include <cmath>
+#include <utility>
+
+#include "fluid/row_reduction.h"
+#include "gl/workgroup.h"
+
+namespace hf::fluid {
+namespace {
+
+// Result slots of the solver's reductions.
+constexpr std::size_t kInitSlot = 0;  // (sum r, fluid cells, r.r, b.b) of the starting residual
+constexpr std::size_t kSqSlot = 1;    // s.q
+constexpr std::size_t kRzSlotA = 2;   // r.z, alternating with kRzSlotB (new and old)
+constexpr std::size_t kRzSlotB = 3;
+constexpr std::size_t kRrSlot = 4;    // (sum r, fluid cells, r.r) after an update
+constexpr std::size_t kSlots = 5;
+
+float relative(float rr, float bb) {
+  if (bb > 0.0f) return std::sqrt(rr / bb);
+  return rr == 0.0f ? 0.0f : INFINITY;
+}
+
+}  // namespace
+
+PressureMultigrid::PressureMultigrid(const Grid& grid)
+    : grid_(grid),
+      vcycle_(grid.res),
+      r_(grid.res, gl::TexelFormat::R32F, "CG residual"),
+      z_(grid.res, gl::TexelFormat::R32F, "CG preconditioned residual"),
+      s_(grid.res, gl::TexelFormat::R32F, "CG direction"),
+      q_(grid.res, gl::TexelFormat::R32F, "CG A direction"),
+      init_("pcg_init.comp", rowGroupDefines()),
+      apply_("pcg_apply.comp", rowGroupDefines()),
+      dot_("pcg_dot.comp", rowGroupDefines()),
+      update_("pcg_update.comp", rowGroupDefines()),
+      direction_("pcg_direction.comp", gl::cellGroupDefines()),
+      shift_("pressure_shift.comp", gl::cellGroupDefines()),
+      reducer_(rowCount(grid.res), kSlots) {
+  for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_}) p->set("u_res", grid.res);
+}
+
+void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
+  vcycle_.apply(f.nbmask, r_, z_, q_);  // q is free again once the update has used it
+  r_.bindImage(1, GL_READ_ONLY);
+  z_.bindImage(2, GL_READ_ONLY);
+  f.nbmask.bindImage(3, GL_READ_ONLY);
+  reducer_.bindPartials(0);
+  dot_.dispatch(rowInvocations(grid_.res));
+  reducer_.reduce(rowCount(grid_.res), rz_slot);
+  s_.bindImage(0, GL_READ_WRITE);
+  z_.bindImage(1, GL_READ_ONLY);
+  f.nbmask.bindImage(2, GL_READ_ONLY);
+  reducer_.bindResults(1);
+  direction_.set("u_slot_new", static_cast<unsigned>(rz_slot));
+  direction_.set("u_slot_old", static_cast<unsigned>(old_rz_slot));
+  direction_.set("u_first", first ? 1 : 0);
+  direction_.dispatch(grid_.res);
+}
+
+void PressureMultigrid::removeResidualMean(FluidFields& f, std::size_t slot) {
+  r_.bindImage(0, GL_READ_WRITE);
+  f.nbmask.bindImage(2, GL_READ_ONLY);
+  reducer_.bindResults(1);
+  shift_.set("u_slot", static_cast<unsigned>(slot));
+  shift_.dispatch(grid_.res);
+}
+
+void PressureMultigrid::startResidual(FluidFields& f, bool closed) {
+  f.pressure.cur().bindImage(1, GL_READ_ONLY);
+  f.rhs.bindImage(2, GL_READ_ONLY);
+  f.nbmask.bindImage(3, GL_READ_ONLY);
+  r_.bindImage(0, GL_WRITE_ONLY);
+  reducer_.bindPartials(0);
+  init_.dispatch(rowInvocations(grid_.res));
+  reducer_.reduce(rowCount(grid_.res), kInitSlot);
+  if (closed) removeResidualMean(f, kInitSlot);
+}
+
+SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
+  const std::size_t groups = rowCount(grid_.res);
+  const float tolerance = params.pressure_tolerance;
+  const bool closed = !params.open_top;
+  vcycle_.buildMasks(f.nbmask);
+  startResidual(f, closed);
+
+  SolveStats stats;
+  float bb = 0.0f;
+  if (tolerance > 0.0f) {
+    const glm::vec4 start = reducer_.readResults()[kInitSlot];
+    bb = start.w;
+    stats.relative_residual = relative(start.z, bb);
+    stats.initial_relative_residual = stats.relative_residual;
+    if (stats.relative_residual <= tolerance) return stats;  // the warm start is good enough
+  }
+
+  std::size_t rz_new = kRzSlotA, rz_old = kRzSlotB;
+  nextDirection(f, rz_new, rz_old, true);
+  for (int k = 0; k < params.pressure_iterations; ++k) {
+    // q = A s and s.q
+    s_.bindImage(1, GL_READ_ONLY);
+    f.nbmask.bindImage(3, GL_READ_ONLY);
+    q_.bindImage(0, GL_WRITE_ONLY);
+    reducer_.bindPartials(0);
+    apply_.dispatch(rowInvocations(grid_.res));
+    reducer_.reduce(groups, kSqSlot);
+    // p += alpha s, r -= alpha q, and r.r
+    f.pressure.cur().bindImage(0, GL_READ_WRITE);
+    r_.bindImage(1, GL_READ_WRITE);
+    s_.bindImage(2, GL_READ_ONLY);
+    q_.bindImage(3, GL_READ_ONLY);
+    f.nbmask.bindImage(4, GL_READ_ONLY);
+    reducer_.bindPartials(0);
+    reducer_.bindResults(1);
+    update_.set("u_slot_rz", static_cast<unsigned>(rz_new));
+    update_.set("u_slot_sq", static_cast<unsigned>(kSqSlot));
+    update_.dispatch(rowInvocations(grid_.res));
+    reducer_.reduce(groups, kRrSlot);
+    if (closed) removeResidualMean(f, kRrSlot);
+    stats.iterations = k + 1;
+    bool restart = false;
+    if (tolerance > 0.0f) {
+      stats.relative_residual = relative(reducer_.readResults()[kRrSlot].z, bb);
+      if (stats.relative_residual <= tolerance) {
+        // In float the updated residual drifts from the true one: confirm with rhs - A p, and
+        // if that is still too large go on from it (CG restarted from the true residual).
+        startResidual(f, closed);
+        stats.relative_residual = relative(reducer_.readResults()[kInitSlot].z, bb);
+        if (stats.relative_residual <= tolerance) break;
+        restart = true;
+      }
+    }
+    if (k + 1 == params.pressure_iterations) break;  // no direction needed after the last update
+    std::swap(rz_new, rz_old);
+    nextDirection(f, rz_new, rz_old, restart);
+  }
+  return stats;
+}
+
+}  // namespace hf::fluid

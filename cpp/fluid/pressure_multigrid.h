@@ -1,0 +1,45 @@
+#pragma once
+// Conjugate gradient preconditioned by a multigrid V-cycle (MGPCG, as in McAdams, Sifakis and
+// Teran, "A parallel multigrid Poisson solver for fluids simulation on large grids", SCA 2010),
+// warm-started from the previous step's pressure. Every vector operation and both dot
+// products of an iteration run on the GPU; alpha and beta are read by the shaders from the
+// reduction results, so the fixed-count mode never waits for a read-back.
+//
+// Modes (FluidParams): pressure_tolerance == 0 runs pressure_iterations CG iterations (one
+// V-cycle each); pressure_tolerance > 0 stops as soon as the CG residual ||r|| / ||rhs|| is at
+// most the tolerance (read back after every iteration; confirmed against the true residual
+// rhs - A p, since in float the updated one drifts), after at most pressure_iterations.
+// In a closed box the rhs must have zero mean over the fluid cells (FluidSolver::removeRhsMean
+// does that before the solve), the CG residual's mean is removed every iteration, and the
+// pressure's free constant is removed after the solve.
+#include "fluid/multigrid_vcycle.h"
+#include "fluid/pressure_solver.h"
+#include "gl/compute_program.h"
+#include "gl/group_reducer.h"
+
+namespace hf::fluid {
+
+class PressureMultigrid : public PressureSolver {
+ public:
+  explicit PressureMultigrid(const Grid& grid);
+  const char* name() const override { return "multigrid"; }
+  SolveStats solve(FluidFields& fields, const FluidParams& params) override;
+
+ private:
+  // r = -rhs - A p, its sums into the init slot; in a closed box r's mean is then removed.
+  void startResidual(FluidFields& f, bool closed);
+  // r -= its mean over fluid cells (sum and count in results[slot].xy). In a closed box A is
+  // singular (constants); a residual with a constant part, which float rounding leaves, would
+  // make the V-cycle return a huge constant and CG's step sizes meaningless.
+  void removeResidualMean(FluidFields& f, std::size_t slot);
+  // z = M r, r.z into results[rz_slot], then s = z + beta s (s = z when `first`).
+  void nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first);
+
+  Grid grid_;
+  MultigridVCycle vcycle_;
+  gl::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
+  gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_;
+  gl::GroupReducer reducer_;
+};
+
+}  // namespace hf::fluid
