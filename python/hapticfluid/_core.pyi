@@ -9,7 +9,7 @@ CELL_OUTSIDE: int
 CELL_SURROUNDING: int
 CELL_BOUNDARY: int
 CELL_INSIDE: int
-STEP_READBACK_BYTES: int  # bytes one Simulation.step() reads back from the GPU
+STEP_READBACK_BYTES: int  # bytes of the result read-back ending every step (+ residual checks if pressure_tolerance > 0)
 MIN_TIME_STEP_S: float  # smallest dt Simulation.step() takes, s
 MAX_TIME_STEP_S: float  # largest dt Simulation.step() takes, s
 

@@ -71,7 +71,8 @@ def run(quick: bool = False, grids: Sequence[Tuple[int, int, int]] = (), log=rep
     notes = [
         "force: GPU time of the step's 'force' stage (face sums over the probe's box, workgroup "
         f"partials reduced on the GPU), which the step then reads back ({hf.STEP_READBACK_BYTES} bytes: "
-        "force, torque, centroid, residual, pressure mean)",
+        "force, torque, centroid, residual, pressure mean; a pressure tolerance > 0 adds the "
+        "solver's residual read-backs, not used here)",
         "density()/velocity(): host wall time of the call, GPU texture read-back into a numpy "
         "array (float32); the first call is not counted",
     ]
