@@ -53,6 +53,14 @@ def main():
     cache = os.path.join(tmp, "cache")
     scene, s = build_scene(cache)
 
+    # The pressure solver settings reach the bake's scene description.
+    from hapticfluid_blender import blender_scene
+
+    s.pressure_solver, s.pressure_iterations = "MULTIGRID", 4
+    fluid = blender_scene.scene_dict(scene, s)["fluid"]
+    check(fluid["pressure_solver"] == "multigrid" and fluid["pressure_iterations"] == 4
+          and fluid["pressure_tolerance"] == 0.0, f"pressure solver settings in the scene: {fluid}")
+
     result = bpy.ops.hapticfluid.bake()
     check(result == {"FINISHED"}, f"Bake operator finished ({result}, status: {s.status})")
     files = sorted(os.listdir(os.path.join(cache, "data")))

@@ -84,6 +84,8 @@ def scene_dict(scene, settings):
             "smoke_dissipation": settings.smoke_dissipation,
             "heat_dissipation": settings.heat_dissipation,
             "pressure_iterations": settings.pressure_iterations,
+            "pressure_solver": settings.pressure_solver.lower(),
+            "pressure_tolerance": settings.pressure_tolerance,
         },
         "frames": {"start": settings.frame_start, "end": settings.frame_end, "fps": fps},
         "substeps": "adaptive" if settings.adaptive_substeps else settings.substeps,

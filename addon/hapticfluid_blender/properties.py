@@ -76,8 +76,18 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
                                   description="Smoke concentration held in the emitter")
     source_temperature: FloatProperty(name="Source Temperature", default=8.0, min=0.0, max=10000.0,
                                       description="Temperature above ambient held in the emitter (K)")
+    pressure_solver: EnumProperty(
+        name="Pressure Solver", default="JACOBI",
+        items=(("JACOBI", "Jacobi", "Fixed Jacobi sweeps: cheap per sweep, converges slowly"),
+               ("MULTIGRID", "Multigrid", "Conjugate gradient with a multigrid V-cycle: a few iterations "
+                                          "reach a small residual")),
+        description="How the pressure is solved each step")
     pressure_iterations: IntProperty(name="Pressure Iterations", default=40, min=1, max=100000,
-                                     description="Pressure solver sweeps per step")
+                                     description="Jacobi sweeps or multigrid iterations per step "
+                                                 "(the cap when a tolerance is set)")
+    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=0.0, min=0.0, max=0.5, precision=6,
+                                      description="Stop the pressure solve at this relative residual "
+                                                  "(dimensionless); 0 runs the fixed iteration count")
     density_scale: FloatProperty(name="Render Density", default=20.0, min=0.0, max=10000.0,
                                  description="Density multiplier of the smoke material (Principled Volume)")
     volume_object: PointerProperty(name="Volume", type=bpy.types.Object,

@@ -4,6 +4,7 @@
 // own workspace frame, SI units (m, m/s, N); the haptic loop maps that workspace onto the fluid
 // domain. A device is used by one thread at a time: the haptic loop calls read() then
 // writeForce() once per period (1 kHz), and neither may block for longer than about a period.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -41,8 +42,29 @@ class Device {
   // Commands a force (N, device frame). The caller has already applied safety limits; a device
   // still never exceeds info().max_force_n.
   virtual void writeForce(const glm::vec3& force_n) = 0;
+  // Zero force, on the hardware before this returns: the haptic loop's last command when it
+  // stops or fails. A device whose writeForce() only takes effect with its next read() (the
+  // Falcon) sends the zero here, or the last force would stay on. Never throws.
+  virtual void zeroForce() noexcept {
+    try {
+      writeForce(glm::vec3(0.0f));
+    } catch (...) {  // the device is gone: nothing more can be commanded
+    }
+  }
   // Zero force, release the hardware. Idempotent; never throws.
   virtual void close() = 0;
+
+  // One driver at a time (see DeviceClaim): a haptic loop holds the device while it runs, a
+  // host's own read()/writeForce() call for its length. False: someone else holds it.
+  bool tryClaim() noexcept {
+    bool free = false;
+    return claimed_.compare_exchange_strong(free, true, std::memory_order_acq_rel);
+  }
+  void releaseClaim() noexcept { claimed_.store(false, std::memory_order_release); }
+  bool claimed() const noexcept { return claimed_.load(std::memory_order_acquire); }
+
+ private:
+  std::atomic<bool> claimed_{false};
 };
 
 // Python holds devices through this holder type (bindings use py::class_<Device, DevicePtr>).

@@ -50,8 +50,15 @@ double staleFactor(double age_s, double stale_after_s, double fade_s) {
 }
 
 glm::vec3 ForceSafety::apply(const SafetyInput& in) {
-  if (!in.homed || !in.enabled) {
+  const float max_step_n =
+      std::isfinite(in.dt_s) && in.dt_s > 0.0 ? s_.slew_rate_n_s * static_cast<float>(in.dt_s) : 0.0f;
+  if (!in.homed) {  // the encoders are not zeroed: nothing, at once
     reset();
+    return last_;
+  }
+  if (!in.enabled) {  // paused, stopping or failed: down to zero at the slew rate; the ramp restarts
+    ramp_time_s_ = 0.0;
+    last_ = max_step_n > 0.0f ? slewLimit(last_, glm::vec3(0.0f), max_step_n) : glm::vec3(0.0f);
     return last_;
   }
   if (!allFinite(in.force_n) || !std::isfinite(in.force_age_s)) {
@@ -63,7 +70,7 @@ glm::vec3 ForceSafety::apply(const SafetyInput& in) {
   ramp_time_s_ += in.dt_s;
   const double scale = rampFactor(ramp_time_s_, s_.ramp_s) * staleFactor(in.force_age_s, s_.stale_after_s, s_.fade_s);
   const glm::vec3 target = clampMagnitude(static_cast<float>(scale) * in.force_n, s_.max_force_n);
-  last_ = clampMagnitude(slewLimit(last_, target, s_.slew_rate_n_s * static_cast<float>(in.dt_s)), s_.max_force_n);
+  last_ = clampMagnitude(slewLimit(last_, target, max_step_n), s_.max_force_n);
   return last_;
 }
 

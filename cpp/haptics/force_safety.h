@@ -1,13 +1,16 @@
 #pragma once
 // The safety stage between the filtered force and the device, as small units (each tested alone)
 // and ForceSafety, which chains them once per haptic period:
-//   not homed / output disabled  -> zero now, and the ramp starts again when force may resume
+//   not homed                    -> zero now, and the ramp starts again when force may resume
+//   output disabled (pause, stop, a failed simulation, no force yet)
+//                                -> down to zero at the slew rate (max_force / slew_rate at
+//                                   most, 40 ms for 8 N at 200 N/s); the ramp starts again
 //   NaN or Inf anywhere          -> zero now (counted)
 //   stale simulation force       -> faded linearly to zero (age past stale_after_s, over fade_s)
 //   ramp-in                      -> scaled by t / ramp_s for ramp_s after force (re)starts
 //   clamp                        -> |F| <= max_force_n (already the device's max at most)
 //   slew limit                   -> |F - F_previous| <= slew_rate_n_s * dt, up or down; the hard
-//                                   stops above (zero now) are the only exception.
+//                                   stops above (not homed, NaN: zero now) are the only exception.
 #include <cstdint>
 
 #include <glm/glm.hpp>
@@ -31,7 +34,7 @@ double staleFactor(double age_s, double stale_after_s, double fade_s);  // 1 .. 
 
 struct SafetyInput {
   glm::vec3 force_n{0.0f};   // wanted force (device frame, N)
-  double dt_s = 0.001;       // haptic period, s
+  double dt_s = 0.001;       // haptic period, s (not finite or <= 0: the force holds still)
   double force_age_s = 0.0;  // age of the simulation force behind it, s
   bool homed = false;
   bool enabled = true;       // false: paused, failed or stopping

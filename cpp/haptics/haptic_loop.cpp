@@ -6,11 +6,14 @@
 
 #include "common/error.h"
 #include "haptics/clock.h"
+#include "haptics/device_claim.h"
 #include "haptics/periodic_clock.h"
 
 namespace hf::haptics {
 
 namespace {
+
+constexpr double kMaxWindDownS = 0.25;  // longest slew down to zero on stop(), s
 
 DevicePtr requireDevice(DevicePtr device) {
   if (!device) throw InvalidArgument("haptic loop: give a device (got None)");
@@ -57,14 +60,24 @@ HapticLoop::HapticLoop(DevicePtr device, Mailbox<PoseFrame>& poses, const Mailbo
 HapticLoop::~HapticLoop() { stop(); }
 
 void HapticLoop::start() {
-  if (thread_.joinable()) throw Error("haptic loop: already started; a loop runs once (make a new one)");
+  std::lock_guard<std::mutex> lock(thread_mutex_);
+  if (thread_.joinable()) {
+    throw Error("haptic loop: already started; a loop runs once (make a new one)");
+  }
+  auto claim = std::make_shared<DeviceClaim>(*device_, "start a haptic loop on it");
   stop_ = false;
   running_ = true;
-  thread_ = std::thread([this] { run(); });
+  try {
+    thread_ = std::thread([this, claim] { run(); });  // the claim ends with the thread
+  } catch (...) {
+    running_ = false;
+    throw;
+  }
 }
 
 void HapticLoop::stop() {
   stop_.store(true, std::memory_order_release);
+  std::lock_guard<std::mutex> lock(thread_mutex_);
   if (thread_.joinable()) thread_.join();
 }
 
@@ -87,7 +100,15 @@ void HapticLoop::run() {
   try {
     clock.start();
     double previous_s = monotonicNowS();
-    while (!stop_.load(std::memory_order_acquire)) {
+    // Once stop() is asked, a few more periods run with force disabled, so the command slews
+    // down to zero instead of dropping at once: max_force / slew_rate, at most kMaxWindDownS.
+    const SafetySettings& safety = s_.pipeline.safety;
+    const double wind_down_s = std::min(static_cast<double>(safety.max_force_n / safety.slew_rate_n_s), kMaxWindDownS);
+    const auto wind_down_ticks = static_cast<std::uint64_t>(std::ceil(wind_down_s * s_.rate_hz)) + 1;
+    std::uint64_t wound_down = 0;
+    for (;;) {
+      const bool stopping = stop_.load(std::memory_order_acquire);
+      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= wind_down_ticks)) break;
       const double now_s = clock.waitNext();
       const double dt_s = now_s - previous_s;
       previous_s = now_s;
@@ -95,23 +116,20 @@ void HapticLoop::run() {
       skipped_.store(clock.skipped(), std::memory_order_relaxed);
       // The filter and the slew limit see at most two nominal periods, so one late wake-up
       // cannot open a large force step.
-      tickOnce(now_s, std::min(dt_s, 2.0 * nominal_s));
+      tickOnce(now_s, std::min(dt_s, 2.0 * nominal_s), !stopping);
       ticks_.fetch_add(1, std::memory_order_relaxed);
     }
-    device_->writeForce(glm::vec3(0.0f));
+    device_->zeroForce();
   } catch (const std::exception& e) {
     error_ = std::string("haptic loop stopped: ") + e.what();
     failed_.store(true, std::memory_order_release);
-    try {
-      device_->writeForce(glm::vec3(0.0f));
-    } catch (...) {  // the device is gone; nothing more can be commanded
-    }
+    device_->zeroForce();  // never throws: the device may be gone
   }
   latest_.write(TickOutput{});  // the host sees zero force once the loop has ended
   running_.store(false, std::memory_order_release);
 }
 
-void HapticLoop::tickOnce(double now_s, double dt_s) {
+void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   const DeviceState state = device_->read();
   latest_state_.write(state);
   const WorkspaceMap& map = s_.pipeline.map;
@@ -140,7 +158,7 @@ void HapticLoop::tickOnce(double now_s, double dt_s) {
   in.state = state;
   in.have_force = have_force_;
   in.force = force_;
-  in.enabled = enabled_.load(std::memory_order_acquire);
+  in.enabled = may_enable && enabled_.load(std::memory_order_acquire);
   const TickOutput out = pipeline_.tick(in);
   device_->writeForce(out.commanded_n);
 

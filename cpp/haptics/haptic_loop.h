@@ -8,6 +8,7 @@
 // says what happened. The host reads stats(), latest() and drainTrace() from any one thread.
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -62,9 +63,13 @@ class HapticLoop {
   HapticLoop(const HapticLoop&) = delete;
   HapticLoop& operator=(const HapticLoop&) = delete;
 
-  void start();                 // starts the thread (once)
-  void stop();                  // ends the thread within about a period, joins, zero force
-  void setEnabled(bool on);     // false: force to zero now; true: ramp in again
+  // Starts the thread (once). Throws hf::Error if another loop (or a host call) holds the
+  // device: the loop holds it (DeviceClaim) until its thread ends.
+  void start();
+  // Slews the force down to zero (max_force / slew_rate, at most 0.25 s), ends the thread,
+  // joins, and sends a last zero. From any thread; concurrent calls take turns.
+  void stop();
+  void setEnabled(bool on);     // false: force slews down to zero; true: ramp in again
   bool running() const { return running_.load(std::memory_order_acquire); }
   bool failed() const { return failed_.load(std::memory_order_acquire); }
   std::string error() const;    // "" unless failed()
@@ -76,7 +81,7 @@ class HapticLoop {
 
  private:
   void run();
-  void tickOnce(double now_s, double dt_s);
+  void tickOnce(double now_s, double dt_s, bool may_enable);  // may_enable false: stopping
 
   DevicePtr device_;
   Mailbox<PoseFrame>& poses_;
@@ -85,6 +90,7 @@ class HapticLoop {
   ForcePipeline pipeline_;  // haptic thread only
 
   std::thread thread_;
+  std::mutex thread_mutex_;  // start() and stop() from several host threads: one joins
   std::atomic<bool> stop_{false}, running_{false}, failed_{false}, enabled_{true}, realtime_{false};
   std::string error_;       // written once by the loop before failed_ is set
   std::string scheduling_;  // written by the loop before sched_known_ is set

@@ -42,7 +42,16 @@ void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
       throw InvalidArgument("host device: push_pose times must increase; got " + std::to_string(time_s) +
                             " s after " + std::to_string(previous_.time_s) + " s");
     }
-    next.velocity_m_s = (position_m - previous_.position_m) / static_cast<float>(dt);
+    // In double: a tiny dt (the float of 1e-300 is 0) must not give an infinite velocity, which
+    // read() would turn into a NaN position.
+    const glm::dvec3 velocity = glm::dvec3(position_m - previous_.position_m) / dt;
+    next.velocity_m_s = glm::vec3(velocity);
+    if (!std::isfinite(next.velocity_m_s.x) || !std::isfinite(next.velocity_m_s.y) ||
+        !std::isfinite(next.velocity_m_s.z)) {
+      throw InvalidArgument("host device: push_pose times " + std::to_string(previous_.time_s) + " s and " +
+                            std::to_string(time_s) + " s are too close for a finite velocity; push poses at "
+                            "their own sample times (s), at least a microsecond apart");
+    }
     next.interval_s = dt;
   }
   previous_ = next;

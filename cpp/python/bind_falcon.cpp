@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "haptics/device.h"
+#include "haptics/device_claim.h"
 #include "haptics/falcon/falcon.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -54,9 +55,16 @@ void addFalcon(py::module_& m) {
       .def("stats", [](const FalconDevice& d) { return statsDict(d.stats()); },
            "Counters: packets, missed_replies, force_clamps (above max_force), command_clamps (int16),\n"
            "forward_failures, upload_attempts, firmware_uploaded.")
-      .def("home", &FalconDevice::home, py::arg("timeout") = 60.0, py::call_guard<py::gil_scoped_release>(),
+      .def(
+          "home",
+          [](FalconDevice& d, double timeout) {
+            const haptics::DeviceClaim claim(d, "home() it");
+            d.home(timeout);
+          },
+          py::arg("timeout") = 60.0, py::call_guard<py::gil_scoped_release>(),
            "Exchange packets until homed (red LED: pull the grip all the way out, push it in; green:\n"
-           "homed). timeout in s; raises HapticFluidError with instructions when it passes.");
+           "homed). timeout in s; raises HapticFluidError with instructions when it passes, or while\n"
+           "a HapticSession drives the device.");
 
   m.def(
       "list_falcons",

@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "haptics/device.h"
+#include "haptics/device_claim.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
 #include "haptics/scripted_device.h"
@@ -152,15 +153,29 @@ void addHaptics(py::module_& m) {
 
   py::class_<Device, DevicePtr>(m, "Device", R"doc(
 A haptic device (Falcon, simulated Falcon, scripted, host-driven or null). While a
-HapticSession drives it, leave read() and write_force() to the session.
+HapticSession drives it, read() and write_force() raise HapticFluidError, and a second
+session on it fails to start; close() still stops it (the session then fails with an error).
 )doc")
       .def("info", &Device::info, "A DeviceInfo: name, kind, workspace, max_force ...")
-      .def("read", &Device::read, py::call_guard<py::gil_scoped_release>(),
-           "The latest DeviceState. Raises HapticFluidError if the device is gone or closed.")
       .def(
-          "write_force", [](Device& d, const Vec3& f) { d.writeForce(toVec3(f)); }, py::arg("force"),
+          "read",
+          [](Device& d) {
+            const haptics::DeviceClaim claim(d, "read() it");
+            return d.read();
+          },
           py::call_guard<py::gil_scoped_release>(),
-          "Command a force (N, device frame). No safety stage here: a HapticSession adds one.")
+          "The latest DeviceState. Raises HapticFluidError if the device is gone or closed, or while\n"
+          "a HapticSession drives it.")
+      .def(
+          "write_force",
+          [](Device& d, const Vec3& f) {
+            const haptics::DeviceClaim claim(d, "write_force() to it");
+            d.writeForce(toVec3(f));
+          },
+          py::arg("force"), py::call_guard<py::gil_scoped_release>(),
+          "Command a force (N, device frame). No safety stage here: a HapticSession adds one.\n"
+          "Raises HapticFluidError while a HapticSession drives the device (its safety stage owns\n"
+          "the output).")
       .def("close", &Device::close, py::call_guard<py::gil_scoped_release>(),
            "Zero force and release the device (idempotent).")
       .def("__enter__", [](const DevicePtr& d) { return d; })
@@ -259,6 +274,11 @@ HapticSession drives it, leave read() and write_force() to the session.
           s.loop.rate_hz = rate;
           s.loop.realtime = realtime;
           if (trace) {
+            // The rate is checked (with its own message) when the session is made; a NaN or
+            // negative one must not reach the size_t conversion below first.
+            if (!(rate >= 100.0 && rate <= 10000.0)) {
+              throw InvalidArgument("haptic rate must be between 100 and 10000 Hz, got " + std::to_string(rate));
+            }
             if (!(trace_seconds > 0.0) || trace_seconds * rate > double(std::size_t{1} << 24)) {
               throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
                                     std::to_string(trace_seconds) + " s");
@@ -290,15 +310,18 @@ HapticSession drives it, leave read() and write_force() to the session.
   };
   c.def("start", start, "Start the haptic and simulation threads (once). Returns at once.");
   c.def("pause", &HapticSession::pause, py::call_guard<py::gil_scoped_release>(),
-        "Force to zero now; the simulation holds after its current step.");
+        "Force down to zero at slew_rate (8 N at 200 N/s: 40 ms); the simulation holds after its\n"
+        "current step.");
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
   c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
-        "Force to zero and both threads ended: waits at most `timeout` s for the simulation's\n"
-        "current step (HapticFluidError if it is still running: call again). Raises the error that\n"
-        "ended the session, if any (once), as HapticFluidError.");
+        "Force down to zero at slew_rate (at most 0.25 s) and both threads ended: waits at most\n"
+        "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
+        "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
+        "Any thread may call it; concurrent calls take turns.");
   c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.state()); },
-                          "'idle', 'running', 'paused', 'stopped' or 'failed'.");
+                          "'idle', 'running', 'paused', 'stopped' (force output ended, even if stop() timed out\n"
+                          "waiting for the last simulation step) or 'failed'.");
   c.def_property_readonly(
       "error",
       [](const HapticSession& s) -> py::object {

@@ -167,15 +167,18 @@ void HapticSession::stop(double timeout_s) {
   if (!(timeout_s >= 0.0) || !std::isfinite(timeout_s)) {
     throw InvalidArgument("stop timeout must be a finite number of seconds >= 0, got " + std::to_string(timeout_s));
   }
+  std::lock_guard<std::mutex> stopping(stop_mutex_);  // a second stop() waits, then finds the threads gone
   loop_.setEnabled(false);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_requested_ = true;
   }
   cv_.notify_all();
-  loop_.stop();  // within about one period; the device got its last zero
+  loop_.stop();  // slews down (at most 0.25 s), joins; the device got its last zero
   if (loop_.failed()) fail(loop_.error());
   std::unique_lock<std::mutex> lock(mutex_);
+  // Force output has ended: say so now, even if the simulation's last step is still running.
+  if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
   if (sim_thread_.joinable()) {
     const auto limit = std::chrono::duration<double>(timeout_s);
     if (!cv_.wait_for(lock, limit, [this] { return sim_done_; })) {
@@ -194,6 +197,7 @@ void HapticSession::stop(double timeout_s) {
 }
 
 void HapticSession::joinAll() {
+  std::lock_guard<std::mutex> stopping(stop_mutex_);
   loop_.stop();
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -6,7 +6,7 @@
 //     force mailbox. A step takes as long as the GPU needs; the haptic thread does not notice.
 //   host (Python, Blender): start/pause/resume/stop, stats(), latest(), drainTrace(); none of
 //     these waits for a GPU step except stop(), which waits at most its timeout.
-// An error on either thread (device gone, solver failure) stops force output at once and is
+// An error on either thread (device gone: zero at once; solver failure: slewed to zero) stops force output and is
 // kept: error() returns it and stop() throws it as hf::Error after a clean shutdown.
 #include <atomic>
 #include <condition_variable>
@@ -63,14 +63,17 @@ class HapticSession {
   HapticSession& operator=(const HapticSession&) = delete;
 
   void start();   // starts both threads (once)
-  void pause();   // force to zero now, simulation holds after its current step
+  void pause();   // force slews to zero (max_force / slew_rate), simulation holds after its current step
   void resume();  // simulation steps again, force ramps in again
-  // Force to zero and the haptic thread joined at once; then waits up to timeout_s for the
+  // Force slewed to zero (at most 0.25 s) and the haptic thread joined; then waits up to timeout_s for the
   // simulation's current step. Throws hf::Error if that step is still running (call again),
-  // or the error that ended the session (after the threads are down).
+  // or the error that ended the session (after the threads are down). Callable from any host
+  // thread; concurrent calls take turns.
   void stop(double timeout_s = 10.0);
 
-  SessionState state() const;  // Failed as soon as either thread has failed
+  // Failed as soon as either thread has failed; Stopped once stop() has ended force output
+  // (the simulation's last step may still be finishing if stop() timed out).
+  SessionState state() const;
   HapticSessionStats stats() const;
   haptics::TickOutput latest() const { return loop_.latest(); }
   haptics::DeviceState latestState() const { return loop_.latestState(); }
@@ -101,6 +104,7 @@ class HapticSession {
 
   std::atomic<SessionState> state_{SessionState::Idle};
   std::thread sim_thread_;
+  std::mutex stop_mutex_;              // one stop()/joinAll() at a time (host threads, atexit)
   mutable std::mutex mutex_;           // guards the fields below (never taken by the haptic thread)
   std::condition_variable cv_;
   bool stop_requested_ = false;

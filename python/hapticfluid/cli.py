@@ -112,8 +112,11 @@ def _add_demo(sub) -> None:
                    help="number of frames, one simulation step each (default: %(default)s)")
     p.add_argument("--dt", type=_positive_float, default=_demo.DEFAULT_DT,
                    help="time step in seconds (default: 1/30)")
-    p.add_argument("--iterations", type=_iterations, default=_demo.DEFAULT_ITERATIONS,
-                   help="Jacobi pressure iterations per step (default: %(default)s)")
+    p.add_argument("--solver", choices=tuple(_demo.DEFAULT_ITERATIONS), default=_demo.DEFAULT_SOLVER,
+                   help="pressure solver (default: %(default)s)")
+    p.add_argument("--iterations", type=_iterations, default=None,
+                   help="pressure iterations per step: Jacobi sweeps or multigrid-CG iterations "
+                        "(default: %s)" % ", ".join(f"{v} for {k}" for k, v in _demo.DEFAULT_ITERATIONS.items()))
     p.add_argument("--advection", choices=("semi_lagrangian", "maccormack"),
                    default=_demo.DEFAULT_ADVECTION,
                    help="advection scheme (default: %(default)s)")
@@ -134,6 +137,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
         steps=args.steps,
         dt=args.dt,
         iterations=args.iterations,
+        solver=args.solver,
         device=args.device,
         out_dir=args.out,
         advection=args.advection,

@@ -38,7 +38,10 @@ DEFAULT_RESOLUTION = (64, 64, 64)
 DEFAULT_DOMAIN = (1.0, 1.0, 1.0)
 DEFAULT_STEPS = 90
 DEFAULT_DT = 1.0 / 30.0
-DEFAULT_ITERATIONS = 40
+DEFAULT_SOLVER = "multigrid"
+# Iterations per step when none are given: Jacobi sweeps, or multigrid-preconditioned CG
+# iterations (four reach a relative residual near 1e-4 for about the cost of 40 sweeps).
+DEFAULT_ITERATIONS = {"jacobi": 40, "multigrid": 4}
 DEFAULT_ADVECTION = "semi_lagrangian"
 DEFAULT_OUT_DIR = os.path.join("out", "demo")
 
@@ -261,10 +264,11 @@ def run_demo(
     domain_size: Sequence[float] = DEFAULT_DOMAIN,
     steps: int = DEFAULT_STEPS,
     dt: float = DEFAULT_DT,
-    iterations: int = DEFAULT_ITERATIONS,
+    iterations: Optional[int] = None,
     device: str = "",
     out_dir: "str | os.PathLike" = DEFAULT_OUT_DIR,
     advection: str = DEFAULT_ADVECTION,
+    solver: str = DEFAULT_SOLVER,
     scene: Optional[DemoScene] = None,
     plot: bool = True,
     log: Optional[Callable[[str], None]] = print,
@@ -276,6 +280,10 @@ def run_demo(
     :class:`hapticfluid.HapticFluidError` for engine failures.
     """
     scene = scene or DemoScene()
+    if solver not in DEFAULT_ITERATIONS:
+        raise hf.InvalidArgumentError(f"solver must be 'jacobi' or 'multigrid', got {solver!r}")
+    if iterations is None:
+        iterations = DEFAULT_ITERATIONS[solver]
     say = log if log is not None else (lambda _line: None)
 
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
@@ -305,6 +313,7 @@ def run_demo(
         smoke_dissipation=scene.smoke_dissipation,
         heat_dissipation=scene.heat_dissipation,
         pressure_iterations=iterations,
+        pressure_solver=solver,
         compute_residual=True,
         device=device,
     )
@@ -344,7 +353,7 @@ def run_demo(
         f"OpenGL {info.get('version', '?')}" + (" (software)" if info.get("software") else ""))
     say(f"grid:     {resolution[0]}x{resolution[1]}x{resolution[2]} cells of {h * 1000:.4g} mm, "
         f"domain {size[0]:g} x {size[1]:g} x {size[2]:g} m, {advection}, "
-        f"{iterations} Jacobi iterations")
+        f"{iterations} {'Jacobi sweeps' if solver == 'jacobi' else 'multigrid-CG iterations'}")
     say(f"scene:    source r={src_radius:.3g} m at {tuple(round(c, 3) for c in src_centre)} "
         f"({scene.source_temperature:g} K, heat buoyancy {scene.heat_buoyancy:g} m/s^2/K), "
         f"probe r={radius:.3g} m at z={centre[2]:.3g} m sweeps x {centre[0] - amplitude:.3g}.."

@@ -229,6 +229,25 @@ TEST(FalconDevice, MissedRepliesAreToleratedThenTheLinkIsLost) {
   EXPECT_EQ(sim2->state().lastCommand.motor, (std::array<std::int16_t, 3>{0, 0, 0}));  // zero sent on the way out
 }
 
+// A force set by writeForce() goes out with the next read(); the zero a haptic loop commands
+// when it stops must go out at once, or the Falcon keeps pushing with the last force.
+TEST(FalconDevice, ZeroForceIsSentAtOnce) {
+  auto sim = std::make_shared<SimulatedFalconTransport>(SimulatedFalconOptions{});
+  auto device = openSimulatedFalcon(sim, fastOptions());
+  run(*device, 10, glm::vec3(0.0f, 3.0f, 0.0f));
+  device->read();
+  EXPECT_GT(glm::length(sim->state().motorForce_n), 2.5);
+  device->writeForce(glm::vec3(0.0f));  // alone: still on the Falcon until the next read()
+  EXPECT_NE(sim->state().lastCommand.motor, (std::array<std::int16_t, 3>{0, 0, 0}));
+  device->zeroForce();
+  EXPECT_EQ(sim->state().lastCommand.motor, (std::array<std::int16_t, 3>{0, 0, 0}));
+  EXPECT_LT(glm::length(sim->state().motorForce_n), 1e-9);
+  EXPECT_TRUE(sim->isOpen());  // the device stays usable
+  EXPECT_NO_THROW(device->read());
+  device->close();
+  EXPECT_NO_THROW(device->zeroForce());  // closed: nothing to send, never throws
+}
+
 TEST(FalconDevice, CloseSendsZeroForceAndIsIdempotent) {
   auto sim = std::make_shared<SimulatedFalconTransport>(SimulatedFalconOptions{});
   auto device = openSimulatedFalcon(sim, fastOptions());

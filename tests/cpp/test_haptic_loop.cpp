@@ -11,6 +11,8 @@
 
 #include "common/error.h"
 #include "haptics/clock.h"
+#include "haptics/device_claim.h"
+#include "haptics/falcon/falcon.h"
 #include "haptics/haptic_loop.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
@@ -195,6 +197,110 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
       ASSERT_EQ(t.commanded_n, glm::vec3(0.0f)) << t.time_s;
     }
   }
+}
+
+// stop() slews the command down to zero at the slew rate before the thread ends (no 1.5 N to 0
+// step in the hand), and the last command is zero.
+TEST(HapticLoop, StopSlewsTheForceDownToZero) {
+  auto device = std::make_shared<FaultyDevice>(1 << 30);  // never fails; records every force
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  ForceFrame f;
+  f.force_n = glm::vec3(1.5f, 0.0f, 0.0f);
+  f.publish_time_s = 1e300;  // never stale
+  forces.write(f);
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.slew_rate_n_s = 100.0f;  // 0.1 N per period: 15 periods from 1.5 N to 0
+  HapticLoop loop(device, poses, forces, s);
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return glm::length(loop.latest().commanded_n) > 1.49f; }, 10000ms));
+  loop.stop();
+  const auto seen = device->forces();
+  ASSERT_GE(seen.size(), 20u);
+  EXPECT_EQ(seen.back(), glm::vec3(0.0f));
+  // Each period's step is at most slew * (two nominal periods, the loop's cap on dt).
+  const float max_step = 100.0f * 2e-3f * (1.0f + 1e-5f);
+  std::size_t peak = 0;
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    EXPECT_LE(glm::length(seen[i] - seen[i - 1]), max_step) << "command " << i << " of " << seen.size();
+    if (glm::length(seen[i]) > 1.49f) peak = i;
+  }
+  EXPECT_GE(seen.size() - peak, 8u);  // the way down took several periods
+}
+
+// Two loops on one device would each command force past the other's safety stage; the second
+// start() must fail, and the device must be free again once the first has stopped.
+TEST(HapticLoop, OneLoopPerDevice) {
+  auto device = std::make_shared<NullDevice>(5.0f);
+  Mailbox<PoseFrame> poses1, poses2;
+  Mailbox<ForceFrame> forces;
+  HapticLoop first(device, poses1, forces, loopSettings());
+  HapticLoop second(device, poses2, forces, loopSettings());
+  first.start();
+  try {
+    second.start();
+    ADD_FAILURE() << "a second loop started on a device already driven";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is in use"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(second.running());
+  EXPECT_THROW(DeviceClaim(*device, "write_force() to it"), Error);  // a host call is refused too
+  ASSERT_TRUE(waitFor([&] { return first.stats().ticks > 3; }, 10000ms));
+  first.stop();
+  EXPECT_FALSE(device->claimed());
+  second.start();  // the device is free again
+  EXPECT_TRUE(device->claimed());
+  second.stop();
+  EXPECT_FALSE(device->claimed());
+}
+
+// Several host threads stop a loop at once (Python threads, atexit): one joins, the others wait
+// for it; none throws or hangs (two concurrent joins of one thread hang or crash).
+TEST(HapticLoop, StopFromManyThreadsAtOnce) {
+  auto device = std::make_shared<NullDevice>(5.0f);
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  for (int round = 0; round < 5; ++round) {
+    HapticLoop loop(device, poses, forces, loopSettings());
+    loop.start();
+    ASSERT_TRUE(waitFor([&] { return loop.stats().ticks > 3; }, 10000ms));
+    std::atomic<int> errors{0};
+    std::vector<std::thread> stoppers;
+    for (int i = 0; i < 4; ++i) {
+      stoppers.emplace_back([&] {
+        try {
+          loop.stop();
+        } catch (...) {
+          ++errors;
+        }
+      });
+    }
+    for (auto& t : stoppers) t.join();
+    EXPECT_EQ(errors.load(), 0);
+    EXPECT_FALSE(loop.running());
+  }
+}
+
+// The Falcon sends a force with its next read(); the zero on stop must not wait for a read that
+// never comes, or the Falcon keeps pushing with the last force after the session ended.
+TEST(HapticLoop, StopLeavesTheFalconWithZeroForce) {
+  auto sim = std::make_shared<falcon::SimulatedFalconTransport>(falcon::SimulatedFalconOptions{});
+  falcon::FalconOptions options;
+  options.homingTimeout_s = 5.0;
+  auto device = falcon::openSimulatedFalcon(sim, options);
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  ForceFrame f;
+  f.force_n = glm::vec3(0.0f, 0.0f, 1.5f);
+  f.publish_time_s = 1e300;  // never stale
+  forces.write(f);
+  HapticLoop loop(device, poses, forces, loopSettings());
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return glm::length(sim->state().motorForce_n) > 1.0; }, 10000ms));
+  loop.stop();  // no pause first: the loop was commanding 1.5 N up to its last period
+  EXPECT_FALSE(loop.failed()) << loop.error();
+  EXPECT_EQ(sim->state().lastCommand.motor, (std::array<std::int16_t, 3>{0, 0, 0}));
+  EXPECT_LT(glm::length(sim->state().motorForce_n), 1e-9);
 }
 
 TEST(HapticLoop, RejectsBadSettings) {

@@ -159,6 +159,38 @@ TEST(HapticSafety, NothingBeforeHomingThenARampIn) {
   EXPECT_NEAR(safety.apply(in).x, 2.0 * kDt / s.ramp_s, 1e-6);
 }
 
+// Pause or stop (output disabled) brings the force down at the slew rate, not in one step: a
+// hand pushing against 3 N must not be thrown by the force vanishing; then the ramp starts over.
+TEST(HapticSafety, DisabledOutputSlewsDownToZeroAndTheRampStartsOver) {
+  SafetySettings s = quickSettings();
+  s.ramp_s = 0.5;
+  ForceSafety safety(s);
+  SafetyInput in;
+  in.force_n = glm::vec3(0.0f, 10.0f, 0.0f);  // clamped to 3 N
+  in.dt_s = kDt;
+  in.homed = true;
+  for (int i = 0; i < 1000; ++i) safety.apply(in);
+  ASSERT_NEAR(safety.last().y, 3.0f, 1e-4f);
+  in.enabled = false;
+  const float max_step = s.slew_rate_n_s * static_cast<float>(kDt);
+  glm::vec3 previous = safety.last();
+  int ticks = 0;
+  while (safety.last() != glm::vec3(0.0f)) {
+    ASSERT_LT(++ticks, 1000) << "never reached zero";
+    const glm::vec3 out = safety.apply(in);
+    ASSERT_LE(glm::length(out - previous), max_step * (1.0f + 1e-5f)) << "tick " << ticks;
+    ASSERT_LT(glm::length(out), glm::length(previous));
+    previous = out;
+  }
+  EXPECT_NEAR(ticks, 30, 1);  // 3 N at 0.1 N per period
+  EXPECT_EQ(safety.apply(in), glm::vec3(0.0f));  // and stays there
+  in.enabled = true;  // resumed: the ramp starts over
+  EXPECT_NEAR(safety.apply(in).y, 10.0 * kDt / s.ramp_s, 1e-6);  // the wanted 10 N, ramped
+  in.enabled = false;
+  in.dt_s = std::numeric_limits<double>::quiet_NaN();  // no valid period: zero at once
+  EXPECT_EQ(safety.apply(in), glm::vec3(0.0f));
+}
+
 // The same properties through the whole pipeline, faults injected in its inputs.
 PipelineSettings pipelineSettings() {
   PipelineSettings p;

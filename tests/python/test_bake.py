@@ -376,6 +376,23 @@ def test_scene_errors_name_the_key(tmp_path):
     assert run.returncode == 2 and "cannot read the scene file" in run.stderr
 
 
+def test_bake_uses_the_chosen_pressure_solver(tmp_path):
+    with pytest.raises(hf.InvalidArgumentError, match="fluid.pressure_solver"):
+        scene_from_dict(scene_dict(tmp_path, fluid={"pressure_solver": "sor"}))
+    scene = scene_from_dict(scene_dict(tmp_path / "mg", frames=1,
+                                       fluid={"pressure_solver": "multigrid", "pressure_iterations": 4}))
+    from hapticfluid.bake import driver
+
+    sim = driver.make_simulation(scene)
+    try:
+        assert sim.pressure_solver == "multigrid" and sim.pressure_iterations == 4
+    finally:
+        sim.close()
+    bad_tolerance = scene_from_dict(scene_dict(tmp_path / "tol", frames=1, fluid={"pressure_tolerance": 2.0}))
+    with pytest.raises(hf.InvalidArgumentError, match="pressure tolerance"):
+        driver.make_simulation(bad_tolerance).close()
+
+
 def test_bake_resolution_override_and_adaptive_substeps(tmp_path):
     scene = scene_from_dict(scene_dict(tmp_path / "a", frames=2, substeps="adaptive", cfl=0.5, max_substeps=6))
     hi = scene.with_resolution(24)

@@ -15,7 +15,7 @@ from hapticfluid import cli, demo
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 SMALL = dict(resolution=(16, 16, 16), domain_size=(1.0, 1.0, 1.0), steps=8, dt=0.05,
-             iterations=20)
+             iterations=4)  # multigrid, the default solver
 
 
 @pytest.fixture(scope="module")
@@ -157,18 +157,18 @@ def test_cli_reports_engine_argument_errors_without_traceback(tmp_path):
 def test_cli_help():
     proc = _cli("demo", "--help")
     assert proc.returncode == 0
-    for option in ("--resolution", "--domain", "--steps", "--dt", "--iterations", "--device",
+    for option in ("--resolution", "--domain", "--steps", "--dt", "--iterations", "--solver", "--device",
                    "--out", "--advection"):
         assert option in proc.stdout
 
 
 def test_cli_demo_runs(tmp_path):
     out = tmp_path / "cli"
-    proc = _cli("demo", "--resolution", "16", "16", "16", "--steps", "3", "--iterations", "10",
-                "--out", str(out))
+    proc = _cli("demo", "--resolution", "16", "16", "16", "--steps", "3", "--solver", "jacobi",
+                "--iterations", "10", "--out", str(out))
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
-    assert "steps/s" in proc.stdout
+    assert "steps/s" in proc.stdout and "10 Jacobi sweeps" in proc.stdout
     header, rows = _read_csv(out / "force.csv")
     assert len(rows) == 3
     assert (out / "density.png").read_bytes().startswith(PNG_SIGNATURE)
@@ -185,3 +185,12 @@ def test_outputs_have_the_usual_file_mode(tmp_path):
     mask = os.umask(0)
     os.umask(mask)
     assert stat.S_IMODE(result.csv_path.stat().st_mode) == 0o666 & ~mask
+
+
+def test_demo_solver_choice(tmp_path):
+    with pytest.raises(hf.InvalidArgumentError, match="solver must be 'jacobi' or 'multigrid'"):
+        demo.run_demo(out_dir=tmp_path, solver="sor", log=None, **SMALL)
+    lines = []
+    demo.run_demo(out_dir=tmp_path, solver="multigrid", log=lines.append, plot=False,
+                  **{**SMALL, "iterations": None, "steps": 2})
+    assert any(f"{demo.DEFAULT_ITERATIONS['multigrid']} multigrid-CG iterations" in line for line in lines), lines

@@ -5,6 +5,7 @@ import inspect
 import math
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
@@ -88,6 +89,17 @@ def test_host_device_velocity_from_pushes():
         d.push_pose((0.0, 0.0, 0.0), time=1.0)
     d.push_pose((0.0, 0.0, 0.0))  # default time: now on time.monotonic(), later than 1.05
     assert d.read().homed
+
+
+def test_host_device_rejects_pushes_too_close_for_a_finite_velocity():
+    d = hf.host_device()
+    d.push_pose((0.0, 0.0, 0.0), 0.0)
+    with pytest.raises(hf.InvalidArgumentError, match="too close"):
+        d.push_pose((0.01, 0.0, 0.0), 1e-300)  # dt > 0, but 0.01 m / 1e-300 s is no velocity
+    state = d.read()
+    assert np.all(np.isfinite(state.position)) and np.all(np.isfinite(state.velocity))
+    d.push_pose((0.01, 0.0, 0.0), 0.01)  # the rejected push changed nothing
+    np.testing.assert_allclose(d.state_after(0.0).velocity, (1.0, 0.0, 0.0), rtol=1e-6)
 
 
 def test_null_device_and_close():
@@ -186,6 +198,68 @@ def test_context_manager_raises_the_device_error(sim):
             assert wait_until(lambda: session.state == "failed", timeout=10.0)
 
 
+def test_a_driven_device_refuses_host_commands_and_a_second_session(sim):
+    device = hf.null_device(max_force=2.0)
+    first = hf.HapticSession(sim, device, probe_radius=0.15, realtime=False)
+    second = hf.HapticSession(sim, device, probe_radius=0.15, realtime=False)
+    with first:
+        assert wait_until(lambda: first.stats()["ticks"] > 10)
+        # Past the session's safety stage: refused, not interleaved with the session's commands.
+        with pytest.raises(hf.HapticFluidError, match="in use.*write_force"):
+            device.write_force((5.0, 0.0, 0.0))
+        with pytest.raises(hf.HapticFluidError, match="in use.*read"):
+            device.read()
+        with pytest.raises(hf.HapticFluidError, match="in use"):
+            second.start()
+        assert second.state == "idle"
+    assert device.read().homed  # free again
+    device.write_force((1.0, 0.0, 0.0))
+
+
+def test_session_stop_from_several_threads_at_once(sim):
+    session = hf.HapticSession(sim, hf.null_device(), probe_radius=0.15, realtime=False)
+    session.start()
+    assert wait_until(lambda: session.stats()["ticks"] > 10)
+    errors = []
+
+    def stop():
+        try:
+            session.stop()
+        except Exception as exc:  # pragma: no cover - the failure this test looks for
+            errors.append(exc)
+
+    threads = [threading.Thread(target=stop) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=60.0)
+    assert not any(t.is_alive() for t in threads)
+    assert errors == [] and session.state == "stopped"
+
+
+def test_stop_that_times_out_still_reports_the_force_output_stopped():
+    # 48^3 with a fixed step: the simulation thread is nearly always mid-step, so stop(0) times
+    # out waiting for it; force output has ended all the same and the state must say so.
+    with hf.Simulation(resolution=(48, 48, 48), pressure_iterations=60) as big:
+        timed_out = False
+        for _ in range(5):
+            session = hf.HapticSession(big, hf.null_device(), probe_radius=0.15, sim_dt=0.01, realtime=False)
+            session.start()
+            assert wait_until(lambda: session.stats()["sim_steps"] >= 1, timeout=60.0)
+            try:
+                session.stop(timeout=0.0)
+            except hf.HapticFluidError as exc:
+                assert "still running" in str(exc)
+                timed_out = True
+                assert session.state == "stopped"
+                np.testing.assert_array_equal(session.latest_force, [0.0, 0.0, 0.0])
+            session.stop(timeout=60.0)
+            assert session.state == "stopped"
+            if timed_out:
+                break
+        assert timed_out, "stop(0) never caught the simulation mid-step"
+
+
 @pytest.mark.parametrize("kwargs, match", [
     (dict(filter="median"), "filter"),
     (dict(workspace_scale=0.0), "workspace_scale"),
@@ -195,6 +269,9 @@ def test_context_manager_raises_the_device_error(sim):
     (dict(max_force=10.5), "above the maximum"),
     (dict(slew_rate=0.0), "slew_rate"),
     (dict(rate=20.0), "rate"),
+    (dict(rate=math.nan, trace=True), "rate"),
+    (dict(rate=-1000.0, trace=True), "rate"),
+    (dict(trace=True, trace_seconds=math.inf), "trace_seconds"),
     (dict(bandwidth_ratio=0.0), "bandwidth_ratio"),
     (dict(sim_dt=-0.1), "sim_dt"),
     (dict(force_gain=math.nan), "force_gain"),

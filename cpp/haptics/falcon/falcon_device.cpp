@@ -234,6 +234,16 @@ void FalconDevice::writeForce(const glm::vec3& force_n) {
   command_.motor = command.value;
 }
 
+void FalconDevice::zeroForce() noexcept {
+  try {
+    std::lock_guard<std::mutex> lock(mu_);
+    command_.motor = {0, 0, 0};
+    if (closed_ || dead_) return;
+    if (const auto report = exchange()) update(*report);
+  } catch (...) {  // the link is failing: read() reports it; close() tries once more
+  }
+}
+
 void FalconDevice::close() {
   std::lock_guard<std::mutex> lock(mu_);
   if (closed_) return;

@@ -63,6 +63,8 @@ class FalconDevice : public Device {
   DeviceInfo info() const override;
   DeviceState read() override;
   void writeForce(const glm::vec3& force_n) override;
+  // Zero motor command sent in one packet exchange now, not with the next read().
+  void zeroForce() noexcept override;
   void close() override;
 
   FalconStats stats() const;

@@ -115,6 +115,7 @@ def make_simulation(scene: BakeScene) -> "hf.Simulation":
                         advection=f["advection"], vorticity=f["vorticity"], smoke_weight=f["smoke_weight"],
                         heat_buoyancy=f["heat_buoyancy"], smoke_dissipation=f["smoke_dissipation"],
                         heat_dissipation=f["heat_dissipation"], pressure_iterations=f["pressure_iterations"],
+                        pressure_solver=f["pressure_solver"], pressure_tolerance=f["pressure_tolerance"],
                         compute_residual=False, device=scene.device)
     if scene.source is not None:
         s = scene.source

@@ -11,7 +11,10 @@ Format (JSON; every length in metres, times in seconds or frames; keys marked * 
         "fluid_density": 1.2, "gravity": [0, 0, -9.81], "open_top": false,
         "advection": "semi_lagrangian", "vorticity": 0.0, "smoke_weight": 0.0,
         "heat_buoyancy": 0.0, "smoke_dissipation": 0.0, "heat_dissipation": 0.0,
-        "pressure_iterations": 40
+        "pressure_iterations": 40,       Jacobi sweeps, or multigrid-CG iterations (the cap
+                                           when a tolerance is set)
+        "pressure_solver": "jacobi",     "jacobi" | "multigrid"
+        "pressure_tolerance": 0.0        stop at this relative residual (0: fixed count)
       },
       "source": {"centre": [0.5, 0.5, 0.1], "radius": 0.06,        smoke emitter, or null / absent
                  "density": 1.0, "temperature": 8.0},
@@ -73,6 +76,8 @@ FLUID_DEFAULTS: Dict[str, Any] = {
     "smoke_dissipation": 0.0,
     "heat_dissipation": 0.0,
     "pressure_iterations": 40,
+    "pressure_solver": "jacobi",
+    "pressure_tolerance": 0.0,
 }
 
 
@@ -338,6 +343,12 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
             fluid[k] = v
         elif k == "pressure_iterations":
             fluid[k] = _integer("fluid.pressure_iterations", v, 1)
+        elif k == "pressure_solver":
+            if v not in ("jacobi", "multigrid"):
+                raise _err("fluid.pressure_solver", f"must be 'jacobi' or 'multigrid', got {v!r}")
+            fluid[k] = v
+        elif k == "pressure_tolerance":
+            fluid[k] = _number("fluid.pressure_tolerance", v, minimum=0.0)
         else:
             fluid[k] = _number(f"fluid.{k}", v)
 

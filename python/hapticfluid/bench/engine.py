@@ -26,6 +26,7 @@ from hapticfluid.bench.scene import SEED_DOMAIN, SEED_RESOLUTION, BenchScene
 # Pressure solvers to compare: (label, Simulation keyword arguments). A new solver is one line.
 SOLVERS: List[Tuple[str, Dict[str, object]]] = [
     ("jacobi-40", {"pressure_iterations": 40}),
+    ("multigrid-4", {"pressure_solver": "multigrid", "pressure_iterations": 4}),
 ]
 
 
