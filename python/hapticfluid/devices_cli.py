@@ -67,8 +67,7 @@ def format_falcons(falcons: List[Dict[str, object]]) -> List[str]:
 def format_virtual() -> List[str]:
     lines = ["Virtual devices:"]
     for kind, factory, text in _VIRTUAL:
-        if hasattr(hf, factory):
-            lines.append(f"  {kind:<17} hapticfluid.{factory}()  {text}")
+        lines.append(f"  {kind:<17} hapticfluid.{factory}()  {text}")
     return lines
 
 

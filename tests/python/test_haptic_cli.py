@@ -54,14 +54,17 @@ def test_bad_arguments_exit_2(tmp_path, capsys):
     assert "--script" in capsys.readouterr().err
 
 
-@pytest.mark.skipif(hasattr(hf, "open_falcon"), reason="this build has Falcon support")
-def test_falcon_without_support_says_so(tmp_path, capsys):
-    rc = cli.main(["haptic", "--device", "falcon", "--out", str(tmp_path)] + SMALL)
-    assert rc == 1
-    assert "no Falcon support" in capsys.readouterr().err
+def test_pressure_solver_choice(tmp_path, capsys):
+    rc = cli.main(["haptic", "--device", "null", "--seconds", "0.3", "--no-plot", "--solver", "multigrid",
+                   "--resolution", "16", "16", "16", "--probe-radius", "0.15", "--out", str(tmp_path)])
+    assert rc == 0
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["haptic", "--solver", "sor"])
+    assert exc.value.code == 2
+    with pytest.raises(hf.InvalidArgumentError, match="solver must be"):
+        haptic_cli.run_haptic(hf.null_device(), 0.1, tmp_path, solver="sor", log=lambda _l: None)
 
 
-@pytest.mark.skipif(not hasattr(hf, "open_simulated_falcon"), reason="no Falcon support in this build")
 def test_simulated_falcon_run(tmp_path):
     rc = cli.main(["haptic", "--device", "simulated-falcon", "--seconds", "0.8", "--no-plot",
                    "--out", str(tmp_path)] + SMALL)

@@ -311,7 +311,6 @@ def test_stub_names_the_haptics_members():
         assert public(stubbed) == public(real), cls
 
 
-@pytest.mark.skipif(not hasattr(hf, "open_simulated_falcon"), reason="no Falcon support in this build")
 def test_simulated_falcon_drives_a_session_and_its_unplug_is_reported(sim):
     falcon = hf.open_simulated_falcon(unplug_after=1500)  # about 1.5 s of 1 kHz packets
     session = hf.HapticSession(sim, falcon, workspace_scale=6.0, probe_radius=0.15, ramp_time=0.1)
