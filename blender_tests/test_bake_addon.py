@@ -90,6 +90,12 @@ def main():
         h = 1.0 / 24
         check(all(-h <= lo[i] <= h and 1 - h <= hi[i] <= 1 + h for i in range(3)),
               f"frame {frame}: the volume's bounds {lo} .. {hi} are the domain 0..1 m (within a cell)")
+        # Exact alignment as Blender reads it: voxel (i, j, k) -> origin + (i + 1/2) h, the
+        # simulation's cell centre (a half-cell shift would pass the bounds check above).
+        for g in grids:
+            m = obj.matrix_world @ g.matrix_object
+            check(all(abs(m[a][a] - h) < 1e-6 and abs(m[a][3] - 0.5 * h) < 1e-6 for a in range(3)),
+                  f"frame {frame}: grid {g.name} puts voxel centres on the cell centres: {[list(r) for r in m]}")
 
     # Cycles renders the smoke (the domain is hidden from render after the bake).
     check(s.domain.hide_render, "the domain mesh is hidden from render")

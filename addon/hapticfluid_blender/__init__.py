@@ -33,11 +33,15 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.attach()
+    if properties.clear_stale_bake_state not in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.append(properties.clear_stale_bake_state)
 
 
 def unregister():
     import bpy
 
+    if properties.clear_stale_bake_state in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(properties.clear_stale_bake_state)
     properties.detach()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -29,8 +29,16 @@ def main(argv):
 
     if not hasattr(bpy.types.Scene, "hapticfluid_bake"):
         hapticfluid_blender.register()
+        # registered after the .blend loaded, so its load handler did not run: a file saved
+        # during a bake would still say one is running and refuse to bake
+        hapticfluid_blender.properties.clear_stale_bake_state()
     scene = bpy.context.scene
     if args.resolution is not None:
+        prop = type(scene.hapticfluid_bake).bl_rna.properties["resolution"]
+        if not prop.hard_min <= args.resolution <= prop.hard_max:  # Blender would clamp it silently
+            print(f"bake_blend.py: --resolution must be between {prop.hard_min} and {prop.hard_max}, "
+                  f"got {args.resolution}", file=sys.stderr)
+            return 2
         scene.hapticfluid_bake.resolution = args.resolution
     op = bpy.ops.hapticfluid.bake_resume if args.resume else bpy.ops.hapticfluid.bake
     result = op()

@@ -194,13 +194,17 @@ class HAPTICFLUID_OT_bake_free(bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.hapticfluid_bake
         try:
-            from hapticfluid.bake import free_cache
+            from hapticfluid.bake import BakeError, free_cache
 
             folder = blender_scene.cache_folder(settings)
         except (ImportError, blender_scene.SceneError) as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        removed = free_cache(folder) if os.path.isdir(folder) else 0
+        try:
+            removed = free_cache(folder) if os.path.isdir(folder) else 0
+        except (BakeError, OSError) as exc:  # frames that are not ours, or a file we may not delete
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
         settings.progress = 0.0
         settings.status = f"freed {removed} file(s) in {folder}"
         self.report({"INFO"}, settings.status)

@@ -99,6 +99,20 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
     status: StringProperty(name="Status", default="", description="What the last bake did")
 
 
+@bpy.app.handlers.persistent
+def clear_stale_bake_state(_filepath=None):
+    """load_post handler. is_baking is saved with the .blend, so a file saved (or auto-saved)
+    during a bake and reopened after Blender closed or crashed would keep it set, greying out
+    Bake, Resume and Free for good. No bake of a file just opened can be running in this
+    Blender: clear it and say how to continue."""
+    for scene in bpy.data.scenes:
+        settings = getattr(scene, "hapticfluid_bake", None)
+        if settings is not None and settings.is_baking:
+            settings.is_baking = False
+            settings.status = ("the last bake was interrupted (Blender closed during it); Resume continues "
+                               "after its last complete frame")
+
+
 def attach():
     bpy.types.Scene.hapticfluid_bake = PointerProperty(type=HapticFluidBakeSettings)
 

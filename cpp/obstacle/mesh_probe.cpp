@@ -14,6 +14,13 @@ namespace {
 
 constexpr int kFixedPointRange = 1 << 14;  // largest fixed-point coordinate: keeps edge functions in int32
 
+// The per-vertex and per-triangle stages dispatch ceil(n / kLinearGroup) groups along x, and GL
+// guarantees only 65535 groups per axis: the mesh size limit must fit in one dispatch. Likewise
+// a column's crossing count (at most one per triangle) must fit in the int32 atomics.
+static_assert(kMaxMeshElements <= std::size_t{65535} * gl::kLinearGroup,
+              "kMaxMeshElements exceeds one linear dispatch (65535 groups of kLinearGroup)");
+static_assert(kMaxMeshElements <= std::size_t{0x7fffffff}, "crossing counts must fit in int32");
+
 }  // namespace
 
 MeshProbe::MeshProbe(const fluid::Grid& grid)

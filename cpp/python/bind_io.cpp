@@ -38,7 +38,7 @@ io::DenseView denseView(const py::handle& obj, const char* what, std::vector<FAr
   return v;
 }
 
-io::MetaValue metaValue(const std::string& key, const py::handle& v) {
+io::MetaValue metaValueUnchecked(const std::string& key, const py::handle& v) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
   if (py::isinstance<py::int_>(v)) return v.cast<std::int64_t>();
   if (py::isinstance<py::float_>(v)) return v.cast<double>();
@@ -52,6 +52,18 @@ io::MetaValue metaValue(const std::string& key, const py::handle& v) {
   }
   throw InvalidArgument("metadata '" + key + "' must be a bool, int, float, str or a 3-sequence of numbers, got " +
                         std::string(py::str(py::type::of(v).attr("__name__"))));
+}
+
+// pybind11 reports a failed conversion (an int beyond 64 bits, a vector item that is no
+// number or beyond 32 bits) as a bare RuntimeError: name the entry and the limits instead.
+io::MetaValue metaValue(const std::string& key, const py::handle& v) {
+  try {
+    return metaValueUnchecked(key, v);
+  } catch (const py::cast_error&) {
+    throw InvalidArgument("metadata '" + key + "' = " + std::string(py::repr(v)) +
+                          " cannot be stored: ints must fit in 64 bits, 3-sequences hold numbers (ints within "
+                          "32 bits)");
+  }
 }
 
 }  // namespace

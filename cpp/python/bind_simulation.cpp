@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/validate.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/convert_mesh.h"
@@ -322,7 +323,7 @@ velocity: velocity of the object's origin (the transform's translation), m/s.
 angular_velocity: rad/s, world frame, about the origin; faces the solid covers move at
     velocity + angular_velocity x (x - origin).
 torque_centre: world point (m) for StepReport.torque, or None for the centroid of the cells
-    the mesh covers.
+    the mesh covers. A given point is fixed in the world: set_probe_pose does not move it.
 
 The mesh must be closed and consistently oriented: after merging vertices at identical
 positions, every edge is used once in each direction (several shells are fine; zero-area
@@ -349,6 +350,9 @@ Move the current probe without re-uploading its shape: cheap, never waits for th
 transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity. For a sphere
     probe only its translation is used, as the centre.
 velocity: of the origin (m/s). angular_velocity: world frame (rad/s).
+A mesh's torque_centre, if one was given, stays the same world point; to take the torque
+about a point that moves with the body, compute it from the report's torque_centre, force and
+torque (tau_c = tau - (c - torque_centre) x force), or call set_mesh_probe again.
 Raises InvalidArgumentError if there is no probe or the pose leaves the domain's margin.
 )doc");
   c.def("clear_probe", &Simulation::clearProbe, "Remove the probe from the fluid.");
@@ -457,6 +461,9 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
   m.def(
       "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
       py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
+  m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
+  m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
+  m.attr("MAX_TIME_STEP_S") = static_cast<double>(fluid::kMaxTimeStep);
   m.attr("CELL_OUTSIDE") = 0;
   m.attr("CELL_SURROUNDING") = 1;
   m.attr("CELL_BOUNDARY") = 2;

@@ -33,6 +33,14 @@ inline obstacle::TriangleMesh toMesh(const py::array& vertices, const py::array&
     throw InvalidArgument("triangles must be an integer array of shape (M, 3) (vertex indices), got shape " +
                           shapeText(triangles) + " of dtype " + std::string(py::str(triangles.dtype())));
   }
+  // Before any copy: a huge (or broadcast, zero-stride) array would otherwise be converted in
+  // full only for validateMesh to refuse it.
+  const auto nv = static_cast<std::size_t>(vertices.shape(0)), nt = static_cast<std::size_t>(triangles.shape(0));
+  if (nv > obstacle::kMaxMeshElements || nt > obstacle::kMaxMeshElements) {
+    throw InvalidArgument("the mesh has " + std::to_string(nv) + " vertices and " + std::to_string(nt) +
+                          " triangles; at most " + std::to_string(obstacle::kMaxMeshElements) +
+                          " of each are supported: decimate it");
+  }
   const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
   const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
   if (!v || !t) throw InvalidArgument("vertices and triangles must be numeric arrays");

@@ -273,6 +273,8 @@ struct Simulation::Engine {
   gl::StageTimer timer;
 };
 
+std::size_t Simulation::stepReadbackBytes() { return kResultSlots * sizeof(glm::vec4); }
+
 Simulation::Simulation(const SimulationConfig& config) : grid_(makeGrid(config)), params_(config.params) {
   fluid::validate(params_);
   worker_ = std::make_unique<gl::GlWorker>(config.device);

@@ -130,6 +130,9 @@ class Simulation {
 
   // GPU memory the fields of a grid take, bytes; throws InvalidArgument for a bad resolution.
   static std::size_t estimateBytes(const glm::ivec3& resolution);
+  // Bytes of the result read-back that ends every step (every result slot, vec4 each). With a
+  // pressure tolerance > 0 the solver adds small residual read-backs while it iterates.
+  static std::size_t stepReadbackBytes();
 
  private:
   struct Engine;

@@ -15,6 +15,9 @@ Example::
 from hapticfluid._core import (
     CELL_BOUNDARY,
     CELL_INSIDE,
+    STEP_READBACK_BYTES,
+    MIN_TIME_STEP_S,
+    MAX_TIME_STEP_S,
     CELL_OUTSIDE,
     CELL_SURROUNDING,
     Device,
@@ -49,6 +52,9 @@ __version__ = "0.1.0"
 __all__ = [
     "CELL_BOUNDARY",
     "CELL_INSIDE",
+    "STEP_READBACK_BYTES",
+    "MIN_TIME_STEP_S",
+    "MAX_TIME_STEP_S",
     "CELL_OUTSIDE",
     "CELL_SURROUNDING",
     "Device",

@@ -9,6 +9,9 @@ CELL_OUTSIDE: int
 CELL_SURROUNDING: int
 CELL_BOUNDARY: int
 CELL_INSIDE: int
+STEP_READBACK_BYTES: int  # bytes of the result read-back ending every step (+ residual checks if pressure_tolerance > 0)
+MIN_TIME_STEP_S: float  # smallest dt Simulation.step() takes, s
+MAX_TIME_STEP_S: float  # largest dt Simulation.step() takes, s
 
 Vec3 = Sequence[float]
 Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column

@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -265,13 +266,13 @@ def test_bake_cancel_then_resume_matches_uninterrupted(tmp_path):
     full = scene_from_dict(scene_dict(tmp_path / "full", frames=4))
     bake(full)
     part = scene_from_dict(scene_dict(tmp_path / "part", frames=4))
-    calls = []
+    stop = threading.Event()
 
-    def cancel():  # cancel in the middle of frame 3 (after 2 frames of 2 substeps, and one more)
-        calls.append(1)
-        return len(calls) > 5
+    def progress(p):  # cancel in the middle of frame 3 (after its first of 2 substeps)
+        if p.frame == 3 and p.substep == 1 and not p.frame_finished:
+            stop.set()
 
-    first = bake(part, cancel=cancel)
+    first = bake(part, progress=progress, cancel=stop)
     assert first.status == "cancelled" and first.last_frame == 2 and list_frames(tmp_path / "part") == [1, 2]
     second = bake(part, resume=True)
     assert second.status == "finished" and second.resumed_from == 2 and second.frames_written == 2
@@ -410,12 +411,18 @@ def test_example_scene_loads():
     assert scene.cache_dir.resolve() == (root / "out" / "bake_demo_cache").resolve()  # relative to the file
 
 
-def test_bake_benchmark_quick_runs():
+def test_bake_benchmark_quick_runs(tmp_path, capsys):
     from hapticfluid.bench import bake as bench
+    from hapticfluid.bench import report
 
-    res = bench.run(quick=True)
+    out = tmp_path / "bake.json"
+    assert report.section_main("bake", bench.run, ["--quick", "--json", str(out)]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["bake.json"]  # written atomically, no temporary left
+    res = json.loads(out.read_text())["sections"]["bake"]
     assert res["columns"][0] == "resolution" and len(res["rows"]) == 8
-    assert all(row[-1] == "finished" and row[4] > 0 and row[5] > 0 for row in res["rows"])
+    col = {c: i for i, c in enumerate(res["columns"])}
+    assert all(row[col["status"]] == "finished" and row[col["s/frame"]] > 0 and row[col["last frame KiB"]] > 0
+               and row[col["first frame s"]] > 0 for row in res["rows"])
     by_key = {(r[0], r[1], r[2]): r for r in res["rows"]}
     # Half floats make the files with velocity and pressure (dense fields) smaller.
     assert by_key[("24^3", "density+velocity+pressure", "half")][6] < \
@@ -441,8 +448,8 @@ def test_mesh_probe_bake_resumes_identically(tmp_path):
     assert full.probe.shape == "mesh" and full.fingerprint()["probe"]["mesh_sha256"]
     bake(full)
     part = scene_from_dict(mesh_probe_scene(tmp_path / "part"))
-    calls = []
-    first = bake(part, cancel=lambda: calls.append(1) or len(calls) > 3)
+    stop = threading.Event()
+    first = bake(part, progress=lambda p: p.frame == 2 and not p.frame_finished and stop.set(), cancel=stop)
     assert first.status == "cancelled" and first.last_frame == 1
     bake(part, resume=True)
     for frame in range(1, 5):

@@ -92,7 +92,8 @@ def test_readback_bytes_are_the_field_sizes(quick_run):
     n = 16
     assert by_name["density()"]["bytes"] == n ** 3 * 4
     assert by_name["velocity()"]["bytes"] == 3 * (n + 1) * n * n * 4  # three MAC face fields
-    assert by_name["force (GPU reduction)"]["bytes"] == 32
+    # the step's one read-back: 5 vec4 result slots (force, residual, pressure mean, torque, centroid)
+    assert by_name["force (GPU reduction)"]["bytes"] == hf.STEP_READBACK_BYTES == 5 * 4 * 4
     for r in rows:
         assert _positive(r["ms median"]) and r["ms p90"] >= r["ms median"]
     assert _positive(by_name["density()"]["MB/s"])

@@ -8,16 +8,19 @@ from hapticfluid.bench import haptic
 def test_quick_run_gives_a_table(tmp_path):
     out = tmp_path / "haptic.json"
     assert haptic.main(["--quick", "--json", str(out)]) == 0
-    result = json.loads(out.read_text())
+    doc = json.loads(out.read_text())
+    assert set(doc) == {"schema", "quick", "machine", "sections"} and doc["quick"] is True
+    result = doc["sections"]["haptic"]
     assert set(result) == {"title", "columns", "rows", "notes"}
     assert result["columns"] == haptic.COLUMNS
     assert len(result["rows"]) == 4
     col = {name: i for i, name in enumerate(result["columns"])}
     for row in result["rows"]:
         assert len(row) == len(result["columns"])
-        assert 100.0 < row[col["loop rate (Hz)"]] < 2000.0  # nominal 1000 Hz; loaded machine
+        # the loop ran (its rate is a benchmark figure: the rules keep timings out of tests)
+        assert row[col["loop rate (Hz)"]] > 0.0
         assert 0.0 <= row[col["jitter p50 (ms)"]] <= row[col["jitter p99 (ms)"]] <= row[col["jitter max (ms)"]]
     busy = [r for r in result["rows"] if r[col["scenario"]] == "simulation running"]
     assert len(busy) == 2 and all(r[col["sim rate (Hz)"]] > 0.0 for r in busy)
     assert any(r[col["latency p50 (ms)"]] is not None for r in busy)
-    assert not list(tmp_path.glob("*.tmp"))
+    assert [p.name for p in tmp_path.iterdir()] == ["haptic.json"]  # nothing else, no temporary

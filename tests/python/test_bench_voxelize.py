@@ -3,6 +3,8 @@
 
 import json
 
+import pytest
+
 from hapticfluid.bench import voxelize
 
 
@@ -15,4 +17,8 @@ def test_voxelize_section_is_well_formed(tmp_path):
         assert row[4] > 0.0 and row[5] > 0.0  # the GPU timer saw the stage run
     path = tmp_path / "voxelize.json"
     voxelize.write_json(result, str(path))
+    assert json.loads(path.read_text()) == result
+    assert [p.name for p in tmp_path.iterdir()] == ["voxelize.json"]  # no temporary left behind
+    with pytest.raises(ValueError):  # NaN is not JSON: refused, and the earlier file stays whole
+        voxelize.write_json({**result, "rows": [[float("nan")]]}, str(path))
     assert json.loads(path.read_text()) == result

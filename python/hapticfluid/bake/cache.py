@@ -14,6 +14,8 @@ damaged checkpoint, or one from other settings, is refused with a clear error.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import hashlib
 import io
 import json
@@ -22,7 +24,7 @@ import re
 import tempfile
 import zipfile
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -67,8 +69,26 @@ def _umask() -> int:
     return mask
 
 
+def sync_folder(folder: "str | os.PathLike") -> None:
+    """Flush a folder's entries (a rename in it) to the disk, so a power cut after the rename
+    cannot bring back the old file or lose the new name. Best effort where folders cannot be
+    opened (some file systems); real I/O errors raise."""
+    try:
+        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError as exc:
+        if exc.errno not in (errno.EINVAL, errno.ENOTSUP, errno.EBADF):  # folder fsync unsupported
+            raise
+    finally:
+        os.close(fd)
+
+
 def atomic_write(path: Path, write: Callable[[Any], None], binary: bool = False) -> None:
-    """Write ``path`` through a temporary file in its folder, flushed, then renamed into place."""
+    """Write ``path`` through a temporary file in its folder, flushed, then renamed into place;
+    the folder is flushed after the rename, so the new name survives a power cut."""
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as f:
@@ -83,6 +103,7 @@ def atomic_write(path: Path, write: Callable[[Any], None], binary: bool = False)
         except FileNotFoundError:
             pass
         raise
+    sync_folder(path.parent)
 
 
 def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
@@ -107,10 +128,57 @@ def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
     return cache
 
 
+def check_frames_are_ours(cache_dir: "str | os.PathLike") -> None:
+    """BakeError if the folder holds frame files but no manifest. A bake writes its manifest
+    before its first frame, so such frames come from elsewhere: the layout is Mantaflow's, and a
+    Blender fluid cache chosen as the folder would otherwise be deleted."""
+    frames = list_frames(cache_dir)
+    if frames and not manifest_path(cache_dir).exists():
+        raise BakeError(f"cache folder '{Path(cache_dir)}' holds {len(frames)} frame file(s) "
+                        f"({DATA_DIR}/{FRAME_PREFIX}####.vdb) but no {MANIFEST_FILE}, so no hapticfluid bake "
+                        "wrote them (a Mantaflow cache?); they are not deleted: choose another cache folder "
+                        "or remove them yourself")
+
+
+LOCK_FILE = ".hapticfluid_bake.lock"
+
+
+@contextlib.contextmanager
+def bake_lock(cache_dir: "str | os.PathLike") -> Iterator[None]:
+    """Hold the cache folder's lock for a bake: a second bake into the same folder (another
+    thread, process or Blender) gets a BakeError instead of interleaving its frames and
+    checkpoints with this one's. The kernel drops the lock when the process dies (SIGKILL too),
+    so a killed bake never leaves the folder locked."""
+    import fcntl
+
+    path = Path(cache_dir) / LOCK_FILE
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise BakeError(f"another bake is running in the cache folder '{Path(cache_dir)}' (it holds "
+                            f"{LOCK_FILE}); wait for it or cancel it, or choose another folder") from None
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
 def free_cache(cache_dir: "str | os.PathLike") -> int:
     """Delete the bake's own files (frames, checkpoint, manifest, stale temporaries); returns
-    how many. Other files in the folder are left alone."""
+    how many. Other files in the folder are left alone, and frames that no hapticfluid bake
+    wrote are refused (BakeError, see check_frames_are_ours) before anything is deleted, as is
+    a folder another bake is running in (bake_lock)."""
+    if not Path(cache_dir).is_dir():
+        return 0
+    with bake_lock(cache_dir):
+        return free_cache_locked(cache_dir)
+
+
+def free_cache_locked(cache_dir: "str | os.PathLike") -> int:
+    """free_cache for a caller that holds bake_lock already (the bake driver)."""
     cache = Path(cache_dir)
+    check_frames_are_ours(cache)
     removed = 0
     candidates = []
     for folder, pattern in ((cache / DATA_DIR, FRAME_PATTERN), (cache / CHECKPOINT_DIR, None), (cache, None)):

@@ -82,7 +82,19 @@ def cmd_bake(args: argparse.Namespace) -> int:
           + f"; cache {result.cache_dir} holds {len(frames)} frame file(s)"
           + (f", last complete frame {result.last_frame}" if result.last_frame is not None else ""))
     if result.status == "cancelled":
-        print(f"resume with: python3 -m hapticfluid bake {args.scene} --resume"
-              + (f" --resolution {args.resolution}" if args.resolution else ""))
+        print(f"resume with: {resume_command(args)}")
         return 130
     return 0
+
+
+def resume_command(args: argparse.Namespace) -> str:
+    """The command line that resumes this bake: the same scene, resolution and cache folder (a
+    hint without --cache would resume, or fail to find, the scene's own cache instead)."""
+    import shlex
+
+    words = ["python3", "-m", "hapticfluid", "bake", str(args.scene), "--resume"]
+    if args.resolution is not None:
+        words += ["--resolution", str(args.resolution)]
+    if args.cache is not None:
+        words += ["--cache", str(Path(args.cache).absolute())]
+    return " ".join(shlex.quote(w) for w in words)

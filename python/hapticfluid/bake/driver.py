@@ -82,16 +82,20 @@ def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
                            angular_velocity=tuple(motion.angular_velocity))
 
 
-def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int) -> None:
+def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
+                     cancelled: Callable[[], bool] = lambda: False) -> bool:
     """Before any step: hand the engine every substep pose of frames first..end (fixed substeps;
     max_substeps per frame when adaptive) so its own checks (domain margin, mesh validity, speed)
-    refuse a bad trajectory up front, naming the frame. Leaves no probe set."""
+    refuse a bad trajectory up front, naming the frame. Leaves no probe set. Checks ``cancelled``
+    once per frame (a long trajectory takes a while): returns False if it was cancelled."""
     if scene.probe is None:
-        return
+        return True
     n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
     dt = scene.frame_dt / n
     try:
         for frame in range(first, scene.frame_end + 1):
+            if cancelled():
+                return False
             for s in range(n):
                 a, b = (frame - 1) + s / n, (frame - 1) + (s + 1) / n
                 try:
@@ -101,6 +105,7 @@ def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int) -> None
                         f"the probe's trajectory is refused at frame {frame} (substep {s + 1} of {n}): {exc}") from None
     finally:
         sim.clear_probe()
+    return True
 
 
 def make_simulation(scene: BakeScene) -> "hf.Simulation":
@@ -188,17 +193,28 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     resume: continue after the cache's checkpoint (BakeError if there is none or it does not
         match the scene); otherwise the cache's previous bake files are deleted first.
     progress: called after every substep and every written frame with a BakeProgress.
-    cancel: a threading.Event or a callable; checked between substeps. A cancelled bake keeps
-        every complete frame and its checkpoint, so it can be resumed.
+    cancel: a threading.Event or a callable; checked once per frame of the trajectory check and
+        between substeps. A bake cancelled before its first step leaves the cache as it was (an
+        earlier bake included); later, it keeps every complete frame and its checkpoint, so it
+        can be resumed.
     log: receives one line per frame.
     Raises InvalidArgumentError (scene), BakeError (cache, checkpoint), HapticFluidError (engine).
     """
     say = log or (lambda _line: None)
     is_cancelled = _cancel_check(cancel)
     cache_dir = _cache.prepare_cache(scene.cache_dir)  # before any work: a clear error if unwritable
+    with _cache.bake_lock(cache_dir):  # one bake per cache folder at a time (processes included)
+        return _bake_locked(scene, cache_dir, resume, progress, is_cancelled, say)
+
+
+def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
+                 progress: Optional[Callable[[BakeProgress], None]], is_cancelled: Callable[[], bool],
+                 say: Callable[[str], None]) -> BakeResult:
     fingerprint = scene.fingerprint()
     resumed_from = None
     state = None
+    if not resume:
+        _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
     if resume:
         resumed_from, state = _cache.load_checkpoint(cache_dir, fingerprint)
         _cache.remove_temporaries(cache_dir)
@@ -224,6 +240,7 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     first = scene.frame_start if resumed_from is None else resumed_from + 1
     manifest["frames_done"] = list(range(scene.frame_start, first))
     manifest["last_frame"] = first - 1 if first > scene.frame_start else None
+    manifest["complete"] = first > scene.frame_end  # resuming a finished bake: nothing left to do
     session: Dict[str, Any] = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0,
                                "seconds": 0.0, "device": None}
     manifest["sessions"].append(session)
@@ -233,11 +250,16 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     status = "finished"
     with make_simulation(scene) as sim:
         session["device"] = sim.device.get("renderer")
-        check_trajectory(sim, scene, first)  # a bad pose fails here, before the old bake is freed
+        # a bad pose fails here, and a cancel returns here, before the old bake is freed
+        if not check_trajectory(sim, scene, first, is_cancelled) or is_cancelled():
+            say("cancelled before the first step; the cache is as it was")
+            return BakeResult(status="cancelled", cache_dir=cache_dir, frames_written=0,
+                              last_frame=resumed_from, resumed_from=resumed_from,
+                              seconds=time.perf_counter() - t0, seconds_per_frame=float("nan"))
         if state is not None:
             sim.set_state(state)
         else:
-            _cache.free_cache(cache_dir)
+            _cache.free_cache_locked(cache_dir)
             _cache.prepare_cache(cache_dir)
         _cache.write_manifest(cache_dir, manifest)
         say(f"baking frames {first}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "

@@ -298,6 +298,22 @@ def _key_matrix(where: str, key: Dict[str, Any]) -> np.ndarray:
     return m
 
 
+def _check_step_range(fps: float, substeps: Any, max_substeps: int) -> None:
+    """The simulation steps (frame time / substeps) must be ones the engine takes; found here,
+    not at the first step of a bake that has already freed the old one."""
+    import hapticfluid as hf
+
+    lo_n, hi_n = (1, max_substeps) if substeps == "adaptive" else (substeps, substeps)
+    longest, shortest = 1.0 / (fps * lo_n), 1.0 / (fps * hi_n)
+    what = "adaptive substeps (1 .. max_substeps)" if substeps == "adaptive" else f"{substeps} substeps"
+    if longest > hf.MAX_TIME_STEP_S:
+        raise _err("frames.fps", f"{fps:g} fps with {what} gives steps of up to {longest:.4g} s; the engine "
+                                 f"steps at most {hf.MAX_TIME_STEP_S:g} s: raise fps or the substeps")
+    if shortest < hf.MIN_TIME_STEP_S:
+        raise _err("frames.fps", f"{fps:g} fps with {what} gives steps of {shortest:.3g} s; the engine "
+                                 f"steps at least {hf.MIN_TIME_STEP_S:g} s: lower fps, substeps or max_substeps")
+
+
 def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -> BakeScene:
     """Validate a scene dict (the JSON form) into a BakeScene; relative cache paths resolve
     against ``base_dir``. Raises InvalidArgumentError naming the key to fix."""
@@ -351,15 +367,26 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         p = _table("probe", top["probe"], ("shape", "radius", "keys", "vertices", "triangles"))
         shape = p.get("shape", "sphere")
         vertices = triangles = None
+        ignored = {"sphere": ("vertices", "triangles"), "mesh": ("radius",)}.get(shape, ())
+        stray = sorted(k for k in ignored if k in p)
+        if stray:  # it would be ignored: say so rather than bake something other than meant
+            raise _err("probe", f"a {shape} probe takes no {stray}; remove {'them' if len(stray) > 1 else 'it'} "
+                                f"or set 'shape' to {'mesh' if shape == 'sphere' else 'sphere'}")
         if shape == "sphere":
             radius = _number("probe.radius", p.get("radius"), positive=True)
         elif shape == "mesh":
             try:
                 vertices = np.asarray(p.get("vertices"), dtype=np.float64)
-                triangles = np.asarray(p.get("triangles"), dtype=np.int64)
+                raw_triangles = np.asarray(p.get("triangles"))
             except (TypeError, ValueError):
                 raise _err("probe", "'vertices' must be [[x, y, z], ...] (m) and 'triangles' [[i, j, k], ...]") \
                     from None
+            listed_bool = isinstance(p.get("triangles"), (list, tuple)) and any(
+                isinstance(i, bool) for row in p["triangles"] if isinstance(row, (list, tuple)) for i in row)
+            if listed_bool or (raw_triangles.size and not np.issubdtype(raw_triangles.dtype, np.integer)):
+                # a cast would truncate 2.5 to 2 (or true to 1) without a word
+                raise _err("probe.triangles", "vertex indices must be integers (no fractions, no true/false)")
+            triangles = raw_triangles.astype(np.int64)
             if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4 or not np.all(np.isfinite(vertices)):
                 raise _err("probe.vertices", f"needs at least 4 finite [x, y, z] rows, got shape {vertices.shape}")
             if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) < 4:
@@ -393,6 +420,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         substeps = _integer("substeps", substeps, 1)
     cfl = _number("cfl", top.get("cfl", 1.0), positive=True)
     max_substeps = _integer("max_substeps", top.get("max_substeps", 16), 1)
+    _check_step_range(fps, substeps, max_substeps)
 
     c = _table("cache", top["cache"], ("directory", "grids", "compression", "half_float", "tolerance"))
     directory = c.get("directory")

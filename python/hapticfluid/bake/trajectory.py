@@ -110,6 +110,12 @@ def decompose(matrix: Sequence[Sequence[float]]) -> Pose:
     if np.any(scale < 1e-12):
         raise InvalidArgumentError(f"a probe transform has a zero scale: {scale.tolist()}")
     rot = linear / scale[np.newaxis, :]
+    skew = float(np.abs(rot.T @ rot - np.eye(3)).max())
+    if skew > 1e-4:  # a sheared matrix would come back as a different shape: refuse, never alter it
+        raise InvalidArgumentError(
+            f"a probe transform is sheared (its axes are not perpendicular: |R^T R - I| = {skew:.3g}), which "
+            "the keyed motion (rotation, scale, translation) cannot hold; apply the parent's non-uniform "
+            "scale or unparent the probe")
     if np.linalg.det(rot) < 0:  # a mirror: keep a proper rotation and flip x's scale
         scale[0] = -scale[0]
         rot[:, 0] = -rot[:, 0]

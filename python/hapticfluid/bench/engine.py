@@ -169,7 +169,7 @@ def run(quick: bool = False, sizes: Optional[Sequence[Size]] = None,
         f"sphere probe (radius {scene0.physics.probe_radius:g} of the box) sweeping x "
         f"+-{scene0.sweep_amplitude:g} box widths every {scene0.sweep_period_s:g} s; "
         f"dt {scene0.dt_s:.4g} s" if scene0 else "no sizes",
-        "wall ms: host time of Simulation.step (includes the 32-byte force read-back); "
+        f"wall ms: host time of Simulation.step (includes its {hf.STEP_READBACK_BYTES}-byte result read-back); "
         "GPU ms: GL timestamp queries around each stage, median over the timed steps",
         f"device: {device.get('renderer')} ({device.get('version')})",
     ]

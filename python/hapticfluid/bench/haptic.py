@@ -10,8 +10,6 @@ Run alone: ``python3 -m hapticfluid.bench.haptic [--quick] [--json PATH]``.
 
 from __future__ import annotations
 
-import argparse
-import json
 import os
 import sys
 import time
@@ -19,6 +17,7 @@ from typing import Dict, List, Optional
 
 import hapticfluid as hf
 from hapticfluid import haptic_cli
+from hapticfluid.bench import report
 
 COLUMNS = ["scenario", "grid", "priority", "seconds", "loop rate (Hz)", "jitter p50 (ms)",
            "jitter p99 (ms)", "jitter max (ms)", "skipped periods", "sim rate (Hz)",
@@ -83,31 +82,10 @@ def run(quick: bool = False) -> dict:
             "rows": rows, "notes": notes}
 
 
-def _print_table(result: dict) -> None:
-    cols = result["columns"]
-    cells = [[("-" if v is None else str(v)) for v in row] for row in result["rows"]]
-    widths = [max(len(c), *(len(r[i]) for r in cells)) for i, c in enumerate(cols)]
-    print(result["title"])
-    print("  ".join(c.ljust(w) for c, w in zip(cols, widths)))
-    for r in cells:
-        print("  ".join(v.ljust(w) for v, w in zip(r, widths)))
-    for note in result["notes"]:
-        print(f"note: {note}")
-
-
 def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python3 -m hapticfluid.bench.haptic", description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="short runs on a 32^3 grid (< ~20 s)")
-    parser.add_argument("--json", metavar="PATH", help="also write the result as JSON")
-    args = parser.parse_args(argv)
-    result = run(quick=args.quick)
-    _print_table(result)
-    if args.json:
-        tmp = f"{args.json}.tmp"
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump(result, f, indent=2)
-        os.replace(tmp, args.json)
-    return 0
+    """Run alone: the same command line and JSON document (schema, machine, sections; written
+    atomically, NaN refused) as every other section."""
+    return report.section_main("haptic", run, argv)
 
 
 if __name__ == "__main__":

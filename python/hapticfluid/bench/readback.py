@@ -1,7 +1,8 @@
 """Benchmark section ``readback``: what it costs to get results off the GPU.
 
 - ``force``: the force reduction over the probe's bounding box (the step's ``force`` stage, GL
-  timer), which ends in the step's only read-back (32 bytes); the haptic path needs nothing else.
+  timer), which ends in the step's only read-back (``hapticfluid.STEP_READBACK_BYTES``: force, torque,
+  centroid, residual and pressure-mean slots); the haptic path needs nothing else.
 - ``density``: ``Simulation.density()``, the whole smoke field (a viewport or bake needs it).
 - ``velocity``: ``Simulation.velocity()``, the three MAC face fields.
 
@@ -18,6 +19,7 @@ from typing import Callable, List, Sequence, Tuple
 
 import numpy as np
 
+import hapticfluid as hf
 from hapticfluid.bench import report
 from hapticfluid.bench.scene import BenchScene
 
@@ -60,7 +62,7 @@ def run(quick: bool = False, grids: Sequence[Tuple[int, int, int]] = (), log=rep
                 r = scene.step(sim)
                 force_ms.append(dict(r.gpu_ms)["force"])
             rows.append([scene.label, scene.cells, "force (GPU reduction)", repeats,
-                         report.median(force_ms), report.p90(force_ms), 32, None])
+                         report.median(force_ms), report.p90(force_ms), hf.STEP_READBACK_BYTES, None])
             for name, fn in (("density()", sim.density), ("velocity()", sim.velocity)):
                 times, nbytes = _time_call(fn, repeats)
                 med = report.median(times)
@@ -68,7 +70,9 @@ def run(quick: bool = False, grids: Sequence[Tuple[int, int, int]] = (), log=rep
                              nbytes / 1e6 / (med / 1000.0)])
     notes = [
         "force: GPU time of the step's 'force' stage (face sums over the probe's box, workgroup "
-        "partials reduced on the GPU), which the step then reads back as 32 bytes",
+        f"partials reduced on the GPU), which the step then reads back ({hf.STEP_READBACK_BYTES} bytes: "
+        "force, torque, centroid, residual, pressure mean; a pressure tolerance > 0 adds the "
+        "solver's residual read-backs, not used here)",
         "density()/velocity(): host wall time of the call, GPU texture read-back into a numpy "
         "array (float32); the first call is not counted",
     ]

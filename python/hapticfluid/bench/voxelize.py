@@ -11,19 +11,15 @@ Run alone: ``python3 -m hapticfluid.bench.voxelize [--quick] [--json PATH]``.
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
-import os
 import statistics
-import sys
-import tempfile
-from typing import List, Optional, Sequence
+from typing import List, Sequence
 
 import numpy as np
 
 import hapticfluid as hf
 from hapticfluid import meshes
+from hapticfluid.bench import report
 
 FULL_GRIDS = (64, 128)
 QUICK_GRIDS = (64,)
@@ -95,50 +91,11 @@ def run(quick: bool = False, grids: Sequence[int] = (), log=None) -> dict:
     return {"title": "Voxelization of a moving mesh probe", "columns": COLUMNS, "rows": rows, "notes": notes}
 
 
-def _format(value) -> str:
-    if isinstance(value, float):
-        return f"{value:.3f}"
-    return str(value)
-
-
-def print_table(result: dict, out=sys.stdout) -> None:
-    cells = [result["columns"]] + [[_format(v) for v in row] for row in result["rows"]]
-    widths = [max(len(str(r[c])) for r in cells) for c in range(len(result["columns"]))]
-    print(result["title"], file=out)
-    for i, row in enumerate(cells):
-        print("  ".join(str(v).rjust(w) for v, w in zip(row, widths)), file=out)
-        if i == 0:
-            print("  ".join("-" * w for w in widths), file=out)
-    for note in result["notes"]:
-        print(f"- {note}", file=out)
-
-
 def write_json(result: dict, path: str) -> None:
-    """Writes to a temporary file in the same folder, then renames (never a half-written file)."""
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".voxelize-", suffix=".json", dir=folder)
-    try:
-        with os.fdopen(fd, "w") as f:
-            json.dump(result, f, indent=2)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python3 -m hapticfluid.bench.voxelize", description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="64^3 only, 3 steps per probe (under ~20 s)")
-    parser.add_argument("--json", metavar="PATH", help="also write the result as JSON to PATH")
-    args = parser.parse_args(argv)
-    result = run(quick=args.quick, log=lambda msg: print(msg, file=sys.stderr))
-    print_table(result)
-    if args.json:
-        write_json(result, args.json)
-        print(f"wrote {args.json}")
-    return 0
+    """The section alone as JSON, atomically (report.write_json_atomic: no NaN, umask permissions)."""
+    report.write_json_atomic(path, result)
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    # the same command line and JSON document (schema, machine, sections) as every other section
+    raise SystemExit(report.section_main("voxelize", run))
