@@ -25,7 +25,6 @@ from __future__ import annotations
 import csv
 import math
 import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Optional, Sequence, Tuple
@@ -33,6 +32,7 @@ from typing import Callable, Optional, Sequence, Tuple
 import numpy as np
 
 import hapticfluid as hf
+from hapticfluid.files import atomic_write
 
 DEFAULT_RESOLUTION = (64, 64, 64)
 DEFAULT_DOMAIN = (1.0, 1.0, 1.0)
@@ -143,36 +143,13 @@ def _check_positive(name: str, value: float) -> float:
     return number
 
 
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def _atomic_write(path: Path, write: Callable, mode: str = "w") -> None:
-    """Write ``path`` through a temporary file in the same directory, then rename it into place."""
-    kwargs = {"newline": "", "encoding": "utf-8"} if "b" not in mode else {}
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, mode, **kwargs) as f:
-            write(f)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual file mode
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-
-
 def _write_csv(path: Path, rows: Sequence[Sequence]) -> None:
     def write(f):
         w = csv.writer(f, lineterminator="\n")
         w.writerow(CSV_COLUMNS)
         w.writerows(rows)
 
-    _atomic_write(path, write)
+    atomic_write(path, write)
 
 
 def _plot(
@@ -256,7 +233,7 @@ def _plot(
     ax_f.legend(handles + h2, labels + l2, loc="upper left", fontsize=8, framealpha=0.8)
 
     fig.suptitle(title, fontsize=11)
-    _atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), mode="wb")
+    atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
 
 
 def run_demo(

@@ -19,7 +19,7 @@ from typing import Callable, Dict, Optional, Sequence, Tuple
 import numpy as np
 
 import hapticfluid as hf
-from hapticfluid.demo import _atomic_write
+from hapticfluid.files import atomic_write
 
 DEVICES = ("scripted", "null", "host", "falcon", "simulated-falcon")
 SWEEP_PERIOD_S = 4.0
@@ -151,7 +151,7 @@ def _write_csv(path: Path, trace: Dict[str, np.ndarray]) -> None:
         for row in table:
             w.writerow([f"{row[0]:.6f}"] + [f"{v:.6g}" for v in row[1:]])
 
-    _atomic_write(path, write)
+    atomic_write(path, write)
 
 
 def _plot(path: Path, trace: Dict[str, np.ndarray], device_name: str) -> None:
@@ -176,7 +176,7 @@ def _plot(path: Path, trace: Dict[str, np.ndarray], device_name: str) -> None:
     force_axes[0].legend(loc="upper right", fontsize="small")
     force_axes[-1].set_xlabel("time (s)")
     fig.tight_layout()
-    _atomic_write(path, lambda f: fig.savefig(f, format="png"), mode="wb")
+    atomic_write(path, lambda f: fig.savefig(f, format="png"), binary=True)
 
 
 def format_stats(stats: Dict[str, object]) -> str:

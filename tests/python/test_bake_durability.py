@@ -5,7 +5,7 @@ import stat
 
 import pytest
 
-from hapticfluid.bake import cache as bake_cache
+from hapticfluid import files
 
 
 def test_atomic_write_flushes_the_folder_after_the_rename(tmp_path, monkeypatch):
@@ -19,7 +19,7 @@ def test_atomic_write_flushes_the_folder_after_the_rename(tmp_path, monkeypatch)
         real_fsync(fd)
 
     monkeypatch.setattr(os, "fsync", recording_fsync)
-    bake_cache.atomic_write(target, lambda f: f.write("{}"))
+    files.atomic_write(target, lambda f: f.write("{}"))
     assert target.read_text() == "{}"
     folder_ino = os.stat(tmp_path).st_ino
     # the file's data before the rename, then the folder once the new name is in it
@@ -34,7 +34,7 @@ def test_atomic_write_failure_leaves_no_file_and_no_temporary(tmp_path):
         raise RuntimeError("disk full")
 
     with pytest.raises(RuntimeError):
-        bake_cache.atomic_write(target, fail, binary=True)
+        files.atomic_write(target, fail, binary=True)
     assert list(tmp_path.iterdir()) == []
 
 

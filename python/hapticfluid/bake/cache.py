@@ -15,7 +15,6 @@ damaged checkpoint, or one from other settings, is refused with a clear error.
 from __future__ import annotations
 
 import contextlib
-import errno
 import hashlib
 import io
 import json
@@ -24,11 +23,12 @@ import re
 import tempfile
 import zipfile
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
 from hapticfluid import HapticFluidError
+from hapticfluid.files import atomic_write
 
 DATA_DIR = "data"
 CHECKPOINT_DIR = "checkpoint"
@@ -61,49 +61,6 @@ def list_frames(cache_dir: "str | os.PathLike") -> List[int]:
     if not folder.is_dir():
         return []
     return sorted(int(m.group(1)) for m in (FRAME_PATTERN.match(p.name) for p in folder.iterdir()) if m)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def sync_folder(folder: "str | os.PathLike") -> None:
-    """Flush a folder's entries (a rename in it) to the disk, so a power cut after the rename
-    cannot bring back the old file or lose the new name. Best effort where folders cannot be
-    opened (some file systems); real I/O errors raise."""
-    try:
-        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError as exc:
-        if exc.errno not in (errno.EINVAL, errno.ENOTSUP, errno.EBADF):  # folder fsync unsupported
-            raise
-    finally:
-        os.close(fd)
-
-
-def atomic_write(path: Path, write: Callable[[Any], None], binary: bool = False) -> None:
-    """Write ``path`` through a temporary file in its folder, flushed, then renamed into place;
-    the folder is flushed after the rename, so the new name survives a power cut."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    sync_folder(path.parent)
 
 
 def prepare_cache(cache_dir: "str | os.PathLike") -> Path:

@@ -14,7 +14,6 @@ Run alone: ``python3 -m hapticfluid.bench.engine [--quick] [--json PATH]``.
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
@@ -132,7 +131,6 @@ def run(quick: bool = False, sizes: Optional[Sequence[Size]] = None,
     memory = available_memory_bytes(device)
     notes: List[str] = []
     results: List[Measurement] = []
-    skipped: List[Tuple[BenchScene, str]] = []
     for size in sizes:
         scene = BenchScene(size.resolution, size.domain_size)
         need = hf.estimate_bytes(size.resolution)

@@ -24,7 +24,6 @@ Run alone: ``python3 -m hapticfluid.bench.mantaflow [--quick] [--json PATH]``.
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import subprocess
 import tempfile

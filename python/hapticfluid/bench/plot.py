@@ -14,11 +14,11 @@ import argparse
 import json
 import os
 import sys
-import tempfile
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from hapticfluid.bench import report
+from hapticfluid.files import atomic_write
 
 DEFAULT_PNG = os.path.join("docs", "bench_ms_per_step.png")
 
@@ -75,21 +75,7 @@ def plot_results(engine: dict, png: os.PathLike, machine: Optional[dict] = None)
     ax.legend(fontsize=8)
     png = Path(png)
     png.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{png.name}.", suffix=".tmp", dir=png.parent)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, format="png", dpi=110)
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        os.replace(tmp, png)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return png
+    return atomic_write(png, lambda f: fig.savefig(f, format="png", dpi=110), binary=True)
 
 
 def plot_file(json_path: os.PathLike, png: os.PathLike) -> Path:

@@ -22,9 +22,10 @@ import os
 import platform
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 from typing import Callable, Dict, List, Optional, Sequence
+
+from hapticfluid.files import atomic_write
 
 REQUIRED_KEYS = ("title", "columns", "rows", "notes")
 SCHEMA_VERSION = 1
@@ -251,21 +252,7 @@ def write_json_atomic(path: os.PathLike, data: object) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     text = json.dumps(data, indent=2, allow_nan=False) + "\n"
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return path
+    return atomic_write(path, lambda f: f.write(text))
 
 
 def document(sections: Dict[str, dict], quick: bool, machine: Dict[str, object]) -> dict:

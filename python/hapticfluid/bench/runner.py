@@ -14,7 +14,7 @@ import importlib
 import os
 import time
 import traceback
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Sequence
 
 import hapticfluid as hf
 from hapticfluid.bench import report
