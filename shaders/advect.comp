@@ -1,8 +1,12 @@
-// Stage "advect": semi-Lagrangian transport of one field (a velocity component or a scalar)
-// through the velocity field, with a second-order (midpoint) back-trace.
-// Also the forward and backward passes of MacCormack (u_dt_over_h < 0 for the backward one).
-// Trilinear interpolation is done here from imageLoad()s rather than by texture(): on llvmpipe
-// the eight loads and seven lerps cost less than one filtered texture().
+// Stage "advect": semi-Lagrangian transport through the velocity field, with a second-order
+// (midpoint) back-trace. Also the forward and backward passes of MacCormack (u_dt_over_h < 0
+// for the backward one).
+// Variants (#defines): FIELD_AT 0, 1, 2 transports the velocity component on the faces of that
+// axis; FIELD_AT 3 a scalar at cell centres; with PAIR, two scalars (smoke and heat) share one
+// back-trace. The first velocity of the back-trace is taken at the field's own sample point,
+// where it is an average of 1, 2 or 4 texels per component instead of a full trilinear lookup.
+// Trilinear interpolation is done from imageLoad()s rather than by texture(): on llvmpipe the
+// eight loads and seven lerps cost less than one filtered texture().
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r32f, binding = 2) readonly uniform image3D u_vel_x;
@@ -11,6 +15,11 @@ layout(r32f, binding = 4) readonly uniform image3D u_vel_z;
 layout(r32f, binding = 5) readonly uniform image3D u_src;
 layout(r8ui, binding = 1) readonly uniform uimage3D u_nbmask;
 layout(r32f, binding = 0) uniform writeonly image3D u_dst;
+#ifdef PAIR
+layout(r32f, binding = 6) readonly uniform image3D u_src2;
+layout(r32f, binding = 7) uniform writeonly image3D u_dst2;
+uniform float u_decay2;       // multiplier applied to the second result
+#endif
 
 uniform ivec3 u_field_size;   // texels of this field
 uniform vec3 u_field_offset;  // grid-unit offset of texel (0,0,0)
@@ -40,6 +49,9 @@ DEFINE_TRILINEAR(sampleVx, u_vel_x)
 DEFINE_TRILINEAR(sampleVy, u_vel_y)
 DEFINE_TRILINEAR(sampleVz, u_vel_z)
 DEFINE_TRILINEAR(sampleSrc, u_src)
+#ifdef PAIR
+DEFINE_TRILINEAR(sampleSrc2, u_src2)
+#endif
 
 // Velocity (m/s) at grid-unit position X; face fields sit at offsets (0,.5,.5), (.5,0,.5), (.5,.5,0).
 vec3 velocityAt(vec3 X) {
@@ -48,17 +60,60 @@ vec3 velocityAt(vec3 X) {
               sampleVz(u_res + ivec3(0, 0, 1), X - vec3(0.5, 0.5, 0.0)));
 }
 
+#if FIELD_AT == 3
+// Velocity at the centre of cell idx: each component is the mean of the cell's two faces.
+vec3 velocityHere(ivec3 idx) {
+  return 0.5 * vec3(imageLoad(u_vel_x, idx).r + imageLoad(u_vel_x, idx + ivec3(1, 0, 0)).r,
+                    imageLoad(u_vel_y, idx).r + imageLoad(u_vel_y, idx + ivec3(0, 1, 0)).r,
+                    imageLoad(u_vel_z, idx).r + imageLoad(u_vel_z, idx + ivec3(0, 0, 1)).r);
+}
+#else
+// Component B (on B-faces) at the point of A-face idx (A = FIELD_AT): the mean of the four
+// B-faces around it, two along A (clamped to the grid like the trilinear lookup) and two
+// along B. Equal to velocityAt() there.
+#define DEFINE_CROSS_MEAN(NAME, IMG, B)                                                    \
+  float NAME(ivec3 idx) {                                                                  \
+    ivec3 lo = idx;                                                                        \
+    lo[FIELD_AT] = max(idx[FIELD_AT] - 1, 0);                                              \
+    ivec3 hi = idx;                                                                        \
+    hi[FIELD_AT] = min(idx[FIELD_AT], u_res[FIELD_AT] - 1);                                \
+    ivec3 e = ivec3(0);                                                                    \
+    e[B] = 1;                                                                              \
+    return 0.25 * (imageLoad(IMG, lo).r + imageLoad(IMG, hi).r + imageLoad(IMG, lo + e).r + \
+                   imageLoad(IMG, hi + e).r);                                              \
+  }
+#if FIELD_AT == 0
+DEFINE_CROSS_MEAN(crossY, u_vel_y, 1)
+DEFINE_CROSS_MEAN(crossZ, u_vel_z, 2)
+vec3 velocityHere(ivec3 idx) { return vec3(imageLoad(u_vel_x, idx).r, crossY(idx), crossZ(idx)); }
+#elif FIELD_AT == 1
+DEFINE_CROSS_MEAN(crossX, u_vel_x, 0)
+DEFINE_CROSS_MEAN(crossZ, u_vel_z, 2)
+vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), imageLoad(u_vel_y, idx).r, crossZ(idx)); }
+#else
+DEFINE_CROSS_MEAN(crossX, u_vel_x, 0)
+DEFINE_CROSS_MEAN(crossY, u_vel_y, 1)
+vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), crossY(idx), imageLoad(u_vel_z, idx).r); }
+#endif
+#endif
+
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(idx, u_field_size))) return;
   if (u_zero_in_solid != 0 && (imageLoad(u_nbmask, idx).r & NB_SOLID) != 0u) {
     imageStore(u_dst, idx, vec4(0.0));
+#ifdef PAIR
+    imageStore(u_dst2, idx, vec4(0.0));
+#endif
     return;
   }
   vec3 X = vec3(idx) + u_field_offset;
-  vec3 mid = X - 0.5 * u_dt_over_h * velocityAt(X);
+  vec3 mid = X - 0.5 * u_dt_over_h * velocityHere(idx);
   vec3 back = X - u_dt_over_h * velocityAt(mid);
   back = clamp(back, vec3(0.0), vec3(u_res));
-  float value = sampleSrc(u_field_size, back - u_field_offset);
-  imageStore(u_dst, idx, vec4(value * u_decay));
+  vec3 t = back - u_field_offset;
+  imageStore(u_dst, idx, vec4(sampleSrc(u_field_size, t) * u_decay));
+#ifdef PAIR
+  imageStore(u_dst2, idx, vec4(sampleSrc2(u_field_size, t) * u_decay2));
+#endif
 }

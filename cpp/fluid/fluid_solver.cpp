@@ -3,6 +3,7 @@
 #include <GL/gl.h>
 
 #include <cmath>
+#include <string>
 
 #include "fluid/pressure_jacobi.h"
 #include "fluid/pressure_multigrid.h"
@@ -14,12 +15,23 @@ namespace {
 
 constexpr int kScalarScratch = 3;
 
+gl::Defines advectDefines(int field_at, bool pair) {
+  gl::Defines d = gl::cellGroupDefines();
+  d.emplace_back("FIELD_AT", std::to_string(field_at));
+  if (pair) d.emplace_back("PAIR", "1");
+  return d;
+}
+
 }  // namespace
 
 FluidSolver::FluidSolver(const Grid& grid)
     : grid_(grid),
       fields_(grid),
-      advect_("advect.comp", gl::cellGroupDefines()),
+      advect_{std::make_unique<gl::ComputeProgram>("advect.comp", advectDefines(0, false)),
+              std::make_unique<gl::ComputeProgram>("advect.comp", advectDefines(1, false)),
+              std::make_unique<gl::ComputeProgram>("advect.comp", advectDefines(2, false)),
+              std::make_unique<gl::ComputeProgram>("advect.comp", advectDefines(kScalarScratch, false))},
+      advect_pair_("advect.comp", advectDefines(kScalarScratch, true)),
       maccormack_("maccormack.comp", gl::cellGroupDefines()),
       sources_("sources.comp", gl::cellGroupDefines()),
       vorticity_("vorticity.comp", gl::cellGroupDefines()),
@@ -32,7 +44,8 @@ FluidSolver::FluidSolver(const Grid& grid)
       pressure_sum_("pressure_sum.comp", rowGroupDefines()),
       pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
       jacobi_(std::make_unique<PressureJacobi>(grid)) {
-  for (gl::ComputeProgram* p : {&advect_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
+  for (auto& p : advect_) p->set("u_res", grid.res);
+  for (gl::ComputeProgram* p : {&advect_pair_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
                                 &boundaries_, &divergence_, &residual_, &project_, &pressure_sum_,
                                 &pressure_shift_}) {
     p->set("u_res", grid.res);
@@ -60,32 +73,33 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
                               const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
                               const FluidParams& p) {
   const float dt_over_h = dt_s / grid_.cell_size_m;
+  gl::ComputeProgram& advect = *advect_[static_cast<std::size_t>(scratch_kind)];
   bindVelocityImages(2);  // advect.comp interpolates from images (units 2-4 velocity, 5 source)
   fields_.nbmask.bindImage(1, GL_READ_ONLY);
-  advect_.set("u_field_size", size);
-  advect_.set("u_field_offset", offset);
+  advect.set("u_field_size", size);
+  advect.set("u_field_offset", offset);
   if (p.advection == Advection::SemiLagrangian) {
     src.bindImage(5, GL_READ_ONLY);
     dst.bindImage(0, GL_WRITE_ONLY);
-    advect_.set("u_dt_over_h", dt_over_h);
-    advect_.set("u_decay", decay);
-    advect_.set("u_zero_in_solid", zero_in_solid ? 1 : 0);
-    advect_.dispatch(size);
+    advect.set("u_dt_over_h", dt_over_h);
+    advect.set("u_decay", decay);
+    advect.set("u_zero_in_solid", zero_in_solid ? 1 : 0);
+    advect.dispatch(size);
     return;
   }
   PingPong& scratch = fields_.scratchFor(scratch_kind, size);
   gl::Texture3D& fwd = scratch.tex[0];
   gl::Texture3D& bwd = scratch.tex[1];
-  advect_.set("u_decay", 1.0f);
-  advect_.set("u_zero_in_solid", 0);
+  advect.set("u_decay", 1.0f);
+  advect.set("u_zero_in_solid", 0);
   src.bindImage(5, GL_READ_ONLY);
   fwd.bindImage(0, GL_WRITE_ONLY);
-  advect_.set("u_dt_over_h", dt_over_h);
-  advect_.dispatch(size);
+  advect.set("u_dt_over_h", dt_over_h);
+  advect.dispatch(size);
   fwd.bindImage(5, GL_READ_ONLY);
   bwd.bindImage(0, GL_WRITE_ONLY);
-  advect_.set("u_dt_over_h", -dt_over_h);
-  advect_.dispatch(size);
+  advect.set("u_dt_over_h", -dt_over_h);
+  advect.dispatch(size);
   bindVelocitySamplers();  // maccormack.comp traces with texture()
   src.bindImage(4, GL_READ_ONLY);
   fwd.bindImage(2, GL_READ_ONLY);
@@ -106,13 +120,33 @@ void FluidSolver::advect(float dt_s, const FluidParams& p) {
   }
   const float smoke_decay = std::exp(-p.density_dissipation_1_s * dt_s);
   const float heat_decay = std::exp(-p.temperature_dissipation_1_s * dt_s);
-  advectField(fields_.density.cur(), fields_.density.next(), kScalarScratch, grid_.res, glm::vec3(0.5f), dt_s,
-              smoke_decay, true, p);
-  advectField(fields_.temperature.cur(), fields_.temperature.next(), kScalarScratch, grid_.res, glm::vec3(0.5f),
-              dt_s, heat_decay, true, p);
+  if (p.advection == Advection::SemiLagrangian) {
+    advectScalarPair(dt_s, smoke_decay, heat_decay);
+  } else {
+    advectField(fields_.density.cur(), fields_.density.next(), kScalarScratch, grid_.res, glm::vec3(0.5f), dt_s,
+                smoke_decay, true, p);
+    advectField(fields_.temperature.cur(), fields_.temperature.next(), kScalarScratch, grid_.res,
+                glm::vec3(0.5f), dt_s, heat_decay, true, p);
+  }
   for (auto& v : fields_.vel) v.swap();
   fields_.density.swap();
   fields_.temperature.swap();
+}
+
+void FluidSolver::advectScalarPair(float dt_s, float smoke_decay, float heat_decay) {
+  bindVelocityImages(2);
+  fields_.nbmask.bindImage(1, GL_READ_ONLY);
+  fields_.density.cur().bindImage(5, GL_READ_ONLY);
+  fields_.density.next().bindImage(0, GL_WRITE_ONLY);
+  fields_.temperature.cur().bindImage(6, GL_READ_ONLY);
+  fields_.temperature.next().bindImage(7, GL_WRITE_ONLY);
+  advect_pair_.set("u_field_size", grid_.res);
+  advect_pair_.set("u_field_offset", glm::vec3(0.5f));
+  advect_pair_.set("u_dt_over_h", dt_s / grid_.cell_size_m);
+  advect_pair_.set("u_decay", smoke_decay);
+  advect_pair_.set("u_decay2", heat_decay);
+  advect_pair_.set("u_zero_in_solid", 1);
+  advect_pair_.dispatch(grid_.res);
 }
 
 void FluidSolver::applySources(const SmokeSource& s) {

@@ -4,6 +4,7 @@
 //   solvePressure(); project();
 // It reads the solid mask and solid velocity that an obstacle wrote into fields(), without
 // knowing the obstacle's shape.
+#include <array>
 #include <memory>
 
 #include "fluid/fluid_fields.h"
@@ -46,13 +47,18 @@ class FluidSolver {
   void advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
                    const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
                    const FluidParams& p);
+  // Smoke and heat in one semi-Lagrangian pass (advect_pair_).
+  void advectScalarPair(float dt_s, float smoke_decay, float heat_decay);
   void bindVelocitySamplers();           // texture units 0-2, for trilinear sampling
   void bindVelocityImages(unsigned first);  // read-only image units first..first+2
   void removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, std::size_t slot);
 
   Grid grid_;
   FluidFields fields_;
-  gl::ComputeProgram advect_;
+  // advect.comp per field kind (0-2: velocity on that axis's faces, 3: a scalar), and the
+  // variant that carries smoke and heat through one back-trace.
+  std::array<std::unique_ptr<gl::ComputeProgram>, 4> advect_;
+  gl::ComputeProgram advect_pair_;
   gl::ComputeProgram maccormack_;
   gl::ComputeProgram sources_;
   gl::ComputeProgram vorticity_;

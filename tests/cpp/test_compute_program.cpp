@@ -245,15 +245,28 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
                               : linear ? linearGroupDefines()
                               : rows   ? fluid::rowGroupDefines()
                                        : group_sum ? groupSumDefines() : cellGroupDefines();
-      try {
-        ComputeProgram p(file, defines);
-        glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : linear ? glm::ivec3(kLinearGroup, 1, 1) : kCellGroup;
-        if (rows) want = glm::ivec3(fluid::kRowGroup, 1);
-        if (!reduce && !linear && !rows && columns) want.z = 1;
-        if (p.localSize() != want) out += file + ": wrong local size\n";
-        if (p.name() != file) out += file + ": wrong name\n";
-      } catch (const std::exception& e) {
-        out += std::string(e.what()) + "\n";
+      // Stages compiled in variants are built in each (the variants the engine uses).
+      std::vector<Defines> variants{defines};
+      if (file == "advect.comp") {
+        variants.clear();
+        for (const char* at : {"0", "1", "2", "3"}) {
+          variants.push_back(defines);
+          variants.back().emplace_back("FIELD_AT", at);
+        }
+        variants.push_back(variants.back());
+        variants.back().emplace_back("PAIR", "1");
+      }
+      for (const Defines& variant : variants) {
+        try {
+          ComputeProgram p(file, variant);
+          glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : linear ? glm::ivec3(kLinearGroup, 1, 1) : kCellGroup;
+          if (rows) want = glm::ivec3(fluid::kRowGroup, 1);
+          if (!reduce && !linear && !rows && columns) want.z = 1;
+          if (p.localSize() != want) out += file + ": wrong local size\n";
+          if (p.name() != file) out += file + ": wrong name\n";
+        } catch (const std::exception& e) {
+          out += std::string(e.what()) + "\n";
+        }
       }
     }
     return out;
