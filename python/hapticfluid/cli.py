@@ -11,54 +11,19 @@ engine's InvalidArgumentError), 130 interrupted.
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 from typing import Callable, List, Optional, Sequence
 
 import hapticfluid as hf
 from hapticfluid import demo as _demo
+from hapticfluid.cli_types import cells as _cells
+from hapticfluid.cli_types import iterations as _iterations
+from hapticfluid.cli_types import positive_float as _positive_float
+from hapticfluid.cli_types import positive_int as _positive_int
 from hapticfluid import devices_cli as _devices_cli
 from hapticfluid import haptic_cli as _haptic_cli
 from hapticfluid.bench.runner import add_parser as _add_bench
-
-
-# ---------------------------------------------------------------------------- argument types
-
-
-def _int_at_least(text: str, minimum: int, expected: str, too_small: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
-    if value < minimum:
-        raise argparse.ArgumentTypeError(f"{too_small}, got {value}")
-    return value
-
-
-def _positive_int(text: str) -> int:
-    return _int_at_least(text, 1, "a positive integer", "must be a positive integer")
-
-
-def _cells(text: str) -> int:
-    return _int_at_least(text, 8, "a cell count", "need at least 8 cells per axis")
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
-    return value
-
-
-def _iterations(text: str) -> int:
-    value = _positive_int(text)
-    if value > 100000:
-        raise argparse.ArgumentTypeError(f"must be at most 100000, got {value}")
-    return value
 
 
 # ---------------------------------------------------------------------------- info

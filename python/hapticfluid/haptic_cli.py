@@ -19,6 +19,9 @@ from typing import Callable, Dict, Optional, Sequence, Tuple
 import numpy as np
 
 import hapticfluid as hf
+from hapticfluid.cli_types import cells as _cells
+from hapticfluid.cli_types import finite_float as _number
+from hapticfluid.cli_types import positive_float as _positive
 from hapticfluid.files import atomic_write
 
 DEVICES = ("scripted", "null", "host", "falcon", "simulated-falcon")
@@ -190,36 +193,6 @@ def format_stats(stats: Dict[str, object]) -> str:
 
 
 # ---------------------------------------------------------------------------- argparse
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
-    return value
-
-
-def _number(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be finite, got {text}")
-    return value
-
-
-def _cells(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a cell count, got {text!r}") from None
-    if value < 8:
-        raise argparse.ArgumentTypeError(f"need at least 8 cells per axis, got {value}")
-    return value
 
 
 def _add_haptic(sub) -> None:

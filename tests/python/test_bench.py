@@ -8,6 +8,7 @@ known answers.
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
 
@@ -101,14 +102,27 @@ def test_readback_bytes_are_the_field_sizes(quick_run):
 
 def test_mantaflow_and_engine_ran_the_same_frames(quick_run):
     rows = _rows(quick_run[0]["sections"]["mantaflow"])
-    from hapticfluid.bench import engine
+    from hapticfluid.bench import engine, mantaflow
 
-    manta, ours_rows = rows[0], rows[1:]
-    assert manta["solver"].startswith("Mantaflow")
-    # One row per pressure solver of the engine section.
-    assert [r["solver"] for r in ours_rows] == [f"hapticfluid ({label})" for label, _ in engine.SOLVERS]
-    for ours in ours_rows:
-        _check_same_frames(manta, ours)
+    per_round = 1 + len(engine.SOLVERS)
+    n_rounds = mantaflow.QUICK["rounds"]
+    assert len(rows) == per_round * (n_rounds + 1)
+    assert [r["round"] for r in rows] == [i for i in range(1, n_rounds + 1) for _ in range(per_round)] + \
+        ["median"] * per_round
+    for first in range(0, len(rows), per_round):
+        manta, ours_rows = rows[first], rows[first + 1:first + per_round]
+        assert manta["solver"].startswith("Mantaflow")
+        # One row per pressure solver of the engine section.
+        assert [r["solver"] for r in ours_rows] == [f"hapticfluid ({label})" for label, _ in engine.SOLVERS]
+        if manta["round"] != "median":
+            for ours in ours_rows:
+                _check_same_frames(manta, ours)
+    # The median rows: each figure the median of the rounds', ratios included.
+    medians = rows[-per_round:]
+    for i, row in enumerate(medians):
+        for key in ("total s", "ms/frame", "CPU ms/frame", "Mantaflow/this", "Mantaflow/this CPU"):
+            values = sorted(rows[r * per_round + i][key] for r in range(n_rounds))
+            assert row[key] == pytest.approx(statistics.median(values), rel=1e-9), key
 
 
 def _check_same_frames(manta, ours):

@@ -54,6 +54,19 @@ def test_bad_arguments_exit_2(tmp_path, capsys):
     assert "--script" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("args, message", [
+    (["--gravity", "0", "0", "nan"], "argument --gravity: must be a finite number, got nan"),
+    (["--force-gain", "x"], "argument --force-gain: expected a number, got 'x'"),
+    (["--probe-radius", "0"], "argument --probe-radius: must be a positive finite number, got 0"),
+    (["--resolution", "16", "16", "4"], "argument --resolution: need at least 8 cells per axis, got 4"),
+])
+def test_bad_numbers_are_named(args, message, capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["haptic", *args])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+
+
 def test_pressure_solver_choice(tmp_path, capsys):
     rc = cli.main(["haptic", "--device", "null", "--seconds", "0.3", "--no-plot", "--solver", "multigrid",
                    "--resolution", "16", "16", "16", "--probe-radius", "0.15", "--out", str(tmp_path)])

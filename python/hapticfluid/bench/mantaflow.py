@@ -16,7 +16,9 @@ files' modification times (frames 2..N).
 The engine then runs the same frames: per frame, the same number of steps (one) of dt = 1/FPS
 and a ``density()`` read-back (what a viewport or bake needs each frame). Its ms per frame =
 (Simulation creation, shader compilation included, + all frames) / frames; steady = median
-frame time of frames 2..N. The ratio is Mantaflow's ms per frame over ours.
+frame time of frames 2..N. The ratio is Mantaflow's ms per frame over ours. Both run in
+``rounds`` rounds (Mantaflow, then the engine), each round's ratios side by side, and the
+median of the rounds last.
 
 Run alone: ``python3 -m hapticfluid.bench.mantaflow [--quick] [--json PATH]``.
 """
@@ -36,13 +38,16 @@ from hapticfluid.bench import engine, report
 from hapticfluid.bench.scene import SEED_DOMAIN, BenchScene
 
 FPS = 30
-FULL = {"resolution_max": 100, "frames": 20}
-QUICK = {"resolution_max": 20, "frames": 3}
+# Rounds: Mantaflow then the engine, repeated; these shared machines run slower and faster by
+# tens of percent over minutes, so each round's ratio is taken side by side and the median of
+# the rounds is reported with them.
+FULL = {"resolution_max": 100, "frames": 20, "rounds": 3}
+QUICK = {"resolution_max": 20, "frames": 3, "rounds": 2}
 STEPS_PER_FRAME = 1  # Mantaflow's, with adaptive time stepping off (dt = frame length)
 BLENDER_TIMEOUT_S = 1800
 
 SCENE_SCRIPT = Path(__file__).with_name("mantaflow_scene.py")
-COLUMNS = ["solver", "grid", "frames", "steps/frame", "total s", "ms/frame", "steady ms/frame",
+COLUMNS = ["round", "solver", "grid", "frames", "steps/frame", "total s", "ms/frame", "steady ms/frame",
            "CPU ms/frame", "Mantaflow/this", "Mantaflow/this steady", "Mantaflow/this CPU"]
 
 
@@ -126,41 +131,66 @@ def run_engine(scene: BenchScene, frames: int, solver_kwargs: Dict[str, object])
             "frame_ms": frame_ms, "smoke_m3": smoke}
 
 
-def run(quick: bool = False, log=report.progress) -> dict:
-    cfg = QUICK if quick else FULL
-    res_max, frames = cfg["resolution_max"], cfg["frames"]
-    # Mantaflow's cells are cubic: the longest edge over resolution_max.
-    h = max(SEED_DOMAIN) / res_max
-    resolution = tuple(max(1, round(l / h)) for l in SEED_DOMAIN)
-    domain = tuple(n * h for n in resolution)
-    scene = BenchScene(resolution, domain, dt_s=1.0 / FPS)  # type: ignore[arg-type]
-    with tempfile.TemporaryDirectory(prefix="hf-bench-mantaflow-") as tmp:
-        if log:
-            log(f"mantaflow: baking {scene.label}, {frames} frames in Blender ...")
-        manta = run_mantaflow(scene, res_max, frames, Path(tmp))
-    if manta["grid"] is not None and tuple(manta["grid"]) != resolution:
-        raise hf.HapticFluidError(f"Mantaflow's grid is {manta['grid']}, expected {resolution}")
-    ours: Dict[str, Dict[str, object]] = {}
-    for solver, kwargs in engine.SOLVERS:
-        if log:
-            log(f"mantaflow: the engine ({solver}) on {scene.label}, {frames} frames ...")
-        ours[solver] = run_engine(scene, frames, kwargs)
-
+def _round_rows(round_label, scene: BenchScene, frames: int, manta: Dict[str, object],
+                ours: Dict[str, Dict[str, object]]) -> List[list]:
+    """One round's rows: Mantaflow's, then one per engine solver with the ratios to it."""
     times = [t for _, t in manta["frame_files"]]
     gaps_ms = [(b - a) * 1000.0 for a, b in zip(times, times[1:])]
     manta_ms = manta["bake_s"] * 1000.0 / frames
     manta_steady = report.median(gaps_ms) if gaps_ms else None
     manta_cpu = manta["bake_cpu_s"] * 1000.0 / frames
     label = scene.label
-    rows = [[f"Mantaflow (Blender {manta['blender_version']})", label, frames, STEPS_PER_FRAME,
+    rows = [[round_label, f"Mantaflow (Blender {manta['blender_version']})", label, frames, STEPS_PER_FRAME,
              manta["bake_s"], manta_ms, manta_steady, manta_cpu, 1.0, 1.0 if manta_steady else None, 1.0]]
     for solver, run_ in ours.items():
         ours_ms = run_["total_s"] * 1000.0 / frames
         ours_steady = report.median(run_["frame_ms"][1:]) if frames > 1 else None
         ours_cpu = run_["cpu_s"] * 1000.0 / frames
         steady_ratio = manta_steady / ours_steady if manta_steady and ours_steady else None
-        rows.append([f"hapticfluid ({solver})", label, frames, STEPS_PER_FRAME, run_["total_s"], ours_ms,
-                     ours_steady, ours_cpu, manta_ms / ours_ms, steady_ratio, manta_cpu / ours_cpu])
+        rows.append([round_label, f"hapticfluid ({solver})", label, frames, STEPS_PER_FRAME, run_["total_s"],
+                     ours_ms, ours_steady, ours_cpu, manta_ms / ours_ms, steady_ratio, manta_cpu / ours_cpu])
+    return rows
+
+
+def _median_rows(rounds: List[List[list]]) -> List[list]:
+    """Per contender, the median over the rounds of every figure (the ratios included: the
+    median of the per-round ratios, not a ratio of medians)."""
+    out = []
+    for i, first in enumerate(rounds[0]):
+        row = ["median", *first[1:5]]
+        for col in range(5, len(first)):
+            values = [r[i][col] for r in rounds if r[i][col] is not None]
+            row.append(report.median(values) if values else None)
+        out.append(row)
+    return out
+
+
+def run(quick: bool = False, log=report.progress) -> dict:
+    cfg = QUICK if quick else FULL
+    res_max, frames, n_rounds = cfg["resolution_max"], cfg["frames"], cfg["rounds"]
+    # Mantaflow's cells are cubic: the longest edge over resolution_max.
+    h = max(SEED_DOMAIN) / res_max
+    resolution = tuple(max(1, round(l / h)) for l in SEED_DOMAIN)
+    domain = tuple(n * h for n in resolution)
+    scene = BenchScene(resolution, domain, dt_s=1.0 / FPS)  # type: ignore[arg-type]
+    rounds: List[List[list]] = []
+    ours: Dict[str, Dict[str, object]] = {}
+    manta: Dict[str, object] = {}
+    for r in range(1, n_rounds + 1):
+        with tempfile.TemporaryDirectory(prefix="hf-bench-mantaflow-") as tmp:
+            if log:
+                log(f"mantaflow: round {r}/{n_rounds}: baking {scene.label}, {frames} frames in Blender ...")
+            manta = run_mantaflow(scene, res_max, frames, Path(tmp))
+        if manta["grid"] is not None and tuple(manta["grid"]) != resolution:
+            raise hf.HapticFluidError(f"Mantaflow's grid is {manta['grid']}, expected {resolution}")
+        ours = {}
+        for solver, kwargs in engine.SOLVERS:
+            if log:
+                log(f"mantaflow: round {r}/{n_rounds}: the engine ({solver}) on {scene.label}, {frames} frames ...")
+            ours[solver] = run_engine(scene, frames, kwargs)
+        rounds.append(_round_rows(r, scene, frames, manta, ours))
+    rows = [row for round_rows in rounds for row in round_rows] + _median_rows(rounds)
+    label = scene.label
     setups = ", ".join(f"{solver} {r['setup_s'] * 1000:.0f} ms" for solver, r in ours.items())
     notes = [
         f"same scene, grid and frames: {label} cells of {h * 100:g} cm, {frames} frames at {FPS} fps, "
@@ -177,6 +207,8 @@ def run(quick: bool = False, log=report.progress) -> dict:
         "(Mantaflow: gaps between its cache files' modification times); CPU ms/frame = process CPU "
         "time of all threads / frames (Mantaflow: of the bake call in Blender), the figure least "
         "disturbed by other load on the machine",
+        f"{n_rounds} rounds, each Mantaflow then the engine; 'median' rows: the median over the "
+        "rounds of each figure, ratios included (the median of the per-round ratios)",
     ]
     if manta["grid"] is None:
         notes.append("Mantaflow's grid was not checked against its cache (no pyopenvdb); "
