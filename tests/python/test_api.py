@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import hapticfluid as hf
+from conftest import step_in_background
 
 
 def test_device_is_reported(small_sim):
@@ -211,21 +212,9 @@ def test_getters_do_not_wait_for_a_running_step():
     sim = hf.Simulation(resolution=(48, 48, 48), pressure_iterations=1500)
     sim.set_probe((0.5, 0.5, 0.5), 0.15, velocity=(0.2, 0, 0))
     sim.step(0.01)
-    started, done = threading.Event(), threading.Event()
-
-    def work():
-        started.set()
-        sim.step(0.01)
-        done.set()
-
-    t = threading.Thread(target=work)
-    t.start()
-    started.wait()
-    time.sleep(0.05)  # let the step take the GPU lock
-    assert not done.is_set(), "the step finished too soon for this check"
-    observed = (sim.time, sim.steps, sim.pressure_iterations, sim.probe["radius"], sim.closed)
-    sim.set_probe((0.55, 0.5, 0.5), 0.15)
-    sim.vorticity = 0.1
-    finished_during_reads = done.is_set()
-    t.join()
+    with step_in_background(sim, 0.01) as done:
+        observed = (sim.time, sim.steps, sim.pressure_iterations, sim.probe["radius"], sim.closed)
+        sim.set_probe((0.55, 0.5, 0.5), 0.15)
+        sim.vorticity = 0.1
+        finished_during_reads = done.is_set()
     assert observed[1] == 1 and not finished_during_reads

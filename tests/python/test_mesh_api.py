@@ -2,14 +2,13 @@
 (InvalidArgumentError saying what to change) for every kind of bad input, which changes nothing."""
 
 import math
-import threading
-import time
 
 import numpy as np
 import pytest
 
 import hapticfluid as hf
 from hapticfluid import meshes
+from conftest import step_in_background
 
 
 def moved(x, y, z):
@@ -162,22 +161,10 @@ def test_probe_pose_does_not_wait_for_a_running_step():
     vertices, triangles = meshes.icosphere(2, 0.15)
     sim.set_mesh_probe(vertices, triangles, moved(0.5, 0.5, 0.5))
     sim.step(0.01)
-    started, done = threading.Event(), threading.Event()
-
-    def work():
-        started.set()
-        sim.step(0.01)
-        done.set()
-
-    t = threading.Thread(target=work)
-    t.start()
-    started.wait()
-    time.sleep(0.05)  # let the step take the GPU lock
-    assert not done.is_set(), "the step finished too soon for this check"
-    for i in range(200):
-        sim.set_probe_pose(moved(0.5 + 0.0005 * i, 0.5, 0.5), velocity=(0.05, 0, 0))
-    finished_during_poses = done.is_set()
-    t.join()
+    with step_in_background(sim, 0.01) as done:
+        for i in range(200):
+            sim.set_probe_pose(moved(0.5 + 0.0005 * i, 0.5, 0.5), velocity=(0.05, 0, 0))
+        finished_during_poses = done.is_set()
     assert not finished_during_poses
     np.testing.assert_allclose(sim.probe["transform"], moved(0.5 + 0.0005 * 199, 0.5, 0.5), atol=1e-6)
     sim.pressure_iterations = 1
