@@ -17,6 +17,7 @@
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
 #include "haptics/scripted_device.h"
+#include "test_util.h"
 
 namespace hf::haptics {
 namespace {
@@ -78,15 +79,7 @@ HapticLoopSettings loopSettings() {
   return s;
 }
 
-template <class Pred>
-bool waitFor(Pred pred, std::chrono::milliseconds limit) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(2ms);
-  }
-  return pred();
-}
+using test::waitFor;
 
 TEST(HapticLoop, RunsPublishesPosesAndBoundsTheForce) {
   auto device = std::make_shared<ScriptedDevice>(std::vector<double>{0.0, 1.0},

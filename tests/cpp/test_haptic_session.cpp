@@ -11,21 +11,14 @@
 #include "haptics/host_device.h"
 #include "session/haptic_session.h"
 #include "session/simulation.h"
+#include "test_util.h"
 
 namespace hf::haptics {
 namespace {
 
 using namespace std::chrono_literals;
 
-template <class Pred>
-bool waitFor(Pred pred, std::chrono::milliseconds limit) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(2ms);
-  }
-  return pred();
-}
+using test::waitFor;
 
 // The whole session over a small simulation: both threads run, the probe follows the device,
 // forces come back, and a device that goes away ends the session with its error.

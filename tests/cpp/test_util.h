@@ -2,10 +2,12 @@
 // Helpers shared by the GoogleTest files (not a test itself: the CMake glob takes only *.cpp).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "gl/gl_worker.h"
@@ -48,6 +50,17 @@ class EnvGuard {
   std::string name_;
   std::optional<std::string> old_;
 };
+
+// Polls pred every 2 ms until it holds or `limit` has passed; returns its last value.
+template <class Pred>
+bool waitFor(Pred pred, std::chrono::milliseconds limit) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return pred();
+}
 
 inline bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
