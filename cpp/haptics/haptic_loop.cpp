@@ -76,8 +76,10 @@ void HapticLoop::start() {
 }
 
 void HapticLoop::stop() {
-  stop_.store(true, std::memory_order_release);
+  // Under the lock: a start() racing with this stop() cannot clear the flag after it was set
+  // and leave the join below waiting for a loop that was told to run on.
   std::lock_guard<std::mutex> lock(thread_mutex_);
+  stop_.store(true, std::memory_order_release);
   if (thread_.joinable()) thread_.join();
 }
 
