@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "fluid/validate.h"
 #include "haptics/clock.h"
 #include "haptics/rate_estimator.h"
@@ -15,10 +16,6 @@ namespace hf::session {
 namespace {
 constexpr double kDtSmoothing = 0.25;  // real time: weight of the newest wall period in the step
 constexpr float kDefaultProbeRadiusM = 0.1f;  // the sphere made when there is no probe to keep
-
-std::string vecText(const glm::vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
 }  // namespace
 
 const char* stateName(SessionState s) {
