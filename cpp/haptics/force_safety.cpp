@@ -26,8 +26,6 @@ void SafetySettings::validate() const {
   }
 }
 
-bool allFinite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 glm::vec3 clampMagnitude(const glm::vec3& v, float max_n) {
   const float len = glm::length(v);
   if (!(len > max_n)) return v;

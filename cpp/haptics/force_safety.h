@@ -15,6 +15,8 @@
 
 #include <glm/glm.hpp>
 
+#include "common/finite.h"
+
 namespace hf::haptics {
 
 struct SafetySettings {
@@ -26,7 +28,7 @@ struct SafetySettings {
   void validate() const;          // throws InvalidArgument naming the bad value
 };
 
-bool allFinite(const glm::vec3& v);
+using hf::allFinite;  // common/finite.h
 glm::vec3 clampMagnitude(const glm::vec3& v, float max_n);
 glm::vec3 slewLimit(const glm::vec3& previous, const glm::vec3& target, float max_step_n);
 double rampFactor(double since_start_s, double ramp_s);             // 0 .. 1

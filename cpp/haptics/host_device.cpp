@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/finite.h"
 #include "haptics/clock.h"
 #include "haptics/device_checks.h"
 
@@ -26,8 +27,7 @@ HostDevice::HostDevice(float max_force_n, bool extrapolate) : extrapolate_(extra
 void HostDevice::pushPose(const glm::vec3& position_m) { pushPose(position_m, monotonicNowS()); }
 
 void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
-  if (!std::isfinite(position_m.x) || !std::isfinite(position_m.y) || !std::isfinite(position_m.z) ||
-      !std::isfinite(time_s)) {
+  if (!allFinite(position_m) || !std::isfinite(time_s)) {
     throw InvalidArgument("host device: push_pose needs a finite position (m) and time (s)");
   }
   std::lock_guard<std::mutex> lock(push_mutex_);
@@ -46,8 +46,7 @@ void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
     // read() would turn into a NaN position.
     const glm::dvec3 velocity = glm::dvec3(position_m - previous_.position_m) / dt;
     next.velocity_m_s = glm::vec3(velocity);
-    if (!std::isfinite(next.velocity_m_s.x) || !std::isfinite(next.velocity_m_s.y) ||
-        !std::isfinite(next.velocity_m_s.z)) {
+    if (!allFinite(next.velocity_m_s)) {
       throw InvalidArgument("host device: push_pose times " + std::to_string(previous_.time_s) + " s and " +
                             std::to_string(time_s) + " s are too close for a finite velocity; push poses at "
                             "their own sample times (s), at least a microsecond apart");

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/finite.h"
 #include "haptics/clock.h"
 #include "haptics/device_checks.h"
 
@@ -22,7 +23,7 @@ ScriptedDevice::ScriptedDevice(std::vector<double> times_s, std::vector<glm::vec
   }
   for (std::size_t i = 0; i < times_.size(); ++i) {
     const glm::vec3& p = positions_[i];
-    if (!std::isfinite(times_[i]) || !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+    if (!std::isfinite(times_[i]) || !allFinite(p)) {
       throw InvalidArgument("scripted device: waypoint " + std::to_string(i) + " is not finite");
     }
     if (i > 0 && !(times_[i] > times_[i - 1])) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/finite.h"
 #include "common/format.h"
 #include "fluid/fluid_solver.h"
 #include "fluid/row_reduction.h"
@@ -103,10 +104,8 @@ glm::vec3 hydrostaticReference(const fluid::Grid& g, const glm::vec3& gravity) {
   return ref;
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 void validateMotion(const glm::vec3& velocity_m_s, const glm::vec3& angular_velocity_rad_s) {
-  if (!finite(velocity_m_s) || !finite(angular_velocity_rad_s)) {
+  if (!allFinite(velocity_m_s) || !allFinite(angular_velocity_rad_s)) {
     throw InvalidArgument("probe motion must be finite: velocity " + vecText(velocity_m_s) +
                           " m/s, angular velocity " + vecText(angular_velocity_rad_s) + " rad/s");
   }
@@ -121,7 +120,7 @@ void validateMotion(const glm::vec3& velocity_m_s, const glm::vec3& angular_velo
 }
 
 void validatePose(const obstacle::SpherePose& p, const fluid::Grid& g) {
-  if (!finite(p.centre_m)) {
+  if (!allFinite(p.centre_m)) {
     throw InvalidArgument("probe pose must be finite: centre " + vecText(p.centre_m) + " m");
   }
   validateMotion(p.velocity_m_s, p.angular_velocity_rad_s);
@@ -255,7 +254,7 @@ struct Simulation::Engine {
     }
     r.gpu_ms = timer.collect();
     const glm::vec4 mean = results[kPressureMeanSlot];
-    if (!finite(r.force_n) || !finite(r.torque_n_m) ||
+    if (!allFinite(r.force_n) || !allFinite(r.torque_n_m) ||
         (p.compute_residual && !std::isfinite(r.relative_residual)) || (!p.open_top && !std::isfinite(mean.x))) {
       throw Error("the solver's state became non-finite (force " + vecText(r.force_n) +
                   " N); call reset() and use a smaller time step or probe speed");
@@ -351,7 +350,7 @@ void Simulation::setSphereProbe(const obstacle::SpherePose& pose) {
 void Simulation::setMeshProbe(obstacle::TriangleMesh mesh, const obstacle::RigidPose& pose,
                               const std::optional<glm::vec3>& torque_centre_m) {
   obstacle::validateMesh(mesh);
-  if (torque_centre_m && !finite(*torque_centre_m)) {
+  if (torque_centre_m && !allFinite(*torque_centre_m)) {
     throw InvalidArgument("torque centre must be a finite world point (m), got " + vecText(*torque_centre_m));
   }
   ProbeState state;
