@@ -39,14 +39,14 @@ FluidSolver::FluidSolver(const Grid& grid)
       apply_forces_("apply_forces.comp", gl::cellGroupDefines()),
       boundaries_("enforce_boundaries.comp", gl::cellGroupDefines()),
       divergence_("divergence.comp", gl::cellGroupDefines()),
-      residual_("residual.comp", rowGroupDefines()),
+      residual_(grid),
       project_("project.comp", gl::cellGroupDefines()),
       pressure_sum_("pressure_sum.comp", rowGroupDefines()),
       pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
       jacobi_(std::make_unique<PressureJacobi>(grid)) {
   for (auto& p : advect_) p->set("u_res", grid.res);
   for (gl::ComputeProgram* p : {&advect_pair_, &maccormack_, &sources_, &vorticity_, &cell_forces_, &apply_forces_,
-                                &boundaries_, &divergence_, &residual_, &project_, &pressure_sum_,
+                                &boundaries_, &divergence_, &project_, &pressure_sum_,
                                 &pressure_shift_}) {
     p->set("u_res", grid.res);
   }
@@ -230,12 +230,7 @@ SolveStats FluidSolver::solvePressure(const FluidParams& p) {
 void FluidSolver::removeRhsMean(gl::GroupReducer& reducer, std::size_t slot) { removeMean(fields_.rhs, reducer, slot); }
 
 void FluidSolver::measureResidual(gl::GroupReducer& reducer, std::size_t slot) {
-  fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
-  fields_.rhs.bindImage(2, GL_READ_ONLY);
-  fields_.nbmask.bindImage(3, GL_READ_ONLY);
-  reducer.bindPartials(0);
-  residual_.dispatch(rowInvocations(grid_.res));
-  reducer.reduce(rowCount(grid_.res), slot);
+  residual_.accumulate(fields_, reducer, slot);
 }
 
 void FluidSolver::removePressureMean(gl::GroupReducer& reducer, std::size_t slot) {

@@ -11,6 +11,7 @@
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
 #include "fluid/pressure_solver.h"
+#include "fluid/residual_meter.h"
 #include "gl/compute_program.h"
 #include "gl/group_reducer.h"
 
@@ -66,7 +67,7 @@ class FluidSolver {
   gl::ComputeProgram apply_forces_;
   gl::ComputeProgram boundaries_;
   gl::ComputeProgram divergence_;
-  gl::ComputeProgram residual_;
+  ResidualMeter residual_;
   gl::ComputeProgram project_;
   gl::ComputeProgram pressure_sum_;
   gl::ComputeProgram pressure_shift_;

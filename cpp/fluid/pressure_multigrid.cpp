@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "fluid/residual_meter.h"
 #include "fluid/row_reduction.h"
 #include "gl/workgroup.h"
 
@@ -18,11 +19,6 @@ constexpr std::size_t kRzSlotA = 2;   // r.z, alternating with kRzSlotB (new and
 constexpr std::size_t kRzSlotB = 3;
 constexpr std::size_t kRrSlot = 4;    // (sum r, fluid cells, r.r) after an update
 constexpr std::size_t kSlots = 5;
-
-float relative(float rr, float bb) {
-  if (bb > 0.0f) return std::sqrt(rr / bb);
-  return rr == 0.0f ? 0.0f : INFINITY;
-}
 
 }  // namespace
 
@@ -92,7 +88,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   if (tolerance > 0.0f) {
     const glm::vec4 start = reducer_.readResults()[kInitSlot];
     bb = start.w;
-    stats.relative_residual = relative(start.z, bb);
+    stats.relative_residual = relativeResidual(start.z, bb);
     stats.initial_relative_residual = stats.relative_residual;
     if (stats.relative_residual <= tolerance) return stats;  // the warm start is good enough
   }
@@ -123,12 +119,12 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     stats.iterations = k + 1;
     bool restart = false;
     if (tolerance > 0.0f) {
-      stats.relative_residual = relative(reducer_.readResults()[kRrSlot].z, bb);
+      stats.relative_residual = relativeResidual(reducer_.readResults()[kRrSlot].z, bb);
       if (stats.relative_residual <= tolerance) {
         // In float the updated residual drifts from the true one: confirm with rhs - A p, and
         // if that is still too large go on from it (CG restarted from the true residual).
         startResidual(f, closed);
-        stats.relative_residual = relative(reducer_.readResults()[kInitSlot].z, bb);
+        stats.relative_residual = relativeResidual(reducer_.readResults()[kInitSlot].z, bb);
         if (stats.relative_residual <= tolerance) break;
         restart = true;
       }

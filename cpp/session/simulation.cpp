@@ -248,7 +248,7 @@ struct Simulation::Engine {
     r.initial_relative_residual = stats.initial_relative_residual;
     if (p.compute_residual) {
       const glm::vec4 res = results[kResidualSlot];
-      r.relative_residual = res.y > 0.0f ? std::sqrt(res.x / res.y) : (res.x == 0.0f ? 0.0f : NAN);
+      r.relative_residual = fluid::relativeResidual(res.x, res.y);
     } else {
       r.relative_residual = stats.relative_residual;  // the solver's own estimate in tolerance mode, else -1
     }
