@@ -82,7 +82,7 @@ void addFalcon(py::module_& m) {
           d["address"] = f.address;
           d["serial"] = f.serial;
           d["permission_ok"] = f.permissionOk;
-          d["firmware_loaded"] = f.firmwareLoaded ? py::object(py::bool_(*f.firmwareLoaded)) : py::object(py::none());
+          d["firmware_loaded"] = f.firmwareLoaded;
           d["problem"] = f.problem;
           out.append(d);
         }

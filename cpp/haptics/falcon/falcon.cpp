@@ -22,13 +22,8 @@ std::vector<FalconListing> listFalcons(bool probeFirmware) {
     if (probeFirmware && usb.problem.empty()) {
       LibusbTransport transport(usb.bus, usb.address);
       try {
-        transport.open();
         FtdiSerial serial(transport);
-        serial.reset();
-        serial.setLine8N1();
-        serial.setNoFlowControl();
-        enterNormalMode(serial);
-        item.firmwareLoaded = firmwareRunning(serial, 3, std::chrono::milliseconds(20));
+        item.firmwareLoaded = openAndProbeFirmware(serial, 3, std::chrono::milliseconds(20));
       } catch (const UsbAccessDenied& e) {
         item.permissionOk = false;
         item.problem = e.what();

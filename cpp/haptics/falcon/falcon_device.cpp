@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "haptics/clock.h"
+#include "haptics/force_safety.h"
 
 namespace hf::haptics::falcon {
 namespace {
@@ -10,10 +12,6 @@ namespace {
 UsbTransport& checked(const std::shared_ptr<UsbTransport>& usb) {
   if (!usb) throw InvalidArgument("FalconDevice needs a USB transport, got none");
   return *usb;
-}
-
-double steadySeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
@@ -47,6 +45,15 @@ bool firmwareRunning(FtdiSerial& serial, int packets, std::chrono::milliseconds 
   return false;
 }
 
+bool openAndProbeFirmware(FtdiSerial& serial, int packets, std::chrono::milliseconds timeout) {
+  serial.transport().open();
+  serial.reset();
+  serial.setLine8N1();
+  serial.setNoFlowControl();
+  enterNormalMode(serial);
+  return firmwareRunning(serial, packets, timeout);
+}
+
 FalconDevice::FalconDevice(std::shared_ptr<UsbTransport> usb, FalconOptions options)
     : usb_(std::move(usb)), opt_(std::move(options)), serial_(checked(usb_)) {
   if (!(std::isfinite(opt_.maxForce_n) && opt_.maxForce_n > 0.0f && opt_.maxForce_n <= kFalconPeakForce_n))
@@ -63,12 +70,7 @@ FalconDevice::FalconDevice(std::shared_ptr<UsbTransport> usb, FalconOptions opti
   if (opt_.info.max_force_n <= 0.0f || opt_.info.max_force_n > opt_.maxForce_n) opt_.info.max_force_n = opt_.maxForce_n;
   const std::string who = usb_->describe();
   try {
-    usb_->open();
-    serial_.reset();
-    serial_.setLine8N1();
-    serial_.setNoFlowControl();
-    enterNormalMode(serial_);
-    if (!firmwareRunning(serial_, opt_.firmwareProbePackets, opt_.probeTimeout)) {
+    if (!openAndProbeFirmware(serial_, opt_.firmwareProbePackets, opt_.probeTimeout)) {
       if (opt_.firmware.empty())
         throw Error(who + ": the Falcon's firmware is not loaded (it is lost at every power-off). Pass the "
                     "firmware file from Novint's driver or SDK, e.g. open_falcon(firmware='nvent_firmware.bin')");
@@ -101,7 +103,7 @@ FalconStats FalconDevice::stats() const {
   return stats_;
 }
 
-double FalconDevice::now() const { return opt_.clock ? opt_.clock() : steadySeconds(); }
+double FalconDevice::now() const { return opt_.clock ? opt_.clock() : monotonicNowS(); }
 
 std::optional<FalconReport> FalconDevice::exchange() {
   FalconCommand command = command_;
@@ -186,7 +188,7 @@ void FalconDevice::home(double timeout_s) {
     throw InvalidArgument("homing timeout must be in (0, 3600] s, got " + num(timeout_s));
   std::lock_guard<std::mutex> lock(mu_);
   if (closed_ || dead_) throw Error(info().name + ": home() on a closed or lost device");
-  const double start = steadySeconds();
+  const double start = monotonicNowS();
   while (!state_.homed) {
     std::optional<FalconReport> report;
     try {
@@ -195,8 +197,8 @@ void FalconDevice::home(double timeout_s) {
       lost(e);
     }
     if (report) update(*report);
-    if (state_.homed) break;
-    if (steadySeconds() - start > timeout_s)
+    if (state_.homed) break;  // not redundant: homed on the last exchange past the deadline is success
+    if (monotonicNowS() - start > timeout_s)
       throw Error(info().name + ": not homed after " + num(timeout_s) + " s. With the LED red, pull the grip all "
                   "the way out towards you, then push it all the way in; the LED turns green when homed");
   }
@@ -215,7 +217,7 @@ DeviceState FalconDevice::read() {
 }
 
 void FalconDevice::writeForce(const glm::vec3& force_n) {
-  if (!(std::isfinite(force_n.x) && std::isfinite(force_n.y) && std::isfinite(force_n.z)))
+  if (!allFinite(force_n))
     throw InvalidArgument(info().name + ": force must be finite (N), got " + vecText(force_n));
   std::lock_guard<std::mutex> lock(mu_);
   if (closed_ || dead_) return;

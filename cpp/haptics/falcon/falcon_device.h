@@ -33,7 +33,7 @@ struct FalconOptions {
   int maxMissedReplies = 50;            // consecutive; then read() throws (link lost)
   int firmwareProbePackets = 5;         // exchanges tried when checking for running firmware
   FirmwareLoaderOptions loader;
-  std::function<double()> clock;        // seconds; empty: steady clock
+  std::function<double()> clock;        // seconds; empty: monotonicNowS()
   DeviceInfo info;                      // name/kind/serial/limits reported by info()
 };
 
@@ -52,6 +52,10 @@ struct FalconStats {
 
 // Exchanges up to `packets` zero-force packets; true at the first well-formed reply.
 bool firmwareRunning(FtdiSerial& serial, int packets, std::chrono::milliseconds timeout);
+
+// Opens serial's transport, sets up the FTDI (reset, 8N1, no flow control, normal mode) and
+// returns firmwareRunning(serial, packets, timeout).
+bool openAndProbeFirmware(FtdiSerial& serial, int packets, std::chrono::milliseconds timeout);
 
 class FalconDevice : public Device {
  public:

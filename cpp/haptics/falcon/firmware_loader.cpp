@@ -11,13 +11,7 @@
 namespace hf::haptics::falcon {
 namespace {
 
-constexpr std::uint16_t kBaudBootloader = 0x4138;  // 9600 baud
-constexpr std::uint16_t kBaudUpload = 0x0015;      // ~140 kbaud
-constexpr std::uint16_t kBaudNormal = 0x0002;      // ~1.456 Mbaud
 constexpr std::size_t kChunkBytes = 62;
-const std::uint8_t kHello[] = {0x0A, 0x43, 0x0D};
-const std::uint8_t kHelloReply[] = {0x0A, 0x44, 0x2C, 0x0D};
-constexpr std::uint8_t kAutobaud = 0x41;  // 'A'
 
 std::string hexByte(std::uint8_t v) {
   static const char* digits = "0123456789abcdef";

@@ -17,6 +17,15 @@
 
 namespace hf::haptics::falcon {
 
+// FTDI baud-rate divisors of the three phases (steps 1, 4 and 7).
+constexpr std::uint16_t kBaudBootloader = 0x4138;  // 9600 baud
+constexpr std::uint16_t kBaudUpload = 0x0015;      // ~140 kbaud
+constexpr std::uint16_t kBaudNormal = 0x0002;      // ~1.456 Mbaud
+// The bootloader's handshake (step 3) and baud-lock byte (step 5).
+inline constexpr std::uint8_t kHello[] = {0x0A, 0x43, 0x0D};
+inline constexpr std::uint8_t kHelloReply[] = {0x0A, 0x44, 0x2C, 0x0D};
+constexpr std::uint8_t kAutobaud = 0x41;  // 'A'
+
 // Largest image accepted (the known ones are 7,324 and 8,492 bytes).
 constexpr std::size_t kMaxFirmwareBytes = 64 * 1024;
 

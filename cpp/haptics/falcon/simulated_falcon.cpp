@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <thread>
 
+#include "haptics/falcon/firmware_loader.h"
 #include "haptics/falcon/ftdi_serial.h"
 
 namespace hf::haptics::falcon {
 namespace {
 
-constexpr std::uint16_t kBaudBootloader = 0x4138;
-constexpr std::uint16_t kBaudUpload = 0x0015;
-constexpr std::uint16_t kBaudNormal = 0x0002;
 constexpr std::uint8_t kModemStatus[2] = {0x01, 0x60};
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kGestureDuration_s = 0.6;
@@ -126,10 +125,12 @@ void SimulatedFalconTransport::bootloaderBytes(const std::uint8_t* data, std::si
     if ((mode_ == Mode::Bootloader || mode_ == Mode::AwaitBaudLock) && s_.baudDivisor == kBaudBootloader) {
       fromHost_.push_back(byte);
       const std::size_t k = fromHost_.size();
-      if (k >= 3 && fromHost_[k - 3] == 0x0A && fromHost_[k - 2] == 0x43 && fromHost_[k - 1] == 0x0D) {
+      const bool hello = k >= sizeof kHello && std::equal(std::begin(kHello), std::end(kHello),
+                                                           fromHost_.end() - static_cast<std::ptrdiff_t>(sizeof kHello));
+      if (hello) {
         fromHost_.clear();
         if (!opt_.faults.silentBootloader) {
-          toHost_.insert(toHost_.end(), {0x0A, 0x44, 0x2C, 0x0D});
+          toHost_.insert(toHost_.end(), std::begin(kHelloReply), std::end(kHelloReply));
           mode_ = Mode::AwaitBaudLock;
           ++s_.handshakes;
           received_.clear();
@@ -138,7 +139,7 @@ void SimulatedFalconTransport::bootloaderBytes(const std::uint8_t* data, std::si
         }
       }
     } else if (mode_ == Mode::AwaitBaudLock && s_.baudDivisor == kBaudUpload) {
-      if (byte == 0x41) {
+      if (byte == kAutobaud) {
         toHost_.push_back(byte);
         mode_ = Mode::Streaming;
       }
