@@ -82,6 +82,14 @@ def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
                            angular_velocity=tuple(motion.angular_velocity))
 
 
+def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: int, n: int, dt: float) -> None:
+    """apply_probe for substep s (0-based) of n in ``frame``: the trajectory's motion over that
+    substep's share of the frame. The trajectory check and the stepping loop both come here, so
+    they see the same poses."""
+    a, b = (frame - 1) + s / n, (frame - 1) + (s + 1) / n
+    apply_probe(sim, probe, probe.trajectory.motion(a, b, dt))
+
+
 def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
                      cancelled: Callable[[], bool] = lambda: False) -> bool:
     """Before any step: hand the engine every substep pose of frames first..end (fixed substeps;
@@ -97,9 +105,8 @@ def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
             if cancelled():
                 return False
             for s in range(n):
-                a, b = (frame - 1) + s / n, (frame - 1) + (s + 1) / n
                 try:
-                    apply_probe(sim, scene.probe, scene.probe.trajectory.motion(a, b, dt))
+                    _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
                 except hf.InvalidArgumentError as exc:
                     raise hf.InvalidArgumentError(
                         f"the probe's trajectory is refused at frame {frame} (substep {s + 1} of {n}): {exc}") from None
@@ -168,11 +175,15 @@ def frame_metadata(scene: BakeScene, frame: int, substeps: int) -> Dict[str, Any
     }
 
 
-def write_frame(scene: BakeScene, sim: "hf.Simulation", frame: int, substeps: int) -> Path:
+def write_frame(scene: BakeScene, state: Dict[str, Any], frame: int, substeps: int) -> Path:
+    """Write frame ``frame`` from ``state`` (a dict from Simulation.state(): its arrays are what
+    density(), velocity() and pressure(hydrostatic=False) return, read once for the frame file
+    and the checkpoint)."""
     path = _cache.frame_path(scene.cache_dir, frame)
-    hf.write_vdb(str(path), sim.density(), scene.cell_size, tuple(scene.domain_origin),
-                 velocity=sim.velocity() if "velocity" in scene.grids else None,
-                 pressure=sim.pressure(hydrostatic=False) if "pressure" in scene.grids else None,
+    velocity = (state["velocity_x"], state["velocity_y"], state["velocity_z"])
+    hf.write_vdb(str(path), state["density"], scene.cell_size, tuple(scene.domain_origin),
+                 velocity=velocity if "velocity" in scene.grids else None,
+                 pressure=state["pressure"] if "pressure" in scene.grids else None,
                  compression=scene.compression, half_float=scene.half_float, tolerance=scene.tolerance,
                  metadata=frame_metadata(scene, frame, substeps))
     return path
@@ -215,13 +226,12 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     state = None
     if not resume:
         _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
-    if resume:
+    else:
         resumed_from, state = _cache.load_checkpoint(cache_dir, fingerprint)
         _cache.remove_temporaries(cache_dir)
         if resumed_from < scene.frame_start - 1 or resumed_from > scene.frame_end:
             raise _cache.BakeError(f"checkpoint is for frame {resumed_from}, outside this bake's frames "
                                    f"{scene.frame_start}..{scene.frame_end}; bake from the start")
-
 
     manifest: Dict[str, Any] = {
         "format": "hapticfluid-bake",
@@ -274,16 +284,15 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                     status = "cancelled"
                     break
                 if scene.probe is not None:
-                    a = (frame - 1) + s / n
-                    b = (frame - 1) + (s + 1) / n
-                    apply_probe(sim, scene.probe, scene.probe.trajectory.motion(a, b, dt))
+                    _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
                 sim.step(dt)
                 if progress is not None:
                     progress(_progress(scene, frame, first, written, s + 1, n, t0, False))
             if status == "cancelled":
                 break
-            write_frame(scene, sim, frame, n)
-            _cache.save_checkpoint(cache_dir, frame, sim.state(), fingerprint)
+            frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
+            write_frame(scene, frame_state, frame, n)
+            _cache.save_checkpoint(cache_dir, frame, frame_state, fingerprint)
             written += 1
             manifest["frames_done"].append(frame)
             manifest["last_frame"] = frame
