@@ -249,8 +249,6 @@ def _add_haptic(sub) -> None:
 
 
 def cmd_haptic(args: argparse.Namespace) -> int:
-    if args.script and args.device != "scripted":
-        raise hf.InvalidArgumentError("--script is for --device scripted only")
     device = open_device(args.device, args.script, loop=not args.no_loop)
     try:
         result = run_haptic(
