@@ -8,7 +8,6 @@ continues). Run from a script or ``blender --background`` (execute), they wait f
 Errors come back as ``self.report``.
 """
 
-import os
 import threading
 
 import bpy
@@ -52,14 +51,18 @@ class _BakeJob:
             return self.progress, self.result, self.error
 
 
-class _BakeBase:
-    bl_options = {"REGISTER"}
-    resume = False
+class _IdleOnly:
+    """poll for the bake operators: only while the scene has bake settings and no bake runs."""
 
     @classmethod
     def poll(cls, context):
         s = getattr(context.scene, "hapticfluid_bake", None)
         return s is not None and not s.is_baking
+
+
+class _BakeBase(_IdleOnly):
+    bl_options = {"REGISTER"}
+    resume = False
 
     def _start(self, context):
         """Main thread: scene -> bake scene, then the worker. Returns the job or None (reported)."""
@@ -168,7 +171,6 @@ class HAPTICFLUID_OT_bake(_BakeBase, bpy.types.Operator):
 
     bl_idname = "hapticfluid.bake"
     bl_label = "Bake"
-    resume = False
 
 
 class HAPTICFLUID_OT_bake_resume(_BakeBase, bpy.types.Operator):
@@ -179,17 +181,12 @@ class HAPTICFLUID_OT_bake_resume(_BakeBase, bpy.types.Operator):
     resume = True
 
 
-class HAPTICFLUID_OT_bake_free(bpy.types.Operator):
+class HAPTICFLUID_OT_bake_free(_IdleOnly, bpy.types.Operator):
     """Delete the bake's frames, checkpoint and manifest from the cache folder"""
 
     bl_idname = "hapticfluid.bake_free"
     bl_label = "Free"
     bl_options = {"REGISTER"}
-
-    @classmethod
-    def poll(cls, context):
-        s = getattr(context.scene, "hapticfluid_bake", None)
-        return s is not None and not s.is_baking
 
     def execute(self, context):
         settings = context.scene.hapticfluid_bake
@@ -201,7 +198,7 @@ class HAPTICFLUID_OT_bake_free(bpy.types.Operator):
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         try:
-            removed = free_cache(folder) if os.path.isdir(folder) else 0
+            removed = free_cache(folder)  # 0 if the folder does not exist
         except (BakeError, OSError) as exc:  # frames that are not ours, or a file we may not delete
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
