@@ -187,7 +187,7 @@ void validateStep(double dt_s, const fluid::FluidParams& p, const fluid::Grid& g
 struct Simulation::Engine {
   explicit Engine(const fluid::Grid& g)
       : grid(g), solver(g), probe(g), classifier(g), force(g),
-        reducer(std::max({gl::groupCount(g.res + 1), force::ForceReducer::partialsNeeded(g), fluid::rowCount(g.res)}),
+        reducer(std::max(force::ForceReducer::partialsNeeded(g), fluid::rowCount(g.res)),
                 kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<ProbeState>& pose,
@@ -413,11 +413,16 @@ StepReport Simulation::step(double dt_in_s) {
   const glm::vec3 rho_g = params.density_kg_m3 * params.gravity_m_s2;
   const glm::vec3 reference = hydrostaticReference(grid_, params.gravity_m_s2);
   const auto t0 = std::chrono::steady_clock::now();
-  StepReport r = onGl([&](Engine& e) { return e.step(dt_s, params, pose, source, rho_g, reference); });
+  StepReport r = onGl([&](Engine& e) {
+    StepReport out = e.step(dt_s, params, pose, source, rho_g, reference);
+    // Under the GPU lock with the fields it describes: a saveState() sees both or neither.
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    time_s_ += dt_s;
+    ++steps_;
+    return out;
+  });
   r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::lock_guard<std::mutex> lock(state_mutex_);
-  time_s_ += dt_s;
-  ++steps_;
   last_ = r;
   last_rho_g_ = rho_g;
   last_reference_m_ = reference;
@@ -447,6 +452,59 @@ void Simulation::reset() {
   last_ = StepReport{};
 }
 
+namespace {
+
+const char* fieldName(Field f) {
+  switch (f) {
+    case Field::Density: return "density";
+    case Field::Temperature: return "temperature";
+    case Field::Pressure: return "pressure";
+    case Field::DynamicPressure: return "dynamic pressure";
+    case Field::VelocityX: return "velocity x";
+    case Field::VelocityY: return "velocity y";
+    case Field::VelocityZ: return "velocity z";
+    case Field::CellClass: return "cell classes";
+  }
+  return "field";
+}
+
+// The texture holding field f now (Pressure and DynamicPressure: the solved pressure, to which
+// readFloat adds the hydrostatic part); cell classes are bytes, not here.
+gl::Texture3D& fieldTexture(fluid::FluidFields& fl, Field f) {
+  switch (f) {
+    case Field::Density: return fl.density.cur();
+    case Field::Temperature: return fl.temperature.cur();
+    case Field::Pressure:
+    case Field::DynamicPressure: return fl.pressure.cur();
+    case Field::VelocityX: return fl.vel[0].cur();
+    case Field::VelocityY: return fl.vel[1].cur();
+    case Field::VelocityZ: return fl.vel[2].cur();
+    case Field::CellClass: break;
+  }
+  throw InvalidArgument(std::string(fieldName(f)) + " is not a float field");
+}
+
+void checkWritable(Field f, const std::vector<float>& data, const glm::ivec3& shape) {
+  if (f == Field::Pressure || f == Field::CellClass) {
+    throw InvalidArgument(std::string(fieldName(f)) +
+                          " cannot be written: write the dynamic pressure (the hydrostatic part is analytic); "
+                          "cell classes are recomputed every step");
+  }
+  const std::size_t n = static_cast<std::size_t>(shape.x) * shape.y * shape.z;
+  if (data.size() != n) {
+    throw InvalidArgument(std::string(fieldName(f)) + " needs " + std::to_string(n) + " values (shape " +
+                          resText(shape) + "), got " + std::to_string(data.size()));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(data[i])) {
+      throw InvalidArgument(std::string(fieldName(f)) + " holds a non-finite value at flat index " +
+                            std::to_string(i));
+    }
+  }
+}
+
+}  // namespace
+
 glm::ivec3 Simulation::fieldShape(Field f) const {
   if (f == Field::VelocityX) return grid_.faceSize(0);
   if (f == Field::VelocityY) return grid_.faceSize(1);
@@ -462,18 +520,7 @@ std::vector<float> Simulation::readFloat(Field f) {
   if (f == Field::Pressure) classes.resize(out.size());
   onGl([&](Engine& e) {
     auto& fl = e.solver.fields();
-    const gl::Texture3D* tex = nullptr;
-    switch (f) {
-      case Field::Density: tex = &fl.density.cur(); break;
-      case Field::Temperature: tex = &fl.temperature.cur(); break;
-      case Field::Pressure:
-      case Field::DynamicPressure: tex = &fl.pressure.cur(); break;
-      case Field::VelocityX: tex = &fl.vel[0].cur(); break;
-      case Field::VelocityY: tex = &fl.vel[1].cur(); break;
-      case Field::VelocityZ: tex = &fl.vel[2].cur(); break;
-      case Field::CellClass: break;
-    }
-    tex->download(out.data(), out.size() * sizeof(float));
+    fieldTexture(fl, f).download(out.data(), out.size() * sizeof(float));
     if (!classes.empty()) fl.cell_class.download(classes.data(), classes.size());
   });
   if (f == Field::Pressure) {
@@ -520,75 +567,31 @@ std::size_t Simulation::estimateBytes(const glm::ivec3& resolution) {
 
 // ---- checkpoint / restore (bake resume) -------------------------------------------------------
 
-namespace {
-
-const char* fieldName(Field f) {
-  switch (f) {
-    case Field::Density: return "density";
-    case Field::Temperature: return "temperature";
-    case Field::Pressure: return "pressure";
-    case Field::DynamicPressure: return "dynamic pressure";
-    case Field::VelocityX: return "velocity x";
-    case Field::VelocityY: return "velocity y";
-    case Field::VelocityZ: return "velocity z";
-    case Field::CellClass: return "cell classes";
-  }
-  return "field";
-}
-
-gl::Texture3D& writableTexture(fluid::FluidFields& fl, Field f) {
-  switch (f) {
-    case Field::Density: return fl.density.cur();
-    case Field::Temperature: return fl.temperature.cur();
-    case Field::DynamicPressure: return fl.pressure.cur();
-    case Field::VelocityX: return fl.vel[0].cur();
-    case Field::VelocityY: return fl.vel[1].cur();
-    case Field::VelocityZ: return fl.vel[2].cur();
-    case Field::Pressure:
-    case Field::CellClass: break;
-  }
-  throw InvalidArgument(std::string(fieldName(f)) + " cannot be written");
-}
-
-void checkWritable(Field f, const std::vector<float>& data, const glm::ivec3& shape) {
-  if (f == Field::Pressure || f == Field::CellClass) {
-    throw InvalidArgument(std::string(fieldName(f)) +
-                          " cannot be written: write the dynamic pressure (the hydrostatic part is analytic); "
-                          "cell classes are recomputed every step");
-  }
-  const std::size_t n = static_cast<std::size_t>(shape.x) * shape.y * shape.z;
-  if (data.size() != n) {
-    throw InvalidArgument(std::string(fieldName(f)) + " needs " + std::to_string(n) + " values (shape " +
-                          resText(shape) + "), got " + std::to_string(data.size()));
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(data[i])) {
-      throw InvalidArgument(std::string(fieldName(f)) + " holds a non-finite value at flat index " +
-                            std::to_string(i));
-    }
-  }
-}
-
-}  // namespace
-
 void Simulation::writeFloat(Field f, const std::vector<float>& data) {
   checkWritable(f, data, fieldShape(f));
-  onGl([&](Engine& e) { writableTexture(e.solver.fields(), f).upload(data.data(), data.size() * sizeof(float)); });
+  onGl([&](Engine& e) { fieldTexture(e.solver.fields(), f).upload(data.data(), data.size() * sizeof(float)); });
 }
 
 SimulationState Simulation::saveState() {
   SimulationState s;
-  {
+  const std::pair<Field, std::vector<float>*> fields[] = {
+      {Field::VelocityX, &s.velocity_x}, {Field::VelocityY, &s.velocity_y},
+      {Field::VelocityZ, &s.velocity_z}, {Field::Density, &s.density},
+      {Field::Temperature, &s.temperature}, {Field::DynamicPressure, &s.dynamic_pressure}};
+  for (const auto& [f, data] : fields) {
+    const glm::ivec3 shape = fieldShape(f);
+    data->resize(static_cast<std::size_t>(shape.x) * shape.y * shape.z);
+  }
+  // One GPU call for every field and the clock: a step from another thread (a HapticSession's)
+  // comes wholly before or after the snapshot.
+  onGl([&](Engine& e) {
+    for (const auto& [f, data] : fields) {
+      fieldTexture(e.solver.fields(), f).download(data->data(), data->size() * sizeof(float));
+    }
     std::lock_guard<std::mutex> lock(state_mutex_);
     s.time_s = time_s_;
     s.steps = steps_;
-  }
-  s.velocity_x = readFloat(Field::VelocityX);
-  s.velocity_y = readFloat(Field::VelocityY);
-  s.velocity_z = readFloat(Field::VelocityZ);
-  s.density = readFloat(Field::Density);
-  s.temperature = readFloat(Field::Temperature);
-  s.dynamic_pressure = readFloat(Field::DynamicPressure);
+  });
   return s;
 }
 
@@ -604,13 +607,13 @@ void Simulation::restoreState(const SimulationState& s) {
   if (s.steps < 0) throw InvalidArgument("state step count must be >= 0, got " + std::to_string(s.steps));
   onGl([&](Engine& e) {
     for (const auto& [f, data] : fields) {
-      writableTexture(e.solver.fields(), f).upload(data->data(), data->size() * sizeof(float));
+      fieldTexture(e.solver.fields(), f).upload(data->data(), data->size() * sizeof(float));
     }
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    time_s_ = s.time_s;
+    steps_ = s.steps;
+    last_ = StepReport{};
   });
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  time_s_ = s.time_s;
-  steps_ = s.steps;
-  last_ = StepReport{};
 }
 
 }  // namespace hf::session

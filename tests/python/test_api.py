@@ -206,6 +206,20 @@ def test_closed_box_pressure_keeps_zero_mean():
     assert abs(float(p[fluid].mean())) < 1e-4 * spread + 1e-6
 
 
+def test_state_taken_during_a_step_is_one_snapshot():
+    """state() from another thread while a step runs holds the fields and the clock of the same
+    step: it waits for that step rather than pairing the old step count with new fields."""
+    sim = hf.Simulation(resolution=(48, 48, 48), pressure_iterations=1500, heat_buoyancy=1.0)
+    sim.set_smoke_source((0.5, 0.5, 0.2), 0.1, density=1.0, temperature=5.0)
+    sim.step(0.02)
+    with step_in_background(sim, 0.02):
+        state = sim.state()
+    assert state["steps"] == sim.steps == 2
+    assert state["time"] == pytest.approx(sim.time)
+    np.testing.assert_array_equal(state["density"], sim.density())
+    sim.close()
+
+
 def test_getters_do_not_wait_for_a_running_step():
     """Host-side state is read under its own short lock: Blender's UI thread (or a haptic loop)
     can read and set it while a long GPU step runs."""
