@@ -93,10 +93,7 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
 CellBox MeshProbe::bounds() const {
   if (!mesh_) return {};
   const WorldBox w = worldBox(extent_, pose_.transform);
-  const glm::vec3 res(grid_.res);
-  const glm::ivec3 lo(glm::clamp(glm::floor(grid_.toGrid(w.lo)) - 1.0f, glm::vec3(0.0f), res));
-  const glm::ivec3 hi(glm::clamp(glm::ceil(grid_.toGrid(w.hi)) + 1.0f, glm::vec3(0.0f), res));
-  return {lo, glm::max(hi - lo, glm::ivec3(0))};
+  return paddedCellBox(grid_.res, grid_.toGrid(w.lo), grid_.toGrid(w.hi));
 }
 
 glm::vec3 MeshProbe::referencePointM() const {

@@ -13,6 +13,15 @@ struct CellBox {
   glm::ivec3 extent{0};  // cells per axis; empty when any is 0
 };
 
+// The cells of a grid-unit box [lo, hi] padded by one cell, clamped to a grid of `res` cells
+// (clamped as floats first, so a box far outside cannot overflow the conversion).
+inline CellBox paddedCellBox(const glm::ivec3& res, const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 r(res);
+  const glm::ivec3 first(glm::clamp(glm::floor(lo) - 1.0f, glm::vec3(0.0f), r));
+  const glm::ivec3 end(glm::clamp(glm::ceil(hi) + 1.0f, glm::vec3(0.0f), r));
+  return {first, glm::max(end - first, glm::ivec3(0))};
+}
+
 class Obstacle {
  public:
   virtual ~Obstacle() = default;

@@ -25,10 +25,7 @@ void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) 
 CellBox SphereProbe::bounds() const {
   const glm::vec3 c = grid_.toGrid(pose_.centre_m);
   const float r = pose_.radius_m / grid_.cell_size_m;
-  const glm::vec3 res(grid_.res);
-  const glm::ivec3 lo(glm::clamp(glm::floor(c - r) - 1.0f, glm::vec3(0.0f), res));
-  const glm::ivec3 hi(glm::clamp(glm::ceil(c + r) + 1.0f, glm::vec3(0.0f), res));
-  return {lo, glm::max(hi - lo, glm::ivec3(0))};
+  return paddedCellBox(grid_.res, c - r, c + r);
 }
 
 }  // namespace hf::obstacle
