@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import io
 import json
 import os
 import re
@@ -198,28 +197,28 @@ def settings_digest(fingerprint: Dict[str, Any]) -> str:
 
 
 def _array_digest(a: np.ndarray) -> str:
-    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
+    """SHA-256 of the array's bytes in C order (hashed from the buffer, without a bytes copy)."""
+    return hashlib.sha256(np.ascontiguousarray(a)).hexdigest()
 
 
 def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str, Any],
                     fingerprint: Dict[str, Any]) -> Path:
     """Write the state after ``frame`` (a dict from Simulation.state()) atomically."""
     arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
+    stored = {k: np.ascontiguousarray(a) for k, a in arrays.items()}  # the one C-order copy
     scalars = {k: v for k, v in state.items() if not isinstance(v, np.ndarray)}
     meta = {
         "format": CHECKPOINT_FORMAT,
         "frame": int(frame),
         "scalars": {k: (float(v) if isinstance(v, float) else int(v)) for k, v in scalars.items()},
         "settings_sha256": settings_digest(fingerprint),
-        "arrays": {k: {"sha256": _array_digest(a), "shape": list(a.shape), "dtype": str(a.dtype),
+        "arrays": {k: {"sha256": _array_digest(stored[k]), "shape": list(a.shape), "dtype": str(a.dtype),
                        "fortran": bool(a.flags.f_contiguous and not a.flags.c_contiguous)}
                    for k, a in arrays.items()},
     }
-    buf = io.BytesIO()
-    np.savez(buf, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8),
-             **{k: np.ascontiguousarray(a) for k, a in arrays.items()})
+    meta_bytes = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     path = checkpoint_path(cache_dir)
-    atomic_write(path, lambda f: f.write(buf.getvalue()), binary=True)
+    atomic_write(path, lambda f: np.savez(f, meta=meta_bytes, **stored), binary=True)
     return path
 
 
