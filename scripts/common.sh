@@ -1,6 +1,6 @@
 # Sourced by the README's commands: installs what is missing, then builds.
-# Debian packages only (PyPI is not reachable); Python is Debian's /usr/bin/python3 (3.11),
-# the interpreter Debian's Blender 3.4 embeds.
+# Debian packages; Python is Debian's /usr/bin/python3 (3.11), the interpreter Debian's Blender
+# 3.4 embeds (a pyenv python3 may come first on PATH: it is never used for the module).
 set -euo pipefail
 
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
