@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import sys
 from typing import Optional, Sequence
 
@@ -44,6 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def cmd_write(args: argparse.Namespace) -> int:
+    if not os.path.isfile(args.scene):
+        raise ValueError(f"scene file '{args.scene}' does not exist")
     frames = parse_frames(args.frames)
     if frames != list(range(frames[0], frames[-1] + 1)):
         raise ValueError(f"--frames '{args.frames}' must be one contiguous range A-B")

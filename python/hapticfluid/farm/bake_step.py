@@ -63,6 +63,11 @@ def run(root: str, scene: str, resolution: int, cache: str, blender: str = "blen
     if not scene_path.is_file():
         log.error("scene file '%s' does not exist on this worker (shared root '%s')", scene_path, root)
         return 2
+    if not Path(root).is_dir():
+        log.error("shared root '%s' is not a folder on this worker: mount the shared storage there or fix the "
+                  "job's SharedRoot", root)
+        return 2
+    cache_path.parent.mkdir(parents=True, exist_ok=True)  # under the shared root: the job names it
     resume = should_resume(cache_path)
     log.info("%s %s into %s at resolution %d", "resuming" if resume else "baking", scene_path, cache_path,
              resolution)
