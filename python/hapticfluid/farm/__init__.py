@@ -50,8 +50,8 @@ def relative_to_root(path: "str | os.PathLike", root: "str | os.PathLike", what:
     try:
         rel = path_abs.relative_to(root_abs)
     except ValueError:
-        raise ValueError(f"{what} '{path_abs}' is not under the shared root '{root_abs}': move it onto the "
-                         "shared storage or choose a shared root that contains it") from None
+        raise ValueError(f"move the {what} under the shared root '{root_abs}' (or choose a shared root that "
+                         f"contains it): '{path_abs}' is not under it") from None
     text = PurePosixPath(*rel.parts).as_posix() if rel.parts else "."
     return text
 
@@ -116,7 +116,7 @@ class FarmJob:
     def relative_paths(self) -> Dict[str, str]:
         """scene_file, cache_dir and output_dir relative to the shared root (ValueError if not under it)."""
         if not self.shared_root:
-            raise ValueError("shared root is not set: set the folder all workers mount as the farm's shared storage")
+            raise ValueError("set the shared root (the folder every farm worker mounts): it is empty")
         if Path(self.scene_file).suffix.lower() not in SCENE_SUFFIXES:
             raise ValueError(f"scene file '{self.scene_file}' must be a hapticfluid scene .json or a .blend")
         if self.chunk_size < 1:
@@ -190,9 +190,10 @@ def write_openjd_job(job: FarmJob, folder: "str | os.PathLike") -> Dict[str, obj
     except ValueError:
         shown = Path(os.path.abspath(out))
     command = (f"cd {shlex.quote(str(Path(os.path.abspath(job.shared_root))))} && openjd run "
-               f"{shlex.quote(str(shown / template.name))} --run-dependencies "
+               f"{shlex.quote(str(shown / template.name))} "
                f"-p file://{shlex.quote(str(shown / params.name))} -p SharedRoot=\"$PWD\"")
-    deadline = f"deadline bundle submit {shlex.quote(str(shown))} -p SharedRoot=<shared root as workers mount it>"
+    deadline = (f"cd {shlex.quote(str(Path(os.path.abspath(job.shared_root))))} && deadline bundle submit "
+                f"{shlex.quote(str(shown))} -p SharedRoot=<the shared root as the workers mount it>")
     return {"files": [template, params, bundle_values], "command": command, "deadline_command": deadline}
 
 
