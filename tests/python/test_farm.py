@@ -137,3 +137,16 @@ def test_the_write_command_prints_the_submit_commands(tmp_path, capsys):
                  "--output", str(tmp_path / "o"), "--frames", "2-9", "--resolution", "32", "--job",
                  str(tmp_path / "job2")]) == 2
     assert "under the shared root" in capsys.readouterr().err
+
+
+def test_a_render_chunk_of_frames_not_baked_is_an_error_naming_them():
+    from hapticfluid.farm.render_chunk import check_frames, parse_args
+
+    manifest = {"scene": {"frame_start": 1}, "last_frame": 4}
+    check_frames([3, 4], manifest, "c")  # baked: no error
+    with pytest.raises(SystemExit, match=r"frame\(s\) \[5, 6\] are not baked in c \(baked: 1..4\)"):
+        check_frames([4, 5, 6], manifest, "c")
+    with pytest.raises(SystemExit, match=r"baked: none"):
+        check_frames([1], {"scene": {"frame_start": 1}, "last_frame": None}, "c")
+    args = parse_args(["--root", "/r", "--size", "64", "48", "cache", "5-8", "out"])
+    assert (args.root, tuple(args.size), args.cache, args.frames, args.outdir) == ("/r", (64, 48), "cache", "5-8", "out")

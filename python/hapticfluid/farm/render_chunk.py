@@ -10,19 +10,21 @@ baked yet is an error, so a render never shows an empty volume), shows the frame
 with the add-on's smoke material (``hapticfluid_blender.volume``: the add-on must be importable,
 installed or on PYTHONPATH), frames the domain with a camera, lights it, and writes
 OUTDIR/frame_####.png per frame, each complete or not at all (written under a temporary name,
-then renamed). Cycles on the CPU by default; ``--device GPU`` for a GPU worker.
+then renamed). Cycles on the CPU (``--factory-startup`` leaves no GPU compute device enabled).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import logging
 import math
 import os
 import sys
 from typing import List, Optional, Sequence
 
 OUTPUT_PATTERN = "frame_{frame:04d}.png"
+log = logging.getLogger(__name__)
 
 
 def parse_args(argv: Sequence[str]) -> argparse.Namespace:
@@ -34,7 +36,6 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     p.add_argument("--size", type=int, nargs=2, default=(320, 240), metavar=("W", "H"), help="pixels")
     p.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel")
     p.add_argument("--density", type=float, default=60.0, help="Principled Volume density multiplier")
-    p.add_argument("--device", choices=("CPU", "GPU"), default="CPU", help="Cycles device")
     return p.parse_args(list(argv))
 
 
@@ -81,7 +82,7 @@ def _setup_scene(bpy, manifest: dict, cache: str, args: argparse.Namespace):
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.012, 0.014, 0.018, 1.0)
 
     scene.render.engine = "CYCLES"
-    scene.cycles.device = args.device
+    scene.cycles.device = "CPU"
     scene.cycles.samples = args.samples
     scene.cycles.use_denoising = False  # Debian's Blender has no OpenImageDenoise
     scene.render.resolution_x, scene.render.resolution_y = width, height
@@ -121,10 +122,11 @@ def render(argv: Sequence[str]) -> List[str]:
         bpy.ops.render.render(write_still=True)
         os.replace(tmp, out)  # the PNG appears complete or not at all
         written.append(out)
-        print(f"render_chunk: frame {frame} -> {out}", flush=True)
+        log.info("frame %d -> %s", frame, out)
     return written
 
 
 def main() -> None:
+    logging.basicConfig(level=logging.INFO, format="hapticfluid.farm.render_chunk: %(message)s")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     render(argv)
