@@ -42,8 +42,13 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     passivity_.reset();
     out.passive_n = out.filtered_n;
   } else {
-    out.passive_n =
-        passivity_.apply(out.filtered_n, in.state.position_m, in.state.velocity_m_s, safety_.last(), in.dt_s);
+    // The controller works on the force the device can deliver (clamped to max_force): the
+    // energy it balances is then the energy the device can put in. Not acting, it passes the
+    // force on untouched.
+    const glm::vec3 deliverable = clampMagnitude(out.filtered_n, s_.safety.max_force_n);
+    const glm::vec3 damped =
+        passivity_.apply(deliverable, in.state.position_m, in.state.velocity_m_s, safety_.last(), in.dt_s);
+    out.passive_n = passivity_.acted() ? damped : out.filtered_n;
   }
   out.damping_n_s_m = passivity_.state().alpha_n_s_m;
 

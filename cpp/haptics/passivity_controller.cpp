@@ -31,6 +31,7 @@ PassivityController::PassivityController(const PassivitySettings& s) : s_(s) { s
 glm::vec3 PassivityController::apply(const glm::vec3& wanted_n, const glm::vec3& position_m,
                                      const glm::vec3& velocity_m_s, const glm::vec3& held_n, double dt_s) {
   st_.alpha_n_s_m = 0.0;
+  st_.cut_n = 0.0;
   if (!allFinite(position_m) || !allFinite(held_n)) return wanted_n;  // nothing to observe this period
   const glm::dvec3 x(position_m);
   if (have_position_) {
@@ -49,13 +50,26 @@ glm::vec3 PassivityController::apply(const glm::vec3& wanted_n, const glm::vec3&
   const glm::dvec3 v(velocity_m_s);
   const double speed_sq = glm::dot(v, v);
   if (!(speed_sq > 0.0) || std::sqrt(speed_sq) < s_.velocity_deadband_m_s) return wanted_n;
-  const double excess_j = st_.energy_j + glm::dot(glm::dvec3(wanted_n), v) * dt_s;
+  const glm::dvec3 wanted(wanted_n);
+  const double excess_j = st_.energy_j + glm::dot(wanted, v) * dt_s;
   if (!(excess_j > 0.0) || !(s_.max_damping_n_s_m > 0.0f)) return wanted_n;
+  // The bounded damper first ...
   const double alpha = std::min(excess_j / (speed_sq * dt_s), static_cast<double>(s_.max_damping_n_s_m));
+  glm::dvec3 out = wanted - alpha * v;
+  const double left_j = excess_j - alpha * speed_sq * dt_s;
+  // ... then the push along the motion is cut back, to zero at most.
+  double cut = 0.0;
+  const double speed = std::sqrt(speed_sq);
+  const glm::dvec3 along = v / speed;
+  if (left_j > 0.0) {
+    cut = std::clamp(left_j / (speed * dt_s), 0.0, std::max(0.0, glm::dot(out, along)));
+    out -= cut * along;
+  }
   st_.alpha_n_s_m = alpha;
-  st_.dissipated_j += alpha * speed_sq * dt_s;
+  st_.cut_n = cut;
+  st_.dissipated_j += (alpha * speed_sq + cut * speed) * dt_s;
   ++st_.active;
-  return wanted_n - static_cast<float>(alpha) * velocity_m_s;
+  return glm::vec3(out);
 }
 
 void PassivityController::reset() {

@@ -14,12 +14,18 @@
 //              license a later burst of energy.
 //   controller this period's wanted force F adds E_p = E(n) + F . v dt to the observer; if
 //              E_p > 0 a damper removes it:  F' = F - alpha v,  alpha = E_p / (|v|^2 dt),
-//              bounded by max_damping_n_s_m (the device's maximum stable damping). Below the
-//              velocity dead-band no damping is applied (alpha would be huge on noise); the
-//              excess stays observed and is removed once the hand moves.
-// It sits before the safety stage: clamp and slew limit stay the last word on |F|. Whatever
-// safety does to the damped force (ramp, clamp, slew) is seen by the observer next period,
-// because it observes the force the device actually held.
+//              bounded by max_damping_n_s_m (the device's maximum stable damping). If the
+//              bounded damper cannot remove all of it, the force's push along the motion is
+//              cut back, to zero at most (F' -= c v/|v|, 0 <= c <= F' . v/|v|): that removes
+//              energy without rendering a stiffer damper (it never pushes against the motion
+//              beyond the bounded damper). Below the velocity dead-band nothing is applied
+//              (alpha would be huge on noise); the excess stays observed and is removed once
+//              the hand moves. A device that reports no maximum damping is observed only.
+// It sits before the safety stage: clamp and slew limit stay the last word on |F|. The pipeline
+// hands it the wanted force already clamped to max_force (the force the device can deliver), and
+// the final clamp only scales the result, which keeps the sign of its power. Whatever safety
+// does to it (ramp, stale fade, slew) is seen by the observer next period, because it observes
+// the force the device actually held.
 // Reset (observer, damper, memory): at (re)start, while the device is not homed, and when the
 // output is off (paused, stopping or failed with the force slewed to zero).
 #include <cstdint>
@@ -34,7 +40,11 @@ struct PassivitySettings {
   // (DeviceInfo::max_damping_n_s_m), filled in by the haptic loop; a device that reports none
   // (virtual devices) is then observed only.
   float max_damping_n_s_m = 0.0f;
-  float velocity_deadband_m_s = 0.005f;   // below this speed no damping is applied, m/s (>= 0)
+  // Below this speed nothing is applied, m/s (>= 0). What the loop can still put in is at most
+  // |F| x this (8 mW at 8 N); the Falcon's encoder (about 0.04 mm per count) read through the
+  // driver's 15 ms velocity filter jitters up to ~2.5 mm/s, so below that noise may trigger small
+  // corrections while the loop owes energy (only then does the controller act at all).
+  float velocity_deadband_m_s = 0.001f;
   double max_reserve_j = 0.01;            // most stored dissipation kept, J (>= 0)
   double reserve_decay_s = 0.5;           // stored dissipation decays with this time constant, s (> 0)
   void validate() const;                  // throws InvalidArgument naming the bad value
@@ -43,9 +53,10 @@ struct PassivitySettings {
 struct PassivityState {                   // published to the host (trivially copyable)
   double energy_j = 0.0;                  // observer E(n): > 0 means net energy made by the loop
   double delivered_j = 0.0;               // plain sum of F . dx into the hand since the last reset, J
-  double dissipated_j = 0.0;              // energy removed by the damper since the last reset, J
+  double dissipated_j = 0.0;              // energy removed (damper and cut) since the last reset, J
   double alpha_n_s_m = 0.0;               // this period's damping, N s/m
-  std::uint64_t active = 0;               // periods with damping since the last reset
+  double cut_n = 0.0;                     // this period's cut of the push along the motion, N
+  std::uint64_t active = 0;               // periods with damping or a cut since the last reset
   std::uint64_t resets = 0;               // resets after something was observed
 };
 
@@ -56,12 +67,13 @@ class PassivityController {
   // One haptic period. wanted_n: the force this period wants (device frame, N, before safety);
   // position_m, velocity_m_s: this period's device reading; held_n: the force the device held
   // since the previous reading (the safety stage's last output, N); dt_s: the period (s).
-  // Returns the force to hand to the safety stage. A non-finite input is passed through
-  // unchanged (safety zeroes it) and not observed.
+  // Returns the force to hand to the safety stage: wanted_n itself when the controller does not
+  // act. A non-finite input is passed through unchanged (safety zeroes it) and not observed.
   glm::vec3 apply(const glm::vec3& wanted_n, const glm::vec3& position_m, const glm::vec3& velocity_m_s,
                   const glm::vec3& held_n, double dt_s);
   void reset();
   const PassivityState& state() const { return st_; }
+  bool acted() const { return st_.alpha_n_s_m > 0.0 || st_.cut_n > 0.0; }  // this period
   const PassivitySettings& settings() const { return s_; }
 
  private:

@@ -235,7 +235,7 @@ class HapticSession:
         trace_seconds: float = 600.0,  # s
         passivity: bool = True,  # passivity observer + controller (False: observe only)
         passivity_max_damping: Optional[float] = None,  # N s/m; None = the device's max_damping
-        passivity_deadband: float = 0.005,  # m/s
+        passivity_deadband: float = 0.001,  # m/s
         passivity_reserve: float = 0.01,  # J
         passivity_memory: float = 0.5,  # s
     ) -> None: ...

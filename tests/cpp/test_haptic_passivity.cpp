@@ -155,15 +155,28 @@ TEST(HapticPassivity, TheDamperRemovesExactlyTheExcessAboveTheDeadBand) {
   at(pc, 0.0011, 0.0, -10.0);
   EXPECT_NEAR(pc.state().energy_j, 0.0, 1e-8);
 
-  // The wanted force's own share counts too, and alpha is bounded by max_damping.
+  // The wanted force's own share counts too, and alpha is bounded by max_damping; what the
+  // bounded damper leaves is taken from the push along the motion.
   s.max_damping_n_s_m = 20.0f;
   PassivityController bounded(s);
   at(bounded, 0.0, 0.0, 0.0);
   const glm::vec3 pushed = at(bounded, 0.0, 0.1, 0.0, 5.0);  // 5 N along v: 0.5 mJ this period
   EXPECT_EQ(bounded.state().alpha_n_s_m, 20.0);             // 0.5e-3 / 1e-5 = 50, bounded to 20
-  EXPECT_NEAR(pushed.x, 5.0f - 20.0f * 0.1f, 1e-5f);
+  // The damper takes 0.2 mJ (5 - 2 = 3 N left); the remaining 0.3 mJ is a cut of 3 N: nothing left.
+  EXPECT_NEAR(bounded.state().cut_n, 3.0, 1e-5);
+  EXPECT_NEAR(pushed.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(bounded.state().dissipated_j, 0.5e-3, 1e-9);
   // Along -v the same force is dissipative: untouched.
   EXPECT_EQ(at(bounded, 0.0, -0.1, 0.0, 5.0).x, 5.0f);
+  // A debt larger than one period can pay: the damper at its bound, the push cut to zero at
+  // most, never reversed beyond the damper: 1 N along v, 2 mJ owed -> 1 - 20 x 0.1 = -1 N.
+  PassivityController owed(s);
+  at(owed, 0.0, 0.0, 0.0);
+  at(owed, 0.002, 0.0, 1.0);  // 2 mJ delivered while the grip's velocity read zero
+  const glm::vec3 paid = at(owed, 0.002, 0.1, 0.0, 1.0);
+  EXPECT_EQ(owed.state().alpha_n_s_m, 20.0);
+  EXPECT_EQ(owed.state().cut_n, 0.0);
+  EXPECT_NEAR(paid.x, -1.0f, 1e-5f);
 }
 
 TEST(HapticPassivity, StoredDissipationIsCappedAndForgotten) {
@@ -252,10 +265,10 @@ TEST(HapticPassivity, SitsBeforeSafetySoTheDamperNeverExceedsMaxForce) {
   for (int i = 0; i < 300; ++i) {
     in.now_s += kDt;
     in.force.publish_time_s = in.now_s;
-    // The grip moves 0.5 mm per period; for the first 50 periods its velocity reads 1 mm/s (in
-    // the dead-band: a lagging estimate), so 72 mJ of excess build up; then it reads 0.5 m/s
-    // and the damper asks up to 20 x 0.5 = 10 N against the 2.9 N.
-    in.state.velocity_m_s = glm::vec3(0.0f, 0.0f, i < 50 ? 0.001f : 0.5f);
+    // The grip moves 0.5 mm per period; for the first 50 periods its velocity reads 0.1 mm/s
+    // (in the dead-band: a lagging estimate), so 72 mJ of excess build up; then it reads
+    // 0.5 m/s and the damper asks up to 20 x 0.5 = 10 N against the 2.9 N.
+    in.state.velocity_m_s = glm::vec3(0.0f, 0.0f, i < 50 ? 1e-4f : 0.5f);
     const glm::vec3 before = in.state.position_m;
     in.state.position_m += glm::vec3(0.0f, 0.0f, 0.0005f);
     if (i > 0) held_work_j += glm::dot(glm::dvec3(held), glm::dvec3(in.state.position_m - before));
