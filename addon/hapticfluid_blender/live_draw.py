@@ -27,6 +27,11 @@ ARROW_FRACTION_OF_DIAGONAL = 0.25
 # Arrows for forces above max_force_n grow up to this multiple of max_force_n, then stop growing
 # (the label still shows the true magnitude).
 ARROW_MAX_OVERSHOOT = 2.0
+# Arrow proportions, as fractions of the max_force_n arrow's length: shaft and head radius, head length
+# (the head is at most half of a short arrow).
+ARROW_SHAFT_RADIUS = 0.04
+ARROW_HEAD_RADIUS = 0.1
+ARROW_HEAD_LENGTH = 0.3
 # Domain diagonal (m) used to size the arrow before set_domain() was called.
 FALLBACK_DIAGONAL_M = 1.0
 # Raymarch step as a fraction of the smallest cell edge, and the most steps per ray.
@@ -112,8 +117,8 @@ def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
     if length < 1e-4 * ref:
         return None
     axis = f / magnitude
-    head_len = min(0.3 * ref, 0.5 * length)
-    head_r, shaft_r = 0.1 * ref, 0.04 * ref
+    head_len = min(ARROW_HEAD_LENGTH * ref, 0.5 * length)
+    head_r, shaft_r = ARROW_HEAD_RADIUS * ref, ARROW_SHAFT_RADIUS * ref
     o = Vector(origin)
     tip = o + axis * length
     neck = tip - axis * head_len
@@ -147,8 +152,8 @@ def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
 
 
 def label_text(magnitude_n):
-    """The force label: '3.2 N' style, two decimals below 10 N."""
-    return f"{magnitude_n:.2f} N" if magnitude_n < 10.0 else f"{magnitude_n:.1f} N"
+    """The force label: '3.2 N'; two decimals below 1 N ('0.45 N')."""
+    return f"{magnitude_n:.2f} N" if magnitude_n < 1.0 else f"{magnitude_n:.1f} N"
 
 
 # --------------------------------------------------------------------------------------------
