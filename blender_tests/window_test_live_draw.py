@@ -14,6 +14,7 @@ import time
 import traceback
 
 import bpy
+import gpu
 import numpy as np
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 from mathutils import Euler
@@ -182,6 +183,15 @@ def spy_after():
         state["timing"][-1] += time.perf_counter()
 
 
+def readd_drawer():
+    """remove() + add(): the shader is made again at the next draw; the spies stay around the drawer."""
+    drawer.remove()
+    drawer.add()
+    space = bpy.types.SpaceView3D
+    space.draw_handler_remove(state["spies"][1], "WINDOW")
+    state["spies"] = (state["spies"][0], space.draw_handler_add(spy_after, (), "WINDOW", "POST_VIEW"))
+
+
 def measure_fps(n, seconds, upload_every_frame):
     """Redraws per second while a timer tags the view every loop (and sets a new array each time)."""
     density, _ = plume(max(n, 32))
@@ -222,6 +232,10 @@ def step():
         check(drawer.frames_drawn >= 2, f"the POST_VIEW callback runs ({drawer.frames_drawn} draws)")
         check(drawer.uploads == 0, "nothing is uploaded before set_density")
         check(drawer.sampling in ("texture", "texelFetch"), f"smoke sampling: {drawer.sampling}")
+        state["sampling"] = drawer.sampling
+        state["pixel_scale"] = drawer.smoke_pixel_scale
+        check(drawer.smoke_pixel_scale == (0.5 if "llvmpipe" in gpu.platform.renderer_get() else 1.0),
+              f"smoke pixel scale {drawer.smoke_pixel_scale} on {gpu.platform.renderer_get()}")
         state["before"] = screenshot("live_draw_before.png")
         density, _ = plume(32)
         drawer.set_density(density)
@@ -240,11 +254,7 @@ def step():
         # The texelFetch fallback (for a Blender whose sampler does not filter) draws the same smoke.
         state["probe"] = live_draw._samples_linearly
         live_draw._samples_linearly = lambda: False
-        drawer.remove()
-        drawer.add()
-        space = bpy.types.SpaceView3D
-        space.draw_handler_remove(state["spies"][1], "WINDOW")  # keep the spies around the drawer
-        state["spies"] = (state["spies"][0], space.draw_handler_add(spy_after, (), "WINDOW", "POST_VIEW"))
+        readd_drawer()
         state.update(phase="fallback", wait_frames=drawer.frames_drawn + 3)
     elif phase == "fallback":
         check(drawer.sampling == "texelFetch", "the fallback shader is in use")
@@ -254,11 +264,26 @@ def step():
         check(float((diff > 0.1).mean()) < 0.002 and float(diff.mean()) < 0.01,
               f"the texelFetch fallback matches hardware filtering (mean difference {diff.mean():.4f}, "
               f"{(diff > 0.1).mean():.3%} of pixels by > 0.1)")
+        # Full resolution (a hardware GPU's path) draws the same smoke as the scaled-up one.
+        state["scale"] = live_draw._smoke_pixel_scale
+        live_draw._smoke_pixel_scale = lambda: 1.0
+        readd_drawer()
+        state.update(phase="full", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "full":
+        check(drawer.smoke_pixel_scale == 1.0 and drawer.sampling == state["sampling"], "full-resolution smoke")
+        full = screenshot("live_draw_full_resolution.png")
+        live_draw._smoke_pixel_scale = state["scale"]
+        readd_drawer()  # back to this Blender's own sampling and scale for what follows
+        diff = np.abs(full - state["after"]).max(axis=2)
+        check(float((diff > 0.1).mean()) < 0.005 and float(diff.mean()) < 0.01,
+              f"smoke raymarched at {state['pixel_scale']} of the pixels matches full resolution (mean difference "
+              f"{diff.mean():.4f}, {(diff > 0.1).mean():.3%} of pixels by > 0.1)")
         drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, True)
         density, temperature = plume(32)
         drawer.set_density(density, temperature)
         state.update(phase="temperature", wait_frames=drawer.frames_drawn + 3)
     elif phase == "temperature":
+        check(drawer.sampling == state["sampling"], f"this Blender's own sampling is back: {drawer.sampling}")
         hot = screenshot("live_draw_temperature.png")
         corners = [project(c) for c in live_draw.box_corners(LO, HI)]
         xs, ys = [c[0] for c in corners], [c[1] for c in corners]

@@ -38,6 +38,10 @@ FALLBACK_DIAGONAL_M = 1.0
 STEP_FRACTION_OF_CELL = 0.75
 MAX_STEPS = 384
 LABEL_SIZE_PX = 16
+# On a software renderer the smoke is raymarched at this fraction of the view's pixels (per axis)
+# and scaled up (bilinear): a quarter of the rays; smoke is soft, the arrow and box stay sharp.
+SOFTWARE_SMOKE_PIXEL_SCALE = 0.5
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swiftshader", "software rasterizer")
 # Smoke colour lit from straight above and in its own shadow (linear RGB).
 SMOKE_LIT_RGB = (0.97, 0.96, 0.93)
 SMOKE_SHADOW_RGB = (0.42, 0.44, 0.50)
@@ -307,6 +311,54 @@ def pack_field(density, temperature, cell_height_m):
     return packed
 
 
+_COMPOSITE_VERT = """
+void main()
+{
+  uv = pos * 0.5 + 0.5;
+  gl_Position = vec4(pos, 0.0, 1.0);
+}
+"""
+
+# Bilinear by hand (texelFetch): the offscreen texture's sampler state is not ours to set either.
+_COMPOSITE_FRAG = """
+void main()
+{
+  ivec2 n = textureSize(image, 0);
+  vec2 g = uv * vec2(n) - 0.5;
+  vec2 f = fract(g);
+  ivec2 a = clamp(ivec2(floor(g)), ivec2(0), n - 1);
+  ivec2 b = min(a + 1, n - 1);
+  vec4 bottom = mix(texelFetch(image, a, 0), texelFetch(image, ivec2(b.x, a.y), 0), f.x);
+  vec4 top = mix(texelFetch(image, ivec2(a.x, b.y), 0), texelFetch(image, b, 0), f.x);
+  FragColor = mix(bottom, top, f.y);
+}
+"""
+
+
+def _composite_shader():
+    import gpu
+
+    iface = gpu.types.GPUStageInterfaceInfo("hapticfluid_composite_iface")
+    iface.smooth('VEC2', "uv")
+    info = gpu.types.GPUShaderCreateInfo()
+    info.sampler(0, 'FLOAT_2D', "image")
+    info.vertex_in(0, 'VEC2', "pos")
+    info.vertex_out(iface)
+    info.fragment_out(0, 'VEC4', "FragColor")
+    info.vertex_source(_COMPOSITE_VERT)
+    info.fragment_source(_COMPOSITE_FRAG)
+    return gpu.shader.create_from_info(info)
+
+
+def _smoke_pixel_scale():
+    """SOFTWARE_SMOKE_PIXEL_SCALE on a software renderer, else 1 (windowed Blender only: the
+    renderer query crashes Blender 3.4 in --background)."""
+    import gpu
+
+    renderer = gpu.platform.renderer_get().lower()
+    return SOFTWARE_SMOKE_PIXEL_SCALE if any(name in renderer for name in SOFTWARE_RENDERERS) else 1.0
+
+
 def _samples_linearly():
     """Whether texture() on a Python-made 3D texture filters linearly here (it does in Blender 3.4;
     the sampler state of such textures is not settable from Python and has changed between
@@ -403,6 +455,8 @@ class LiveDrawer:
         self.frames_drawn = 0
         self.uploads = 0
         self.sampling = None                    # "texture" or "texelFetch" once the shader is made
+        self.smoke_pixel_scale = None           # fraction of the view's pixels (per axis) raymarched
+        self._offscreen = None                  # GPUOffScreen of the smoke at smoke_pixel_scale
 
     # ---- handlers
 
@@ -427,6 +481,7 @@ class LiveDrawer:
             self._redraw()
         self._gpu = None
         self._texture = None
+        self._offscreen = None
         self._buffers = {}
         if self._density is not None:
             self._dirty = True  # upload again if added again
@@ -514,8 +569,10 @@ class LiveDrawer:
                 hardware_filter = _samples_linearly()
                 self.sampling = "texture" if hardware_filter else "texelFetch"
                 log.debug("smoke texture sampling: %s", self.sampling)
+                self.smoke_pixel_scale = _smoke_pixel_scale()
                 self._gpu = {
                     "volume": _volume_shader(hardware_filter),
+                    "composite": _composite_shader(),
                     "flat": _builtin_shader('UNIFORM_COLOR', '3D_UNIFORM_COLOR'),
                     "smooth": _builtin_shader('SMOOTH_COLOR', '3D_SMOOTH_COLOR'),
                 }
@@ -560,19 +617,41 @@ class LiveDrawer:
         shader = self._gpu["volume"]
         corners = box_corners(self._lo, self._hi)
         batch = batch_for_shader(shader, 'TRIS', {"pos": corners}, indices=BOX_TRIANGLES)
+
+        def march():
+            gpu.state.depth_test_set('NONE')
+            gpu.state.depth_mask_set(False)
+            gpu.state.face_culling_set('FRONT')  # back faces: where each ray leaves the box
+            shader.bind()
+            shader.uniform_float("ModelViewProjectionMatrix", rv3d.perspective_matrix)
+            shader.uniform_float("box_lo", (*self._lo, 0.0))
+            shader.uniform_float("box_hi", (*self._hi, 0.0))
+            shader.uniform_float("eye", eye)
+            shader.uniform_float("params", (self.density_scale, temp_ref, 0.0, 0.0))
+            shader.uniform_sampler("field_tex", self._texture)
+            batch.draw(shader)
+            gpu.state.face_culling_set('NONE')
+
+        region = bpy.context.region
+        if self.smoke_pixel_scale >= 1.0 or region is None:
+            gpu.state.blend_set('ALPHA_PREMULT')
+            march()
+            return
+        size = (max(1, math.ceil(region.width * self.smoke_pixel_scale)),
+                max(1, math.ceil(region.height * self.smoke_pixel_scale)))
+        if self._offscreen is None or (self._offscreen.width, self._offscreen.height) != size:
+            self._offscreen = gpu.types.GPUOffScreen(*size)
+        with self._offscreen.bind():
+            gpu.state.active_framebuffer_get().clear(color=(0.0, 0.0, 0.0, 0.0))
+            gpu.state.blend_set('NONE')  # one back face per pixel: premultiplied colour as is
+            march()
+        composite = self._gpu["composite"]
+        quad = batch_for_shader(composite, 'TRI_FAN', {"pos": ((-1, -1), (1, -1), (1, 1), (-1, 1))})
         gpu.state.blend_set('ALPHA_PREMULT')
         gpu.state.depth_test_set('NONE')
-        gpu.state.depth_mask_set(False)
-        gpu.state.face_culling_set('FRONT')  # back faces: where each ray leaves the box
-        shader.bind()
-        shader.uniform_float("ModelViewProjectionMatrix", rv3d.perspective_matrix)
-        shader.uniform_float("box_lo", (*self._lo, 0.0))
-        shader.uniform_float("box_hi", (*self._hi, 0.0))
-        shader.uniform_float("eye", eye)
-        shader.uniform_float("params", (self.density_scale, temp_ref, 0.0, 0.0))
-        shader.uniform_sampler("field_tex", self._texture)
-        batch.draw(shader)
-        gpu.state.face_culling_set('NONE')
+        composite.bind()
+        composite.uniform_sampler("image", self._offscreen.texture_color)
+        quad.draw(composite)
 
     def _draw_workspace(self):
         import gpu
