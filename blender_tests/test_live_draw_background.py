@@ -110,6 +110,12 @@ def arrow_geometry():
         wrong += (b - a).cross(c - a).dot((a + b + c) / 3 - centre) <= 0
     check(wrong == 0, f"every arrow triangle winds outwards ({len(positions) // 3} triangles)")
     check(live_draw.arrow_mesh(origin, (0.0, 0.0, 0.0), 3.0, diagonal) is None, "no arrow for a zero force")
+    small = live_draw.arrow_mesh(origin, force * 0.01, 3.0, diagonal)[0]
+    width = max(((Vector(p) - origin) - axis * (Vector(p) - origin).dot(axis)).length for p in small)
+    small_length = live_draw.arrow_length_m(0.02, 3.0, diagonal)
+    check(math.isclose(width, live_draw.ARROW_HEAD_RADIUS / live_draw.ARROW_HEAD_LENGTH * small_length / 2,
+                       rel_tol=1e-4), f"a weak force's arrow is a scaled-down arrow, not a disc ({width:.6f} m wide "
+                                   f"over {small_length:.5f} m)")
     check(live_draw.force_color(0.0, 3.0)[:3] == (0.25, 0.9, 0.2) and live_draw.force_color(9.0, 3.0)[:3] ==
           live_draw.force_color(3.0, 3.0)[:3] and live_draw.force_color(3.0, 3.0)[0] == 1.0,
           "green at zero, red from max_force_n up")

@@ -28,7 +28,7 @@ ARROW_FRACTION_OF_DIAGONAL = 0.25
 # (the label still shows the true magnitude).
 ARROW_MAX_OVERSHOOT = 2.0
 # Arrow proportions, as fractions of the max_force_n arrow's length: shaft and head radius, head length
-# (the head is at most half of a short arrow).
+# (the head is at most half of a short arrow, which then thins in proportion).
 ARROW_SHAFT_RADIUS = 0.04
 ARROW_HEAD_RADIUS = 0.1
 ARROW_HEAD_LENGTH = 0.3
@@ -109,8 +109,9 @@ def arrow_length_m(magnitude_n, max_force_n, diagonal_m):
 def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
     """Triangles of a shaded 3D arrow from origin along force: (positions, colours, head point).
 
-    None when the force is too small to draw. The shaft's thickness depends on the diagonal only,
-    so a weak force gives a short arrow, not a thin one. Triangles are counter-clockwise from outside.
+    None when the force is too small to draw. Arrows longer than twice the head keep the thickness
+    of the max_force_n arrow; shorter ones are scaled-down copies of that shape (a cone on a stub).
+    Triangles are counter-clockwise from outside.
     """
     from mathutils import Vector
 
@@ -122,7 +123,8 @@ def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
         return None
     axis = f / magnitude
     head_len = min(ARROW_HEAD_LENGTH * ref, 0.5 * length)
-    head_r, shaft_r = ARROW_HEAD_RADIUS * ref, ARROW_SHAFT_RADIUS * ref
+    thickness = ref * head_len / (ARROW_HEAD_LENGTH * ref)  # a short arrow is a scaled-down one, not a disc
+    head_r, shaft_r = ARROW_HEAD_RADIUS * thickness, ARROW_SHAFT_RADIUS * thickness
     o = Vector(origin)
     tip = o + axis * length
     neck = tip - axis * head_len
