@@ -86,6 +86,19 @@ def setup():
     space.lens = 50
 
 
+def set_view(perspective, distance_m):
+    _, area, _ = view3d()
+    rv3d = area.spaces.active.region_3d
+    rv3d.view_perspective = perspective
+    rv3d.view_distance = distance_m
+
+
+def plume_brightness(image, height_fraction):
+    """Mean brightness of a small patch on the plume's axis at that fraction of the domain's height."""
+    x, y = project((0.5, 0.5, height_fraction))
+    return float(image[int(y) - 6:int(y) + 7, int(x) - 6:int(x) + 7].mean())
+
+
 def redraw():
     _, area, _ = view3d()
     area.tag_redraw()
@@ -278,6 +291,20 @@ def step():
         check(float((diff > 0.1).mean()) < 0.005 and float(diff.mean()) < 0.01,
               f"smoke raymarched at {state['pixel_scale']} of the pixels matches full resolution (mean difference "
               f"{diff.mean():.4f}, {(diff > 0.1).mean():.3%} of pixels by > 0.1)")
+        set_view("ORTHO", 2.4)
+        state.update(phase="ortho", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "ortho":
+        brightness = plume_brightness(screenshot("live_draw_ortho.png"), 0.5)
+        check(brightness > 0.45, f"smoke in an orthographic view (plume brightness {brightness:.2f})")
+        set_view("PERSP", 0.25)  # the eye inside the domain
+        state.update(phase="inside", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "inside":
+        _, _, region = view3d()
+        centre = screenshot("live_draw_inside.png")[region.y + region.height // 2 - 20:region.y + region.height // 2 + 20,
+                                                    region.x + region.width // 2 - 20:region.x + region.width // 2 + 20]
+        brightness = float(centre.mean())
+        check(brightness > 0.45, f"smoke seen with the eye inside the domain (centre brightness {brightness:.2f})")
+        set_view("PERSP", 2.4)
         drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, True)
         density, temperature = plume(32)
         drawer.set_density(density, temperature)

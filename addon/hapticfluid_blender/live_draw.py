@@ -458,7 +458,7 @@ class LiveDrawer:
         self.uploads = 0
         self.sampling = None                    # "texture" or "texelFetch" once the shader is made
         self.smoke_pixel_scale = None           # fraction of the view's pixels (per axis) raymarched
-        self._offscreen = None                  # GPUOffScreen of the smoke at smoke_pixel_scale
+        self._offscreens = {}                   # (width, height) -> GPUOffScreen of the smoke at that scale
 
     # ---- handlers
 
@@ -483,7 +483,7 @@ class LiveDrawer:
             self._redraw()
         self._gpu = None
         self._texture = None
-        self._offscreen = None
+        self._offscreens = {}
         self._buffers = {}
         if self._density is not None:
             self._dirty = True  # upload again if added again
@@ -641,9 +641,12 @@ class LiveDrawer:
             return
         size = (max(1, math.ceil(region.width * self.smoke_pixel_scale)),
                 max(1, math.ceil(region.height * self.smoke_pixel_scale)))
-        if self._offscreen is None or (self._offscreen.width, self._offscreen.height) != size:
-            self._offscreen = gpu.types.GPUOffScreen(*size)
-        with self._offscreen.bind():
+        offscreen = self._offscreens.get(size)  # one per view size: several viewports do not thrash
+        if offscreen is None:
+            if len(self._offscreens) >= 4:
+                self._offscreens.clear()
+            offscreen = self._offscreens[size] = gpu.types.GPUOffScreen(*size)
+        with offscreen.bind():
             gpu.state.active_framebuffer_get().clear(color=(0.0, 0.0, 0.0, 0.0))
             gpu.state.blend_set('NONE')  # one back face per pixel: premultiplied colour as is
             march()
@@ -652,7 +655,7 @@ class LiveDrawer:
         gpu.state.blend_set('ALPHA_PREMULT')
         gpu.state.depth_test_set('NONE')
         composite.bind()
-        composite.uniform_sampler("image", self._offscreen.texture_color)
+        composite.uniform_sampler("image", offscreen.texture_color)
         quad.draw(composite)
 
     def _draw_workspace(self):
