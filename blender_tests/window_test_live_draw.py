@@ -28,6 +28,8 @@ PROBE = (0.33, 0.5, 0.55)
 FORCE = (1.9, 0.5, 1.1)       # N
 MAX_FORCE = 3.0               # N
 WORKSPACE = ((0.05, 0.05, 0.1), (0.95, 0.95, 0.9))
+# Redraw-rate runs: (resolution, a new array every timer tick); resolution 0: smoke off.
+FPS_PLAN = ((32, False), (32, True), (64, False), (64, True), (0, False))
 SMOKE_DIFF = 0.06             # a smoke pixel differs from the empty view by this much (0..1 channel)
 state = {"phase": "start", "t0": time.time(), "wait_frames": 0}
 drawer = live_draw.LiveDrawer()
@@ -205,7 +207,7 @@ def readd_drawer():
     state["spies"] = (state["spies"][0], space.draw_handler_add(spy_after, (), "WINDOW", "POST_VIEW"))
 
 
-def measure_fps(n, seconds, upload_every_frame):
+def measure_fps(n, upload_every_frame, seconds=3.0):
     """Redraws per second while a timer tags the view every loop (and sets a new array each time)."""
     density, _ = plume(max(n, 32))
     drawer.set_density(density)
@@ -300,9 +302,8 @@ def step():
         state.update(phase="inside", wait_frames=drawer.frames_drawn + 3)
     elif phase == "inside":
         _, _, region = view3d()
-        centre = screenshot("live_draw_inside.png")[region.y + region.height // 2 - 20:region.y + region.height // 2 + 20,
-                                                    region.x + region.width // 2 - 20:region.x + region.width // 2 + 20]
-        brightness = float(centre.mean())
+        cx, cy = region.x + region.width // 2, region.y + region.height // 2
+        brightness = float(screenshot("live_draw_inside.png")[cy - 20:cy + 20, cx - 20:cx + 20].mean())
         check(brightness > 0.45, f"smoke seen with the eye inside the domain (centre brightness {brightness:.2f})")
         set_view("PERSP", 2.4)
         drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, True)
@@ -315,12 +316,13 @@ def step():
         corners = [project(c) for c in live_draw.box_corners(LO, HI)]
         xs, ys = [c[0] for c in corners], [c[1] for c in corners]
         x0, x1, y0, y1 = min(xs), max(xs), min(ys), max(ys)
-        base = hot[int(y0 + (y1 - y0) * 0.25):int(y0 + (y1 - y0) * 0.4), int(x0 + (x1 - x0) * 0.45):int(x0 + (x1 - x0) * 0.55)]
+        base = hot[int(y0 + (y1 - y0) * 0.25):int(y0 + (y1 - y0) * 0.4),
+                   int(x0 + (x1 - x0) * 0.45):int(x0 + (x1 - x0) * 0.55)]
         red_minus_blue = float((base[:, :, 0] - base[:, :, 2]).mean())
         check(red_minus_blue > 0.1, f"show_temperature tints the hot column warm (red - blue = {red_minus_blue:.2f})")
         drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, False)
-        measure_fps(32, 3.0, False)
         state["fps_results"] = []
+        measure_fps(*FPS_PLAN[0])
     elif phase == "fps":
         n, seconds, every, frames0, uploads0, t0, density = state["fps"]
         if every:
@@ -330,27 +332,23 @@ def step():
             frames = drawer.frames_drawn - frames0
             uploads = drawer.uploads - uploads0
             rate = frames / (now - t0)
-            label = "new array every redraw" if every else "same array"
-            if n == 0:
-                label = "smoke off: the viewport alone"
+            label = f"{n}^3, " + ("a new array every timer tick" if every else "one array") if n else "no smoke"
             cost = sorted(state["timing"][1:]) or [float("nan")]
             state["timing"] = None
-            print(f"viewport redraws at {n}^3 ({label}): {rate:.1f} fps ({frames} frames, {uploads} uploads "
+            print(f"viewport redraws ({label}): {rate:.1f} fps ({frames} frames, {uploads} uploads "
                   f"in {now - t0:.1f} s); live_draw's POST_VIEW callback {1000 * cost[len(cost) // 2]:.0f} ms "
                   f"(median, GPU finished)", flush=True)
             state["fps_results"].append((n, every, rate, uploads))
-            plan = [(32, True), (64, False), (64, True), (0, False)]
             done = len(state["fps_results"])
-            if done < len(plan) + 1:
-                n2, every2 = plan[done - 1]
-                measure_fps(n2, 3.0, every2)
+            if done < len(FPS_PLAN):
+                measure_fps(*FPS_PLAN[done])
             else:
                 state["phase"] = "finish"
         return 0.0
     elif phase == "finish":
         for n, every, rate, uploads in state["fps_results"]:
             if not every:
-                check(uploads <= 1, f"{n}^3, same array: at most one upload ({uploads})")
+                check(uploads <= 1, f"{n}^3, one array: at most one upload over the run ({uploads})")
         drawer.remove()
         drawer.remove()
         check(not drawer.is_added and drawer not in live_draw._active, "remove() twice is fine")

@@ -176,9 +176,9 @@ void main()
 # Drawn on the box's back faces: each fragment is where its eye ray leaves the box. The ray is
 # marched from where it enters (or from the eye, inside the box) with jittered steps; the field is
 # interpolated trilinearly by texture() where this Blender's sampler filters linearly (probed once,
-# 2.3x faster on llvmpipe), by hand from 8 texelFetch otherwise (HARDWARE_FILTER undefined). Light comes from straight above: the
-# optical depth above each cell is summed on the CPU at upload (one fetch per step gives the
-# self-shadowing); temperature (optional) tints with a black-body-like ramp.
+# 2.3x faster on llvmpipe), by hand from 8 texelFetch otherwise (HARDWARE_FILTER undefined). Light
+# comes from straight above: the optical depth above each cell is summed on the CPU at upload (one
+# fetch per step gives the self-shadowing); temperature (optional) tints with a black-body-like ramp.
 _VOLUME_FRAG = """
 vec4 fetch_trilinear(vec3 uvw)
 {
