@@ -15,7 +15,7 @@ from mathutils import Vector
 
 sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
 
-from hapticfluid_blender import live_draw  # noqa: E402
+from hapticfluid_blender import live_draw, live_draw_geometry as geometry  # noqa: E402
 
 
 def check(condition, message):
@@ -74,33 +74,33 @@ def bad_values():
 
 def box_geometry():
     lo, hi = (0.0, -1.0, 2.0), (1.0, 1.0, 3.0)
-    corners = [Vector(c) for c in live_draw.box_corners(lo, hi)]
+    corners = [Vector(c) for c in geometry.box_corners(lo, hi)]
     check(tuple(corners[0]) == lo and tuple(corners[7]) == hi and tuple(corners[5]) == (1.0, -1.0, 3.0),
           "corner i takes hi on axis a when bit a is set")
     centre = (corners[0] + corners[7]) / 2
     outward = all(((corners[b] - corners[a]).cross(corners[c] - corners[a])).dot(
-        (corners[a] + corners[b] + corners[c]) / 3 - centre) > 0 for a, b, c in live_draw.BOX_TRIANGLES)
-    check(len(live_draw.BOX_TRIANGLES) == 12 and outward, "the box's 12 triangles wind outwards")
-    lengths = sorted(round((corners[b] - corners[a]).length, 6) for a, b in live_draw.BOX_EDGES)
+        (corners[a] + corners[b] + corners[c]) / 3 - centre) > 0 for a, b, c in geometry.BOX_TRIANGLES)
+    check(len(geometry.BOX_TRIANGLES) == 12 and outward, "the box's 12 triangles wind outwards")
+    lengths = sorted(round((corners[b] - corners[a]).length, 6) for a, b in geometry.BOX_EDGES)
     check(lengths == [1.0] * 8 + [2.0] * 4, f"12 edges, 4 along each axis: {lengths}")
 
 
 def arrow_geometry():
     diagonal = math.sqrt(3.0)
-    check(math.isclose(live_draw.arrow_length_m(3.0, 3.0, diagonal), 0.25 * diagonal),
+    check(math.isclose(geometry.arrow_length_m(3.0, 3.0, diagonal), 0.25 * diagonal),
           "max_force_n gives a quarter of the diagonal")
-    check(math.isclose(live_draw.arrow_length_m(1.5, 3.0, diagonal), 0.125 * diagonal), "the length is linear")
-    check(math.isclose(live_draw.arrow_length_m(30.0, 3.0, diagonal), 0.5 * diagonal),
+    check(math.isclose(geometry.arrow_length_m(1.5, 3.0, diagonal), 0.125 * diagonal), "the length is linear")
+    check(math.isclose(geometry.arrow_length_m(30.0, 3.0, diagonal), 0.5 * diagonal),
           "a force far above max stops growing at twice max's length")
     origin, force = Vector((0.2, 0.3, 0.4)), Vector((0.0, 1.2, -1.6))
-    positions, colours, tip = live_draw.arrow_mesh(origin, force, 3.0, diagonal)
-    length = live_draw.arrow_length_m(2.0, 3.0, diagonal)
+    positions, colours, tip = geometry.arrow_mesh(origin, force, 3.0, diagonal)
+    length = geometry.arrow_length_m(2.0, 3.0, diagonal)
     check((Vector(tip) - (origin + force.normalized() * length)).length < 1e-9, "the tip lies along the force")
     check(len(positions) == len(colours) and len(positions) % 3 == 0, "one colour per vertex of whole triangles")
     axis = force.normalized()
-    ref = live_draw.ARROW_FRACTION_OF_DIAGONAL * diagonal
-    shaft_r = live_draw.ARROW_SHAFT_RADIUS * ref
-    neck = origin + axis * (length - min(live_draw.ARROW_HEAD_LENGTH * ref, 0.5 * length))
+    ref = geometry.ARROW_FRACTION_OF_DIAGONAL * diagonal
+    shaft_r = geometry.ARROW_SHAFT_RADIUS * ref
+    neck = origin + axis * (length - min(geometry.ARROW_HEAD_LENGTH * ref, 0.5 * length))
     shaft_centre, cone_centre = (origin + neck) / 2, neck + axis * (Vector(tip) - neck).length / 4
     wrong = 0
     for i in range(0, len(positions), 3):
@@ -109,29 +109,29 @@ def arrow_geometry():
         centre = shaft_centre if radial <= shaft_r * 1.0001 else cone_centre
         wrong += (b - a).cross(c - a).dot((a + b + c) / 3 - centre) <= 0
     check(wrong == 0, f"every arrow triangle winds outwards ({len(positions) // 3} triangles)")
-    check(live_draw.arrow_mesh(origin, (0.0, 0.0, 0.0), 3.0, diagonal) is None, "no arrow for a zero force")
-    small = live_draw.arrow_mesh(origin, force * 0.01, 3.0, diagonal)[0]
+    check(geometry.arrow_mesh(origin, (0.0, 0.0, 0.0), 3.0, diagonal) is None, "no arrow for a zero force")
+    small = geometry.arrow_mesh(origin, force * 0.01, 3.0, diagonal)[0]
     width = max(((Vector(p) - origin) - axis * (Vector(p) - origin).dot(axis)).length for p in small)
-    small_length = live_draw.arrow_length_m(0.02, 3.0, diagonal)
-    check(math.isclose(width, live_draw.ARROW_HEAD_RADIUS / live_draw.ARROW_HEAD_LENGTH * small_length / 2,
+    small_length = geometry.arrow_length_m(0.02, 3.0, diagonal)
+    check(math.isclose(width, geometry.ARROW_HEAD_RADIUS / geometry.ARROW_HEAD_LENGTH * small_length / 2,
                        rel_tol=1e-4), f"a weak force's arrow is a scaled-down arrow, not a disc ({width:.6f} m wide "
                                    f"over {small_length:.5f} m)")
-    check(live_draw.force_color(0.0, 3.0)[:3] == (0.25, 0.9, 0.2) and live_draw.force_color(9.0, 3.0)[:3] ==
-          live_draw.force_color(3.0, 3.0)[:3] and live_draw.force_color(3.0, 3.0)[0] == 1.0,
+    check(geometry.force_color(0.0, 3.0)[:3] == (0.25, 0.9, 0.2) and geometry.force_color(9.0, 3.0)[:3] ==
+          geometry.force_color(3.0, 3.0)[:3] and geometry.force_color(3.0, 3.0)[0] == 1.0,
           "green at zero, red from max_force_n up")
-    check(live_draw.label_text(3.2) == "3.2 N" and live_draw.label_text(0.456) == "0.46 N"
-          and live_draw.label_text(12.34) == "12.3 N", "labels read '3.2 N', '0.46 N', '12.3 N'")
+    check(geometry.label_text(3.2) == "3.2 N" and geometry.label_text(0.456) == "0.46 N"
+          and geometry.label_text(12.34) == "12.3 N", "labels read '3.2 N', '0.46 N', '12.3 N'")
 
 
 def field_layout():
     density = np.zeros((3, 2, 4), np.float32)
     density[1, 0, :] = 1.0
-    depth = live_draw.optical_depth_above(density, 0.25)
+    depth = geometry.optical_depth_above(density, 0.25)
     check(np.allclose(depth[1, 0], [0.875, 0.625, 0.375, 0.125]) and not depth[0].any(),
           "optical depth above: half the own cell plus every cell above, times the cell height")
     rng = np.random.default_rng(2)
     density, temperature = rng.random((3, 2, 4), np.float32), rng.random((3, 2, 4), np.float32)
-    packed = live_draw.pack_field(density, temperature, 0.1)
+    packed = geometry.pack_field(density, temperature, 0.1)
     flat = packed.reshape(-1)
     i, j, k = 2, 1, 3
     texel = 4 * (i + 3 * (j + 2 * k))  # x fastest, as GPUTexture((nx, ny, nz)) reads its data

@@ -20,7 +20,8 @@ from bpy_extras.view3d_utils import location_3d_to_region_2d
 from mathutils import Euler
 
 sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
-from hapticfluid_blender import live_draw  # noqa: E402  (registers nothing)
+from hapticfluid_blender import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
+from hapticfluid_blender import live_draw_geometry as geometry  # noqa: E402
 
 OUT = os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "out")
 LO, HI = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
@@ -125,7 +126,7 @@ def project(point):
 
 
 def smoke_checks(before, after):
-    corners = [project(c) for c in live_draw.box_corners(LO, HI)]
+    corners = [project(c) for c in geometry.box_corners(LO, HI)]
     check(all(c is not None for c in corners), "the domain's 8 corners project into the view")
     xs, ys = [c[0] for c in corners], [c[1] for c in corners]
     x0, x1, y0, y1 = min(xs), max(xs), min(ys), max(ys)
@@ -148,9 +149,9 @@ def smoke_checks(before, after):
 
 
 def arrow_checks(after):
-    mesh = live_draw.arrow_mesh(PROBE, FORCE, MAX_FORCE, math.dist(LO, HI))
+    mesh = geometry.arrow_mesh(PROBE, FORCE, MAX_FORCE, math.dist(LO, HI))
     a, b = project(PROBE), project(mesh[2])
-    colour = np.array(live_draw.force_color(math.sqrt(sum(f * f for f in FORCE)), MAX_FORCE)[:3])
+    colour = np.array(geometry.force_color(math.sqrt(sum(f * f for f in FORCE)), MAX_FORCE)[:3])
     hits = 0
     samples = 40
     for k in range(samples):
@@ -168,7 +169,7 @@ def arrow_checks(after):
     label = after[label_y:label_y + 40, label_x:label_x + 120]
     norm = label / np.maximum(label.sum(axis=2, keepdims=True), 1e-6)
     text_px = int((np.abs(norm - colour / colour.sum()).max(axis=2) < 0.06).sum())
-    check(text_px > 40, f"the '{live_draw.label_text(math.sqrt(sum(f * f for f in FORCE)))}' label is drawn "
+    check(text_px > 40, f"the '{geometry.label_text(math.sqrt(sum(f * f for f in FORCE)))}' label is drawn "
                         f"by the head ({text_px} px of its colour)")
 
 
@@ -267,27 +268,27 @@ def step():
         arrow_checks(after)
         state["after"] = after
         # The texelFetch fallback (for a Blender whose sampler does not filter) draws the same smoke.
-        state["probe"] = live_draw._samples_linearly
-        live_draw._samples_linearly = lambda: False
+        state["probe"] = live_draw_gpu.samples_linearly
+        live_draw_gpu.samples_linearly = lambda: False
         readd_drawer()
         state.update(phase="fallback", wait_frames=drawer.frames_drawn + 3)
     elif phase == "fallback":
         check(drawer.sampling == "texelFetch", "the fallback shader is in use")
         fallback = screenshot("live_draw_texelfetch.png")
-        live_draw._samples_linearly = state["probe"]
+        live_draw_gpu.samples_linearly = state["probe"]
         diff = np.abs(fallback - state["after"]).max(axis=2)
         check(float((diff > 0.1).mean()) < 0.002 and float(diff.mean()) < 0.01,
               f"the texelFetch fallback matches hardware filtering (mean difference {diff.mean():.4f}, "
               f"{(diff > 0.1).mean():.3%} of pixels by > 0.1)")
         # Full resolution (a hardware GPU's path) draws the same smoke as the scaled-up one.
-        state["scale"] = live_draw._smoke_pixel_scale
-        live_draw._smoke_pixel_scale = lambda: 1.0
+        state["scale"] = live_draw_gpu.smoke_pixel_scale
+        live_draw_gpu.smoke_pixel_scale = lambda: 1.0
         readd_drawer()
         state.update(phase="full", wait_frames=drawer.frames_drawn + 3)
     elif phase == "full":
         check(drawer.smoke_pixel_scale == 1.0 and drawer.sampling == state["sampling"], "full-resolution smoke")
         full = screenshot("live_draw_full_resolution.png")
-        live_draw._smoke_pixel_scale = state["scale"]
+        live_draw_gpu.smoke_pixel_scale = state["scale"]
         readd_drawer()  # back to this Blender's own sampling and scale for what follows
         diff = np.abs(full - state["after"]).max(axis=2)
         check(float((diff > 0.1).mean()) < 0.005 and float(diff.mean()) < 0.01,
@@ -313,7 +314,7 @@ def step():
     elif phase == "temperature":
         check(drawer.sampling == state["sampling"], f"this Blender's own sampling is back: {drawer.sampling}")
         hot = screenshot("live_draw_temperature.png")
-        corners = [project(c) for c in live_draw.box_corners(LO, HI)]
+        corners = [project(c) for c in geometry.box_corners(LO, HI)]
         xs, ys = [c[0] for c in corners], [c[1] for c in corners]
         x0, x1, y0, y1 = min(xs), max(xs), min(ys), max(ys)
         base = hot[int(y0 + (y1 - y0) * 0.25):int(y0 + (y1 - y0) * 0.4),
