@@ -13,8 +13,6 @@ namespace hf::haptics {
 
 namespace {
 
-constexpr double kMaxWindDownS = 0.25;  // longest slew down to zero on stop(), s
-
 DevicePtr requireDevice(DevicePtr device) {
   if (!device) throw InvalidArgument("haptic loop: give a device (got None)");
   return device;
@@ -102,15 +100,19 @@ void HapticLoop::run() {
   try {
     clock.start();
     double previous_s = monotonicNowS();
-    // Once stop() is asked, a few more periods run with force disabled, so the command slews
-    // down to zero instead of dropping at once: max_force / slew_rate, at most kMaxWindDownS.
-    const SafetySettings& safety = s_.pipeline.safety;
-    const double wind_down_s = std::min(static_cast<double>(safety.max_force_n / safety.slew_rate_n_s), kMaxWindDownS);
-    const auto wind_down_ticks = static_cast<std::uint64_t>(std::ceil(wind_down_s * s_.rate_hz)) + 1;
-    std::uint64_t wound_down = 0;
+    // Once stop() is asked, periods run on with force disabled until the command has slewed
+    // down to zero (max_force / slew_rate <= kMaxWindDownS, by SafetySettings::validate), so it
+    // never drops at once; traced like any period. A guard on the wall time (twice the most a
+    // wind-down needs) ends it only if this thread was starved that long.
+    double stop_seen_s = -1.0;
     for (;;) {
       const bool stopping = stop_.load(std::memory_order_acquire);
-      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= wind_down_ticks)) break;
+      if (stopping) {
+        if (pipeline_.safety().last() == glm::vec3(0.0f)) break;
+        const double now_s = monotonicNowS();
+        if (stop_seen_s < 0.0) stop_seen_s = now_s;
+        if (now_s - stop_seen_s > 2.0 * kMaxWindDownS) break;
+      }
       const double now_s = clock.waitNext();
       const double dt_s = now_s - previous_s;
       previous_s = now_s;
