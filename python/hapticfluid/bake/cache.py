@@ -225,8 +225,18 @@ def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str,
     }
     meta_bytes = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     path = checkpoint_path(cache_dir)
-    atomic_write(path, lambda f: np.savez(f, meta=meta_bytes, **stored), binary=True)
+    atomic_write(path, lambda f: _write_npz(f, {"meta": meta_bytes, **stored}), binary=True)
     return path
+
+
+def _write_npz(f: Any, arrays: Dict[str, np.ndarray]) -> None:
+    """np.savez's format (uncompressed zip of .npy members, zip64), but the zip is closed on an
+    error too: np.savez leaves it open when a write fails (disk full, file too large), and its
+    finaliser later seeks the file atomic_write has closed ("seek of closed file")."""
+    with zipfile.ZipFile(f, mode="w", compression=zipfile.ZIP_STORED, allowZip64=True) as z:
+        for name, a in arrays.items():
+            with z.open(name + ".npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, np.asanyarray(a), allow_pickle=False)
 
 
 def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any]) -> Tuple[int, Dict[str, Any]]:
