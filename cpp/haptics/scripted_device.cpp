@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -54,6 +55,14 @@ ScriptedDevice::ScriptedDevice(std::vector<double> times_s, std::vector<glm::vec
 }
 
 std::shared_ptr<ScriptedDevice> ScriptedDevice::fromCsv(const std::string& path, bool loop, float max_force_n) {
+  // A folder "opens" and reads as empty, /dev/zero reads until memory runs out: regular files only.
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) {
+    throw InvalidArgument("scripted device: '" + path + "' is " +
+                          (std::filesystem::is_directory(st) ? "a folder" : "not a regular file") +
+                          "; give a CSV file of t,x,y,z rows (s, m)");
+  }
   std::ifstream in(path);
   if (!in) throw InvalidArgument("scripted device: cannot open '" + path + "'; give a CSV file of t,x,y,z rows (s, m)");
   std::vector<double> times;
@@ -61,7 +70,20 @@ std::shared_ptr<ScriptedDevice> ScriptedDevice::fromCsv(const std::string& path,
   std::string line;
   int number = 0;
   bool header_seen = false;
-  while (std::getline(in, line)) {
+  // One line at a time, at most kMaxCsvLineChars (a t,x,y,z row is a few dozen characters).
+  const auto nextLine = [&]() {
+    line.clear();
+    for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+      if (c == '\n') return true;
+      if (line.size() >= kMaxCsvLineChars) {
+        throw InvalidArgument("scripted device: " + path + ":" + std::to_string(number + 1) + " is longer than " +
+                              std::to_string(kMaxCsvLineChars) + " characters; give a CSV file of t,x,y,z rows (s, m)");
+      }
+      line.push_back(static_cast<char>(c));
+    }
+    return !line.empty();
+  };
+  while (nextLine()) {
     ++number;
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;

@@ -4,6 +4,7 @@
 // holds the last waypoint (velocity 0) or loops back to the first one. Always homed; forces are
 // accepted and kept (lastForce()) so tests and traces can see what the loop commanded.
 #include <atomic>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,12 +16,15 @@ namespace hf::haptics {
 
 class ScriptedDevice : public Device {
  public:
+  static constexpr std::size_t kMaxCsvLineChars = 4096;
+
   // times_s strictly increasing and finite (at least one); positions_m finite, one per time;
   // consecutive waypoints far enough apart in time for a finite velocity. loop needs at least
   // two waypoints. Throws InvalidArgument naming the bad entry.
   ScriptedDevice(std::vector<double> times_s, std::vector<glm::vec3> positions_m, bool loop,
                  float max_force_n = 10.0f);
   // Reads "t,x,y,z" rows (s, m); blank lines, '#' comments and one header line are skipped.
+  // A regular file only (not a folder or a device), lines of at most kMaxCsvLineChars.
   static std::shared_ptr<ScriptedDevice> fromCsv(const std::string& path, bool loop, float max_force_n = 10.0f);
 
   DeviceInfo info() const override { return info_; }

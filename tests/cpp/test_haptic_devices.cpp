@@ -117,6 +117,27 @@ TEST(HapticScriptedDevice, ReadsACsvFile) {
   EXPECT_THROW(ScriptedDevice::fromCsv(path, false), InvalidArgument);  // missing file
 }
 
+// A folder or /dev/zero used to read as "holds no t,x,y,z rows" (/dev/zero until memory ran out).
+TEST(HapticScriptedDevice, ACsvThatIsAFolderADeviceOrOneHugeLineIsRefused) {
+  const auto messageOf = [](const std::string& path) {
+    try {
+      ScriptedDevice::fromCsv(path, false);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(messageOf(::testing::TempDir()).find("is a folder"), std::string::npos) << messageOf(::testing::TempDir());
+  EXPECT_NE(messageOf("/dev/zero").find("not a regular file"), std::string::npos) << messageOf("/dev/zero");
+  const std::string path = ::testing::TempDir() + "hf_long_line.csv";
+  {
+    std::ofstream out(path);
+    out << "t,x,y,z\n0,0,0,0\n" << std::string(100000, '1') << "\n";
+  }
+  EXPECT_NE(messageOf(path).find(":3 is longer than 4096 characters"), std::string::npos) << messageOf(path);
+  std::remove(path.c_str());
+}
+
 TEST(HapticScriptedDevice, ReadFollowsTheClockAndCloseEndsIt) {
   ScriptedDevice d({0.0, 10.0}, {glm::vec3(0.0f), glm::vec3(1.0f, 0.0f, 0.0f)}, false);
   const DeviceState a = d.read();
