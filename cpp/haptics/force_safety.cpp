@@ -27,7 +27,8 @@ void SafetySettings::validate() const {
   }
   if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0 || stale_after_s > kMaxStaleS) {
     throw InvalidArgument("stale_after must be > 0 s and at most " + std::to_string(kMaxStaleS) +
-                          " s (a larger value turns the fade of a stale force off), got " + std::to_string(stale_after_s));
+                          " s (a larger value turns the fade of a stale force off), got " +
+                          std::to_string(stale_after_s));
   }
   if (!std::isfinite(fade_s) || fade_s <= 0.0 || fade_s > kMaxStaleS) {
     throw InvalidArgument("fade_time must be > 0 s and at most " + std::to_string(kMaxStaleS) + " s, got " +

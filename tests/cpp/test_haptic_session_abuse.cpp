@@ -99,8 +99,8 @@ TEST(HapticSessionAbuse, ASessionSurvivesAnAbusivePoseStream) {
       if (i % 64 == 0) std::this_thread::sleep_for(1ms);
     }
   });
-  const bool stepped = waitFor([&] { return hs.stats().sim_steps >= 40 || hs.state() != session::SessionState::Running; },
-                               120000ms);
+  const bool stepped = waitFor(
+      [&] { return hs.stats().sim_steps >= 40 || hs.state() != session::SessionState::Running; }, 120000ms);
   for (int i = 0; i < 200; ++i) {  // the commanded force meanwhile
     const glm::vec3 f = hs.latest().commanded_n;
     ASSERT_TRUE(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z));
