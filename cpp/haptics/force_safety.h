@@ -21,7 +21,7 @@ namespace hf::haptics {
 
 // Longest wind-down of the force on stop() (max_force / slew_rate), s. validate() refuses a
 // slew rate slower than that, so stop() always slews the whole way down to zero; the haptic
-// loop ends a wind-down early only if its thread was starved for twice this long.
+// loop ends a wind-down early only after twice the periods this takes at the nominal rate.
 inline constexpr double kMaxWindDownS = 2.0;
 
 // Longest stale_after_s and fade_s, s: a simulation force older than this is stale however slow

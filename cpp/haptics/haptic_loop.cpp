@@ -102,17 +102,14 @@ void HapticLoop::run() {
     double previous_s = monotonicNowS();
     // Once stop() is asked, periods run on with force disabled until the command has slewed
     // down to zero (max_force / slew_rate <= kMaxWindDownS, by SafetySettings::validate), so it
-    // never drops at once; traced like any period. A guard on the wall time (twice the most a
-    // wind-down needs) ends it only if this thread was starved that long.
-    double stop_seen_s = -1.0;
+    // never drops at once; traced like any period. Counted in periods, not wall time, so a
+    // loaded machine slows the wind-down but never cuts it: the guard (twice the periods the
+    // longest wind-down needs) ends it only if the periods' dt ran short of nominal throughout.
+    const auto max_wind_down_ticks = static_cast<std::uint64_t>(std::ceil(2.0 * kMaxWindDownS * s_.rate_hz));
+    std::uint64_t wound_down = 0;
     for (;;) {
       const bool stopping = stop_.load(std::memory_order_acquire);
-      if (stopping) {
-        if (pipeline_.safety().last() == glm::vec3(0.0f)) break;
-        const double now_s = monotonicNowS();
-        if (stop_seen_s < 0.0) stop_seen_s = now_s;
-        if (now_s - stop_seen_s > 2.0 * kMaxWindDownS) break;
-      }
+      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= max_wind_down_ticks)) break;
       const double now_s = clock.waitNext();
       const double dt_s = now_s - previous_s;
       previous_s = now_s;
