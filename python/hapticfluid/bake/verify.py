@@ -4,8 +4,9 @@ what it wrote?
 The bake records each frame file's size and SHA-256 in the manifest (``frame_records``) right
 after writing it. A frame is sound when its file exists, can be read, and has that size and
 digest. Frames without a record (a manifest from before records, or none at all) must at least
-exist and begin with OpenVDB's magic number. The check reads every frame file once (hashing is
-faster than most disks), which is small beside the simulation that made them.
+exist and begin with OpenVDB's magic number. The check reads every frame file once; SHA-256
+runs at a few hundred MB/s (276 MB/s measured on a loaded 2-core machine), a fraction of a
+second per frame, small beside the simulation that made it.
 
 Resume uses it (see driver.py: a damaged frame is rebaked) and ``bake --verify`` reports it.
 """
