@@ -13,8 +13,6 @@ namespace hf::haptics {
 
 namespace {
 
-constexpr double kMaxWindDownS = 0.25;  // longest slew down to zero on stop(), s
-
 DevicePtr requireDevice(DevicePtr device) {
   if (!device) throw InvalidArgument("haptic loop: give a device (got None)");
   return device;
@@ -111,15 +109,16 @@ void HapticLoop::run() {
   try {
     clock.start();
     double previous_s = monotonicNowS();
-    // Once stop() is asked, a few more periods run with force disabled, so the command slews
-    // down to zero instead of dropping at once: max_force / slew_rate, at most kMaxWindDownS.
-    const SafetySettings& safety = s_.pipeline.safety;
-    const double wind_down_s = std::min(static_cast<double>(safety.max_force_n / safety.slew_rate_n_s), kMaxWindDownS);
-    const auto wind_down_ticks = static_cast<std::uint64_t>(std::ceil(wind_down_s * s_.rate_hz)) + 1;
+    // Once stop() is asked, periods run on with force disabled until the command has slewed
+    // down to zero (max_force / slew_rate <= kMaxWindDownS, by SafetySettings::validate), so it
+    // never drops at once; traced like any period. Counted in periods, not wall time, so a
+    // loaded machine slows the wind-down but never cuts it: the guard (twice the periods the
+    // longest wind-down needs) ends it only if the periods' dt ran short of nominal throughout.
+    const auto max_wind_down_ticks = static_cast<std::uint64_t>(std::ceil(2.0 * kMaxWindDownS * s_.rate_hz));
     std::uint64_t wound_down = 0;
     for (;;) {
       const bool stopping = stop_.load(std::memory_order_acquire);
-      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= wind_down_ticks)) break;
+      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= max_wind_down_ticks)) break;
       const double now_s = clock.waitNext();
       const double dt_s = now_s - previous_s;
       previous_s = now_s;

@@ -69,8 +69,9 @@ class HapticLoop {
   // Starts the thread (once). Throws hf::Error if another loop (or a host call) holds the
   // device: the loop holds it (DeviceClaim) until its thread ends.
   void start();
-  // Slews the force down to zero (max_force / slew_rate, at most 0.25 s), ends the thread,
-  // joins, and sends a last zero. From any thread; concurrent calls take turns.
+  // Slews the force down to zero at the slew rate (max_force / slew_rate, at most
+  // kMaxWindDownS = 2 s; those periods are in the trace), ends the thread, joins, and sends a
+  // last zero. From any thread; concurrent calls take turns.
   void stop();
   void setEnabled(bool on);     // false: force slews down to zero; true: ramp in again
   bool running() const { return running_.load(std::memory_order_acquire); }

@@ -358,7 +358,7 @@ session on it fails to start; close() still stops it (the session then fails wit
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
   c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
-        "Force down to zero at slew_rate (at most 0.25 s) and both threads ended: waits at most\n"
+        "Force down to zero at slew_rate (max_force / slew_rate, at most 2 s) and both threads ended: waits at most\n"
         "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
         "Any thread may call it; concurrent calls take turns.");

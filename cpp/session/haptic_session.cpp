@@ -11,6 +11,7 @@
 #include "haptics/rendering_limits.h"
 #include "haptics/rate_estimator.h"
 #include "session/simulation.h"
+#include "session/simulation_claim.h"
 
 namespace hf::session {
 
@@ -83,6 +84,8 @@ HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const H
       device_(std::move(device)),
       s_((settings.validate(), withForceGain(settings, sim, device_))),
       loop_(device_, poses_, forces_, s_.loop) {
+  // Not while another session drives this simulation: the probe set below would replace its probe.
+  { SimulationClaim free_now(sim_, "make a haptic session on it"); }
   const fluid::Grid& g = sim_.grid();
   const std::optional<ProbeState> current = sim_.probe();
   const float margin = g.cell_size_m * 1.001f;  // a hair more than the simulation's one cell
@@ -135,8 +138,13 @@ obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const
     // Held at a wall: the probe does not move along that axis.
     if (origin[a] != pose.position_m[a] || !std::isfinite(velocity[a])) velocity[a] = 0.0f;
   }
-  const float speed = glm::length(velocity);
-  if (speed > fluid::kMaxProbeSpeed) velocity *= fluid::kMaxProbeSpeed / speed;
+  // Scaled to a hair under the simulation's limit (in double: the length of a huge vector
+  // overflows in float), so the rounding of the scaled vector never lands above it: a pose
+  // stream the simulation would refuse must not end the session.
+  const glm::dvec3 v(velocity);
+  const double speed = glm::length(v);
+  const double max_speed = static_cast<double>(fluid::kMaxProbeSpeed) * (1.0 - 1e-4);
+  if (speed > max_speed) velocity = glm::vec3(v * (max_speed / speed));
   p.transform[3] = glm::vec4(origin, 1.0f);
   p.velocity_m_s = velocity;
   return p;
@@ -148,8 +156,10 @@ void HapticSession::start() {
     throw Error("haptic session: start() runs once per session (state '" + std::string(stateName(state_.load())) +
                 "'); make a new HapticSession");
   }
-  loop_.start();
+  auto claim = std::make_unique<SimulationClaim>(sim_, "start a haptic session on it");
+  loop_.start();  // throws if the device is held: the simulation's claim ends here too
   sim_thread_ = std::thread([this] { simLoop(); });
+  sim_claim_ = std::move(claim);
   state_.store(SessionState::Running, std::memory_order_release);
 }
 
@@ -202,7 +212,7 @@ void HapticSession::stop(double timeout_s) {
     stop_requested_ = true;
   }
   cv_.notify_all();
-  loop_.stop();  // slews down (at most 0.25 s), joins; the device got its last zero
+  loop_.stop();  // slews down (at most kMaxWindDownS), joins; the device got its last zero
   if (loop_.failed()) fail(loop_.error());
   std::unique_lock<std::mutex> lock(mutex_);
   // Force output has ended: say so now, even if the simulation's last step is still running.
@@ -217,6 +227,7 @@ void HapticSession::stop(double timeout_s) {
     sim_thread_.join();
     lock.lock();
   }
+  sim_claim_.reset();  // the simulation thread is down: another session may drive it
   if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
   if (!error_.empty() && !error_raised_) {
     error_raised_ = true;
@@ -233,6 +244,8 @@ void HapticSession::joinAll() {
   }
   cv_.notify_all();
   if (sim_thread_.joinable()) sim_thread_.join();
+  std::lock_guard<std::mutex> lock(mutex_);
+  sim_claim_.reset();
 }
 
 void HapticSession::simLoop() {

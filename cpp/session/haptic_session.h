@@ -11,6 +11,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@
 namespace hf::session {
 
 class Simulation;
+class SimulationClaim;
 
 struct HapticSessionSettings {
   haptics::HapticLoopSettings loop;
@@ -62,16 +64,19 @@ struct HapticSessionStats {
 class HapticSession {
  public:
   // The simulation must outlive the session (Python keeps it alive). Throws InvalidArgument
-  // for bad settings (probe radius against the grid included) before anything starts.
+  // for bad settings (probe radius against the grid included) before anything starts, and
+  // hf::Error while another session drives the simulation.
   HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings);
   ~HapticSession();  // stops and joins both threads; never throws
   HapticSession(const HapticSession&) = delete;
   HapticSession& operator=(const HapticSession&) = delete;
 
-  void start();   // starts both threads (once)
+  // Starts both threads (once). Throws hf::Error if another running session drives the same
+  // Simulation or device: the session holds both (SimulationClaim, DeviceClaim) until stop().
+  void start();
   void pause();   // force slews to zero (max_force / slew_rate), simulation holds after its current step
   void resume();  // simulation steps again, force ramps in again
-  // Force slewed to zero (at most 0.25 s) and the haptic thread joined; then waits up to timeout_s for the
+  // Force slewed to zero at the slew rate (at most haptics::kMaxWindDownS = 2 s) and the haptic thread joined; then waits up to timeout_s for the
   // simulation's current step. Throws hf::Error if that step is still running (call again),
   // or the error that ended the session (after the threads are down). Callable from any host
   // thread; concurrent calls take turns.
@@ -109,6 +114,7 @@ class HapticSession {
   glm::vec3 probe_lo_m_{0.0f}, probe_hi_m_{0.0f};  // where the probe's origin may go
 
   std::atomic<SessionState> state_{SessionState::Idle};
+  std::unique_ptr<SimulationClaim> sim_claim_;  // start() .. the simulation thread joined
   std::thread sim_thread_;
   std::mutex stop_mutex_;              // one stop()/joinAll() at a time (host threads, atexit)
   mutable std::mutex mutex_;           // guards the fields below (never taken by the haptic thread)

@@ -190,19 +190,19 @@ class ScriptedDevice(Device):
     def duration(self) -> float: ...  # s
     @property
     def loops(self) -> bool: ...
-    def state_at(self, t: float) -> DeviceState: ...
+    def state_at(self, t: float) -> DeviceState: ...  # t finite (s)
     @property
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
 class HostDevice(Device):
-    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...
+    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...  # |coordinate| <= 1e6 m
     @property
     def pushes(self) -> int: ...
-    def state_after(self, elapsed: float) -> DeviceState: ...
+    def state_after(self, elapsed: float) -> DeviceState: ...  # elapsed not NaN (s)
     @property
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
-def null_device(max_force: float = 10.0) -> Device: ...
+def null_device(max_force: float = 10.0) -> Device: ...  # max_force in (0, 1000] N, as for every virtual device
 def scripted_device(
     times: Sequence[float], positions: Sequence[Vec3], loop: bool = False, max_force: float = 10.0
 ) -> ScriptedDevice: ...
@@ -222,10 +222,10 @@ class HapticSession:
         bandwidth_ratio: float = 0.5,
         prediction: bool = False,
         max_force: Optional[float] = None,  # N
-        slew_rate: float = 200.0,  # N/s
+        slew_rate: float = 200.0,  # N/s, >= max_force / 2 s (stop() winds down at it)
         ramp_time: float = 2.0,  # s
-        stale_after: float = 0.1,  # s
-        fade_time: float = 0.2,  # s
+        stale_after: float = 0.1,  # s, at most 10
+        fade_time: float = 0.2,  # s, at most 10
         rate: float = 1000.0,  # Hz
         sim_dt: float = 0.0,  # s; 0 = real time
         min_sim_dt: float = 0.01,  # s
