@@ -23,14 +23,15 @@ def smoke_material(density_scale: float):
 
 
 def show_sequence(scene, first_file: str, frame_start: int, frame_count: int, density_scale: float,
-                  existing=None):
+                  existing=None, collection=None):
     """Create or update the Volume object reading ``first_file`` (the frame_start file) as a
-    sequence: scene frame f shows the file numbered f. Returns the object."""
+    sequence: scene frame f shows the file numbered f. A new object goes into ``collection``
+    (the active one; the scene's master collection if None). Returns the object."""
     obj = existing if existing is not None and existing.type == "VOLUME" else None
     if obj is None:
         data = bpy.data.volumes.new(VOLUME_NAME)
         obj = bpy.data.objects.new(VOLUME_NAME, data)
-        scene.collection.objects.link(obj)
+        (collection or scene.collection).objects.link(obj)
     vol = obj.data
     vol.filepath = first_file
     vol.is_sequence = True
@@ -39,6 +40,9 @@ def show_sequence(scene, first_file: str, frame_start: int, frame_count: int, de
     # Blender reads file number (scene frame - frame_start + 1 + offset): offset makes it f.
     vol.frame_offset = frame_start - 1
     vol.sequence_mode = "CLIP"
+    # Solid mode draws the grid times display.density; the material multiplies it by
+    # density_scale: the same factor, so the viewport shows the smoke as the render does.
+    vol.display.density = density_scale
     # The files carry the world transform (voxel size, origin): the object stays at identity.
     obj.matrix_world.identity()
     mat = smoke_material(density_scale)
@@ -47,3 +51,13 @@ def show_sequence(scene, first_file: str, frame_start: int, frame_count: int, de
     else:
         vol.materials.append(mat)
     return obj
+
+
+def remove(obj):
+    """Delete the Volume object (and its Volume data when nothing else uses it); None is fine."""
+    if obj is None or obj.type != "VOLUME":
+        return
+    data = obj.data
+    bpy.data.objects.remove(obj)
+    if data is not None and data.users == 0:
+        bpy.data.volumes.remove(data)
