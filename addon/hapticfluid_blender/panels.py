@@ -14,6 +14,7 @@ def wrapped_label(layout, context, text, icon="NONE"):
     region = getattr(context, "region", None)
     width_px = region.width if region is not None and region.width > 1 else 400
     scale = context.preferences.system.ui_scale if context.preferences else 1.0
+    scale = scale if scale > 0.0 else 1.0  # 0 in background mode
     chars = max(24, int(width_px / (CHAR_WIDTH_PX * scale)) - 6)
     col = layout.column(align=True)
     for i, line in enumerate(textwrap.wrap(text, chars) or [""]):
