@@ -129,8 +129,8 @@ def domains(tmp):
     d.location = (1.0, 0.5, 0.5)
     bpy.context.view_layer.update()
     box = blender_scene.scene_dict(scene, s)["domain"]
-    check([round(v, 6) for v in box["origin"]] == [0.0, 0.0, 0.0] and [round(v, 6) for v in box["size"]] == [2.0, 1.0, 1.0],
-          f"a mirrored domain bakes its world box: {box}")
+    rounded = [[round(v, 6) for v in box[k]] for k in ("origin", "size")]
+    check(rounded == [[0.0, 0.0, 0.0], [2.0, 1.0, 1.0]], f"a mirrored domain bakes its world box: {box}")
     d.scale = (2.0, 1.0, 1.0)
     d.rotation_euler = (0.0, 0.0, 1.5707963267948966)  # a quarter turn: 1 m along x, 2 m along y
     bpy.context.view_layer.update()
@@ -139,7 +139,8 @@ def domains(tmp):
           f"a domain turned 90 degrees bakes its world bounding box: {box}")
     d.rotation_euler = (0.0, 0.0, 0.5235987755982988)  # 30 degrees
     bpy.context.view_layer.update()
-    refused(bpy.ops.hapticfluid.bake, "clear the rotation", "turned 30 degrees", "90-degree turns and mirrors are accepted")
+    refused(bpy.ops.hapticfluid.bake, "clear the rotation", "turned 30 degrees",
+            "90-degree turns and mirrors are accepted")
     check(s.status.startswith("bake not started: clear the rotation"),
           f"the refusal replaces the status line, fix first: {s.status!r}")
     d.scale = (1.0, 1.0, 1.0)
@@ -282,7 +283,8 @@ def sub_panels():
     headings = [kw.get("heading") for kind, kw, _ in cache.log if kind == "column"]
     check("Grids" in headings, f"the grid check boxes have a heading: {headings}")
     sim = draw(panels.HAPTICFLUID_PT_bake_simulation)
-    frame_owners = {id(owner) for kind, kw, owner in sim.log if kind == "prop" and kw["name"] in ("frame_start", "frame_end")}
+    frame_owners = {id(owner) for kind, kw, owner in sim.log
+                    if kind == "prop" and kw["name"] in ("frame_start", "frame_end")}
     check(len(frame_owners) == 1 and any(kind == "column" and id(child) in frame_owners
                                          for kind, _kw, child in sim.log),
           "Start and End are one above the other (a column), readable at the default width")

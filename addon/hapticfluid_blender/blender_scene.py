@@ -15,8 +15,8 @@ class SceneError(Exception):
 
 # Where an unsaved .blend's relative cache goes (as Mantaflow does): Blender's session
 # temporary folder, deleted when Blender quits.
-UNSAVED_CACHE_NOTE = "the .blend is not saved: baking into the temporary folder {folder} (deleted when Blender quits) " \
-                     "until you save the .blend"
+UNSAVED_CACHE_NOTE = ("the .blend is not saved: baking into the temporary folder {folder} (deleted when Blender "
+                      "quits) until you save the .blend")
 
 
 def cache_folder(settings) -> str:
@@ -100,7 +100,8 @@ def _mesh_arrays(obj):
         evaluated.to_mesh_clear()
     extent = [max(v[i] for v in vertices) - min(v[i] for v in vertices) for i in range(3)] if vertices else [0.0] * 3
     if len(triangles) < 4 or min(extent) <= 1e-9 * max(max(extent), 1e-30):
-        what = "has no faces" if not triangles else f"is flat ({len(triangles)} triangle(s), extent {[round(e, 4) for e in extent]} m)"
+        what = ("has no faces" if not triangles
+                else f"is flat ({len(triangles)} triangle(s), extent {[round(e, 4) for e in extent]} m)")
         raise SceneError(f"give the probe '{obj.name}' a closed mesh with thickness (e.g. a Solidify modifier) or use "
                          f"the Sphere shape: the probe mesh has no volume, it {what}")
     return {"vertices": vertices, "triangles": triangles}
