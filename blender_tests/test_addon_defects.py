@@ -223,6 +223,10 @@ def bake_cycle(tmp):
     check(vol is not None and vol.name in fx.objects and vol.name not in scene.collection.objects,
           "the Volume object is in the active collection")
     check(vol.data.display.density == 30.0, f"viewport display density = the material's ({vol.data.display.density})")
+    s.density_scale = 12.0
+    node = next(n for n in vol.active_material.node_tree.nodes if n.bl_idname == "ShaderNodeVolumePrincipled")
+    check(vol.data.display.density == 12.0 and node.inputs["Density"].default_value == 12.0,
+          "changing Render Density after the bake updates the material and the viewport density together")
     check(s.domain.display_type == "WIRE" and s.domain.hide_render, "the domain shows as a wire frame after the bake")
     check(properties.changed_cache_inputs(scene, s) == [], "right after the bake the cache is up to date")
     scene.frame_set(3)  # playing the timeline does not change the inputs

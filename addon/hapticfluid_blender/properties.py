@@ -3,6 +3,8 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
+from . import volume
+
 
 def _is_mesh(_self, obj):
     return obj.type == "MESH"
@@ -89,6 +91,8 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
                                       description="Stop the pressure solve at this relative residual "
                                                   "(dimensionless); 0 runs the fixed iteration count")
     density_scale: FloatProperty(name="Render Density", default=20.0, min=0.0, max=10000.0,
+                                 update=lambda self, _context: volume.apply_density(self.volume_object,
+                                                                                    self.density_scale),
                                  description="Density multiplier of the smoke material (Principled Volume)")
     volume_object: PointerProperty(name="Volume", type=bpy.types.Object,
                                    description="The Volume object showing the baked frames")
