@@ -16,7 +16,7 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import bake_ops, panels, prefs, properties  # noqa: E402  (bl_info first, as Blender expects)
+from . import bake_ops, farm_ops, panels, prefs, properties  # noqa: E402  (bl_info first, as Blender expects)
 
 classes = (
     properties.HapticFluidBakeSettings,
@@ -25,6 +25,7 @@ classes = (
     bake_ops.HAPTICFLUID_OT_bake_free,
     *panels.classes,
     prefs.HapticFluidPreferences,
+    farm_ops.HAPTICFLUID_OT_write_farm_job,
 )
 
 

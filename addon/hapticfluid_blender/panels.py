@@ -4,7 +4,7 @@ import textwrap
 
 import bpy
 
-from . import prefs, properties
+from . import farm_ops, prefs, properties
 
 CHAR_WIDTH_PX = 7  # about one character of the UI font at scale 1, for wrapping long text
 
@@ -177,5 +177,15 @@ class HAPTICFLUID_PT_bake_display(_SubPanel, bpy.types.Panel):
         col.prop(s, "volume_object")
 
 
+class HAPTICFLUID_PT_bake_farm(_SubPanel, bpy.types.Panel):
+    bl_label = "Farm"
+    bl_idname = "HAPTICFLUID_PT_bake_farm"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        farm_ops.draw(self.layout, context)
+
+
 classes = (HAPTICFLUID_PT_bake, HAPTICFLUID_PT_bake_simulation, HAPTICFLUID_PT_bake_fluid, HAPTICFLUID_PT_bake_source,
-           HAPTICFLUID_PT_bake_pressure, HAPTICFLUID_PT_bake_cache, HAPTICFLUID_PT_bake_display)
+           HAPTICFLUID_PT_bake_pressure, HAPTICFLUID_PT_bake_cache, HAPTICFLUID_PT_bake_display,
+           HAPTICFLUID_PT_bake_farm)
