@@ -16,19 +16,22 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import bake_ops, farm_ops, panels, properties  # noqa: E402  (bl_info first, as Blender expects)
+from . import bake_ops, farm_ops, panels, prefs, properties  # noqa: E402  (bl_info first, as Blender expects)
 
 classes = (
     properties.HapticFluidBakeSettings,
     bake_ops.HAPTICFLUID_OT_bake,
     bake_ops.HAPTICFLUID_OT_bake_resume,
     bake_ops.HAPTICFLUID_OT_bake_free,
-    panels.HAPTICFLUID_PT_bake,
+    *panels.classes,
+    prefs.HapticFluidPreferences,
     farm_ops.HAPTICFLUID_OT_write_farm_job,
 )
 
 
 def register():
+    import logging
+
     import bpy
 
     for cls in classes:
@@ -36,11 +39,19 @@ def register():
     properties.attach()
     if properties.clear_stale_bake_state not in bpy.app.handlers.load_post:
         bpy.app.handlers.load_post.append(properties.clear_stale_bake_state)
+    try:  # re-enabled after a bake was cut short: no bake of ours runs now
+        properties.clear_stale_bake_state()
+    except AttributeError:  # bpy.data is not readable while Blender starts; load_post clears it then
+        pass
+    problem = prefs.package_problem()
+    if problem:  # also shown in the add-on's preferences and the panel
+        logging.getLogger(__name__).warning("hapticfluid: %s", problem)
 
 
 def unregister():
     import bpy
 
+    bake_ops.shutdown()  # cancels and joins running bakes, shows what finished
     if properties.clear_stale_bake_state in bpy.app.handlers.load_post:
         bpy.app.handlers.load_post.remove(properties.clear_stale_bake_state)
     properties.detach()

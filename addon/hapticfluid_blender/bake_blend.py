@@ -1,14 +1,16 @@
 """Bake a .blend from the command line, without the UI:
 
-    blender --background scene.blend --python addon/hapticfluid_blender/bake_blend.py -- [--resume] \
-        [--resolution N] [--save]
+    blender --background scene.blend --python-exit-code 1 --python addon/hapticfluid_blender/bake_blend.py \
+        -- [--resume] [--resolution N] [--save]
 
 Registers the add-on (from this folder) if needed, bakes with the scene's hapticfluid settings
 (domain, probe, source, frames, cache folder), and with --save stores the .blend with the Volume
-object pointing at the frames. Exits non-zero when the bake fails.
+object pointing at the frames. Exits non-zero when the bake fails (1) or an argument is bad (2);
+keep --python-exit-code 1 so that an error Blender catches around the script also exits 1.
 """
 
 import argparse
+import logging
 import os
 import sys
 
@@ -40,8 +42,13 @@ def main(argv):
                   f"got {args.resolution}", file=sys.stderr)
             return 2
         scene.hapticfluid_bake.resolution = args.resolution
+    logging.basicConfig(level=logging.INFO, format="%(message)s")  # the bake's line per frame
     op = bpy.ops.hapticfluid.bake_resume if args.resume else bpy.ops.hapticfluid.bake
-    result = op()
+    try:
+        result = op()
+    except RuntimeError as exc:  # in background mode an ERROR report is raised, not returned
+        print(f"bake_blend.py: {exc}", file=sys.stderr)
+        return 1
     print("hapticfluid:", scene.hapticfluid_bake.status)
     if "FINISHED" not in result:
         return 1

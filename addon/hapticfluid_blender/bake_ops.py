@@ -3,31 +3,38 @@
 Bake/Resume read the Blender scene on the main thread (probe matrix per frame included), then
 run ``hapticfluid.bake.bake`` on a worker thread that never touches bpy. Invoked from the UI
 they are modal: a timer copies the worker's progress into the scene's status properties and the
-window manager's progress bar, Esc cancels between substeps (complete frames stay, Resume
+window manager's progress bar, shows the Volume object from the first finished frame on and
+extends it as frames land; Esc cancels between substeps (complete frames stay, Resume
 continues). Run from a script or ``blender --background`` (execute), they wait for the worker.
-Errors come back as ``self.report``.
+Errors come back as ``self.report`` and in the status line. Disabling the add-on during a bake
+cancels and joins the worker (``shutdown``) and shows what finished.
 """
 
+import logging
 import threading
 
 import bpy
 
-from . import blender_scene, volume
+from . import blender_scene, properties, volume
 
 TIMER_S = 0.2
+log = logging.getLogger(__name__)
 
 
 class _BakeJob:
     """The worker thread and what it shares with the main thread (under a lock)."""
 
-    def __init__(self, bake_scene, resume):
+    def __init__(self, bake_scene, resume, scene_name):
         self.scene = bake_scene
         self.resume = resume
+        self.scene_name = scene_name  # the Blender scene whose settings it reports into
         self.cancel = threading.Event()
         self.lock = threading.Lock()
         self.progress = None  # latest hapticfluid.bake.BakeProgress
         self.result = None
         self.error = None
+        self.shown_last = None  # last frame the Volume object shows (main thread only)
+        self.timer = None  # the modal operator's timer, removed by shutdown() if still there
         self.thread = threading.Thread(target=self._run, name="hapticfluid-bake", daemon=True)
 
     def _run(self):
@@ -35,7 +42,7 @@ class _BakeJob:
 
         try:
             result = bake(self.scene, resume=self.resume, progress=self._on_progress, cancel=self.cancel,
-                          log=lambda line: print("hapticfluid bake:", line, flush=True))
+                          log=lambda line: log.info("bake: %s", line))
             with self.lock:
                 self.result = result
         except Exception as exc:  # reported on the main thread
@@ -49,6 +56,75 @@ class _BakeJob:
     def snapshot(self):
         with self.lock:
             return self.progress, self.result, self.error
+
+    def settings(self):
+        scene = bpy.data.scenes.get(self.scene_name)
+        return scene, (scene.hapticfluid_bake if scene is not None else None)
+
+
+_jobs = []  # running bakes (main thread only), so that disabling the add-on can end them
+
+
+def _show_volume(scene, job, last_frame, collection=None):
+    """Create or extend the Volume object to frames frame_start..last_frame; keep the domain's
+    display as it was (restored by Free) and show it as a wire frame."""
+    from hapticfluid.bake import frame_path
+
+    settings = scene.hapticfluid_bake
+    bake_scene = job.scene
+    first = str(frame_path(bake_scene.cache_dir, bake_scene.frame_start))
+    if settings.cache_dir.startswith("//") and bpy.data.filepath:
+        first = bpy.path.relpath(first)
+    settings.volume_object = volume.show_sequence(
+        scene, first, bake_scene.frame_start, last_frame - bake_scene.frame_start + 1,
+        settings.density_scale, existing=settings.volume_object, collection=collection)
+    job.shown_last = last_frame
+    domain = settings.domain
+    if domain is not None and not settings.domain_display_saved:  # the smoke shows the box now
+        settings.domain_display_type = domain.display_type
+        settings.domain_hide_render = domain.hide_render
+        settings.domain_display_saved = True
+        domain.display_type = "WIRE"
+        domain.hide_render = True
+
+
+def _finish_job(job, collection=None):
+    """Main thread, after the worker ended: status, Volume, flags. Returns (level, text)."""
+    if job in _jobs:
+        _jobs.remove(job)
+    scene, settings = job.settings()
+    progress, result, error = job.snapshot()
+    if settings is None:
+        return "WARNING", "the scene of the bake was removed"
+    settings.is_baking = False
+    if error is not None:
+        settings.status = f"bake failed: {error}"
+        return "ERROR", settings.status
+    if result.last_frame is not None and result.last_frame != job.shown_last:
+        _show_volume(scene, job, result.last_frame, collection)
+    per = f", {result.seconds_per_frame:.2f} s/frame" if result.frames_written else ""
+    note = blender_scene.cache_note(settings)
+    settings.status = (f"bake {result.status}: {result.frames_written} frame(s){per}; last complete frame "
+                       f"{result.last_frame}" + (f"; {note}" if note else ""))
+    settings.progress = progress.fraction if progress is not None else settings.progress
+    return ("WARNING" if result.status == "cancelled" else "INFO"), settings.status
+
+
+def shutdown():
+    """The add-on is being disabled: cancel and join every running bake, end its timer and
+    progress, and show what finished (the complete frames; Resume continues after them)."""
+    wm = bpy.context.window_manager
+    for job in list(_jobs):
+        job.cancel.set()
+        job.thread.join()
+        if job.timer is not None and wm is not None:
+            wm.event_timer_remove(job.timer)
+            wm.progress_end()
+            job.timer = None
+        _finish_job(job)
+        _scene, settings = job.settings()
+        if settings is not None and job.error is None:
+            settings.status = "the add-on was disabled during the bake: " + settings.status
 
 
 class _IdleOnly:
@@ -65,7 +141,8 @@ class _BakeBase(_IdleOnly):
     resume = False
 
     def _start(self, context):
-        """Main thread: scene -> bake scene, then the worker. Returns the job or None (reported)."""
+        """Main thread: scene -> bake scene, then the worker. Returns the job or None (reported,
+        and written to the status line so that it does not keep the previous bake's text)."""
         settings = context.scene.hapticfluid_bake
         try:
             import hapticfluid  # noqa: F401  (a clear error if the package is missing)
@@ -74,52 +151,34 @@ class _BakeBase(_IdleOnly):
             data = blender_scene.scene_dict(context.scene, settings)
             bake_scene = scene_from_dict(data)
         except ImportError as exc:
-            self.report({"ERROR"}, f"the hapticfluid Python package is not importable in Blender ({exc}); "
-                                   "install it (see README) or add it to PYTHONPATH")
-            return None
+            return self._refuse(settings, f"install the hapticfluid Python package (see README) or add it to "
+                                          f"PYTHONPATH: it is not importable in Blender ({exc})")
         except (blender_scene.SceneError, ValueError) as exc:
-            self.report({"ERROR"}, str(exc))
-            return None
-        job = _BakeJob(bake_scene, self.resume)
+            return self._refuse(settings, str(exc))
+        job = _BakeJob(bake_scene, self.resume, context.scene.name)
+        if not self.resume:  # what the new cache is made from, for "cache out of date"
+            settings.baked_inputs = properties.cache_inputs_json(context.scene, settings)
         settings.is_baking = True
         settings.progress = 0.0
-        settings.status = "resuming..." if self.resume else "baking..."
+        note = blender_scene.cache_note(settings)
+        settings.status = ("resuming..." if self.resume else "baking...") + (f" ({note})" if note else "")
+        _jobs.append(job)
         job.thread.start()
         return job
 
-    def _finish(self, context, job):
-        settings = context.scene.hapticfluid_bake
-        settings.is_baking = False
-        progress, result, error = job.snapshot()
-        if error is not None:
-            settings.status = f"bake failed: {error}"
-            self.report({"ERROR"}, error)
-            return {"CANCELLED"}
-        if result.last_frame is not None:
-            self._show_volume(context, job.scene, result.last_frame)
-        per = f", {result.seconds_per_frame:.2f} s/frame" if result.frames_written else ""
-        settings.status = (f"bake {result.status}: {result.frames_written} frame(s){per}; last complete frame "
-                           f"{result.last_frame}")
-        settings.progress = progress.fraction if progress is not None else settings.progress
-        self.report({"WARNING"} if result.status == "cancelled" else {"INFO"}, settings.status)
-        return {"FINISHED"}
+    def _refuse(self, settings, message):
+        settings.status = f"bake not started: {message}"
+        self.report({"ERROR"}, message)
+        return None
 
-    def _show_volume(self, context, bake_scene, last_frame):
-        from hapticfluid.bake import frame_path
-
-        settings = context.scene.hapticfluid_bake
-        first = str(frame_path(bake_scene.cache_dir, bake_scene.frame_start))
-        if settings.cache_dir.startswith("//") and bpy.data.filepath:
-            first = bpy.path.relpath(first)
-        settings.volume_object = volume.show_sequence(
-            context.scene, first, bake_scene.frame_start, last_frame - bake_scene.frame_start + 1,
-            settings.density_scale, existing=settings.volume_object)
-        if settings.domain is not None:  # the smoke shows the box now: keep the mesh as a wire frame
-            settings.domain.display_type = "WIRE"
-            settings.domain.hide_render = True
+    def _finish(self, job):
+        level, text = _finish_job(job, self._collection)
+        self.report({level}, text)
+        return {"CANCELLED"} if level == "ERROR" else {"FINISHED"}
 
     # -- synchronous (scripts, --background) --------------------------------------------------
     def execute(self, context):
+        self._collection = context.view_layer.active_layer_collection.collection
         job = self._start(context)
         if job is None:
             return {"CANCELLED"}
@@ -128,42 +187,49 @@ class _BakeBase(_IdleOnly):
         except KeyboardInterrupt:
             job.cancel.set()
             job.thread.join()
-        return self._finish(context, job)
+        return self._finish(job)
 
     # -- modal (UI) -----------------------------------------------------------------------------
     def invoke(self, context, _event):
+        self._collection = context.view_layer.active_layer_collection.collection
         self._job = self._start(context)
         if self._job is None:
             return {"CANCELLED"}
         wm = context.window_manager
-        self._timer = wm.event_timer_add(TIMER_S, window=context.window)
+        self._job.timer = wm.event_timer_add(TIMER_S, window=context.window)
         wm.progress_begin(0, 100)
         wm.modal_handler_add(self)
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
+        job = self._job
+        scene, settings = job.settings()
         if event.type == "ESC" and event.value == "PRESS":
-            self._job.cancel.set()
-            context.scene.hapticfluid_bake.status = "cancelling after this substep..."
+            job.cancel.set()
+            if settings is not None:
+                settings.status = "cancelling after this substep..."
             return {"RUNNING_MODAL"}
         if event.type != "TIMER":
             return {"PASS_THROUGH"}  # the UI stays live while the worker bakes
         wm = context.window_manager
-        progress, _result, _error = self._job.snapshot()
-        settings = context.scene.hapticfluid_bake
-        if progress is not None:
+        progress, _result, _error = job.snapshot()
+        if progress is not None and settings is not None:
             settings.progress = progress.fraction
-            if not self._job.cancel.is_set():
+            if not job.cancel.is_set():
                 settings.status = progress.text()
             wm.progress_update(int(100 * progress.fraction))
+            last = progress.frame_start + progress.frames_done - 1 if progress.frames_done else None
+            if last is not None and last != job.shown_last:  # the frames show up as they land
+                _show_volume(scene, job, last, self._collection)
         for area in context.screen.areas if context.screen else ():
             if area.type in ("PROPERTIES", "VIEW_3D"):
                 area.tag_redraw()
-        if self._job.thread.is_alive():
+        if job.thread.is_alive():
             return {"RUNNING_MODAL"}
-        wm.event_timer_remove(self._timer)
+        wm.event_timer_remove(job.timer)
+        job.timer = None
         wm.progress_end()
-        return self._finish(context, self._job)
+        return self._finish(job)
 
 
 class HAPTICFLUID_OT_bake(_BakeBase, bpy.types.Operator):
@@ -174,7 +240,7 @@ class HAPTICFLUID_OT_bake(_BakeBase, bpy.types.Operator):
 
 
 class HAPTICFLUID_OT_bake_resume(_BakeBase, bpy.types.Operator):
-    """Continue a cancelled or interrupted bake after its last complete frame"""
+    """Continue a cancelled or interrupted bake after its last complete frame (raise End first to extend it)"""
 
     bl_idname = "hapticfluid.bake_resume"
     bl_label = "Resume"
@@ -182,11 +248,15 @@ class HAPTICFLUID_OT_bake_resume(_BakeBase, bpy.types.Operator):
 
 
 class HAPTICFLUID_OT_bake_free(_IdleOnly, bpy.types.Operator):
-    """Delete the bake's frames, checkpoint and manifest from the cache folder"""
+    """Delete the bake's frames, checkpoint and manifest from the cache folder, remove the Volume
+    object showing them and restore the domain's display"""
 
     bl_idname = "hapticfluid.bake_free"
     bl_label = "Free"
     bl_options = {"REGISTER"}
+
+    def invoke(self, context, event):
+        return context.window_manager.invoke_confirm(self, event)
 
     def execute(self, context):
         settings = context.scene.hapticfluid_bake
@@ -202,6 +272,14 @@ class HAPTICFLUID_OT_bake_free(_IdleOnly, bpy.types.Operator):
         except (BakeError, OSError) as exc:  # frames that are not ours, or a file we may not delete
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
+        volume.remove(settings.volume_object)
+        settings.volume_object = None
+        domain = settings.domain
+        if domain is not None and settings.domain_display_saved:
+            domain.display_type = settings.domain_display_type
+            domain.hide_render = settings.domain_hide_render
+        settings.domain_display_saved = False
+        settings.baked_inputs = ""
         settings.progress = 0.0
         settings.status = f"freed {removed} file(s) in {folder}"
         self.report({"INFO"}, settings.status)

@@ -13,14 +13,26 @@ class SceneError(Exception):
     """The Blender scene cannot be baked; the message says what to change."""
 
 
+# Where an unsaved .blend's relative cache goes (as Mantaflow does): Blender's session
+# temporary folder, deleted when Blender quits.
+UNSAVED_CACHE_NOTE = ("the .blend is not saved: baking into the temporary folder {folder} (deleted when Blender "
+                      "quits) until you save the .blend")
+
+
 def cache_folder(settings) -> str:
     path = settings.cache_dir
     if not path:
-        raise SceneError("set a cache folder")
+        raise SceneError("set a cache folder (Cache sub-panel): it is empty")
     if path.startswith("//") and not bpy.data.filepath:
-        raise SceneError(f"the cache folder '{path}' is relative to the .blend: save the .blend first or "
-                         "choose an absolute folder")
+        return os.path.normpath(os.path.join(bpy.app.tempdir, path[2:] or "hapticfluid_cache"))
     return os.path.normpath(bpy.path.abspath(path))
+
+
+def cache_note(settings) -> str:
+    """'' or what the artist should know about where the cache goes (an unsaved .blend)."""
+    if settings.cache_dir.startswith("//") and not bpy.data.filepath:
+        return UNSAVED_CACHE_NOTE.format(folder=cache_folder(settings))
+    return ""
 
 
 def _world_box(obj):
@@ -36,10 +48,40 @@ def _vec(c):
     return Vector((c[0], c[1], c[2]))
 
 
-def _is_axis_aligned(matrix) -> bool:
+def _turn(matrix):
+    """(is a box turn, angle in degrees): the rotation part is a signed permutation (90-degree
+    turns and mirrors map an axis-aligned box onto an axis-aligned box), else the angle away
+    from the nearest axis."""
+    import math
+
     m = matrix.to_3x3().normalized()
-    return all(abs(m[i][j]) < 1e-5 for i in range(3) for j in range(3) if i != j) and all(
-        m[i][i] > 0 for i in range(3))
+    worst = 0.0
+    for j in range(3):
+        column = [abs(m[i][j]) for i in range(3)]
+        worst = max(worst, math.degrees(math.acos(min(1.0, max(column)))))
+    return worst < 1e-3, worst
+
+
+def _box_mesh_problem(obj):
+    """None if the object's evaluated mesh is an axis-aligned box in its own frame (every face
+    normal along an axis, every vertex on the bounding box's surface), else what is wrong."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        if not mesh.polygons:
+            return "it has no faces"
+        lo = [min(c[i] for c in obj.bound_box) for i in range(3)]
+        hi = [max(c[i] for c in obj.bound_box) for i in range(3)]
+        eps = [1e-5 * max(1e-9, hi[i] - lo[i]) + 1e-7 for i in range(3)]
+        for poly in mesh.polygons:
+            if max(abs(c) for c in poly.normal) < 1.0 - 1e-5:
+                return f"face {poly.index} is not axis-aligned (normal {tuple(round(c, 3) for c in poly.normal)})"
+        for v in mesh.vertices:
+            if not any(abs(v.co[i] - lo[i]) <= eps[i] or abs(v.co[i] - hi[i]) <= eps[i] for i in range(3)):
+                return f"vertex {v.index} lies inside its bounding box"
+    finally:
+        evaluated.to_mesh_clear()
+    return None
 
 
 def _local_radius(obj) -> float:
@@ -56,37 +98,81 @@ def _mesh_arrays(obj):
         triangles = [list(t.vertices) for t in mesh.loop_triangles]
     finally:
         evaluated.to_mesh_clear()
-    if not triangles:
-        raise SceneError(f"the probe '{obj.name}' has no faces: give it a closed mesh or use the Sphere shape")
+    extent = [max(v[i] for v in vertices) - min(v[i] for v in vertices) for i in range(3)] if vertices else [0.0] * 3
+    if len(triangles) < 4 or min(extent) <= 1e-9 * max(max(extent), 1e-30):
+        what = ("has no faces" if not triangles
+                else f"is flat ({len(triangles)} triangle(s), extent {[round(e, 4) for e in extent]} m)")
+        raise SceneError(f"give the probe '{obj.name}' a closed mesh with thickness (e.g. a Solidify modifier) or use "
+                         f"the Sphere shape: the probe mesh has no volume, it {what}")
     return {"vertices": vertices, "triangles": triangles}
+
+
+def domain_box(settings):
+    """The domain's world box (lo, hi), m, after the checks the bake and the live session share."""
+    if settings.domain is None:
+        raise SceneError("choose a domain object (its bounding box is the simulated box)")
+    domain = settings.domain
+    is_box_turn, angle = _turn(domain.matrix_world)
+    if not is_box_turn:  # a box turned by anything but 90 degrees has a larger world box than itself
+        raise SceneError(f"clear the rotation of the domain '{domain.name}' (Alt+R) and scale it instead: it is "
+                         f"turned {angle:.3g} degrees off the world axes, and the simulated box is axis-aligned "
+                         "(90-degree turns and mirrors are accepted)")
+    problem = _box_mesh_problem(domain)
+    if problem:  # e.g. a rotation applied with Ctrl+A: the mesh itself is turned
+        raise SceneError(f"make the domain '{domain.name}' an axis-aligned box (e.g. a new cube scaled to size, "
+                         f"or Clear Rotation before applying): its mesh is not a box along its axes ({problem}), "
+                         "and only its bounding box would be simulated")
+    return _world_box(settings.domain)
+
+
+def fluid_dict(scene, settings):
+    """The fluid settings, named as hapticfluid.Simulation's keyword arguments."""
+    return {
+        "fluid_density": settings.fluid_density,
+        "gravity": list(scene.gravity) if scene.use_gravity else [0.0, 0.0, 0.0],
+        "open_top": settings.open_top,
+        "vorticity": settings.vorticity,
+        "heat_buoyancy": settings.heat_buoyancy,
+        "smoke_dissipation": settings.smoke_dissipation,
+        "heat_dissipation": settings.heat_dissipation,
+        "pressure_iterations": settings.pressure_iterations,
+        "pressure_solver": settings.pressure_solver.lower(),
+        "pressure_tolerance": settings.pressure_tolerance,
+    }
+
+
+def source_dict(settings):
+    """The smoke emitter (centre, radius in m, density, temperature) or None."""
+    if settings.source is None:
+        return None
+    src = settings.source
+    data = {"centre": list(src.matrix_world.translation), "radius": 0.5 * max(src.dimensions),
+            "density": settings.source_density, "temperature": settings.source_temperature}
+    if data["radius"] <= 0.0:  # an empty: use its display size
+        data["radius"] = src.empty_display_size * max(src.matrix_world.to_scale())
+    return data
+
+
+def probe_shape_dict(probe, shape):
+    """The probe's shape in its local frame: {"shape": "mesh", vertices, triangles} or a sphere."""
+    if shape == "MESH":
+        if probe.type != "MESH":
+            raise SceneError(f"choose a mesh object as the probe, or the Sphere shape: the probe '{probe.name}' is not a "
+                             "mesh")
+        return {"shape": "mesh", **_mesh_arrays(probe)}
+    return {"shape": "sphere", "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
 
 
 def scene_dict(scene, settings):
     """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
-    if settings.domain is None:
-        raise SceneError("choose a domain object (its bounding box is the simulated box)")
-    if not _is_axis_aligned(settings.domain.matrix_world):
-        raise SceneError(f"the domain '{settings.domain.name}' is rotated: the simulated box is axis-aligned, "
-                         "clear its rotation (Alt+R) and scale it instead")
+    lo, hi = domain_box(settings)
     if settings.frame_end < settings.frame_start:
         raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
-    lo, hi = _world_box(settings.domain)
     fps = scene.render.fps / scene.render.fps_base
     data = {
         "domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]},
         "resolution": settings.resolution,
-        "fluid": {
-            "fluid_density": settings.fluid_density,
-            "gravity": list(scene.gravity) if scene.use_gravity else [0.0, 0.0, 0.0],
-            "open_top": settings.open_top,
-            "vorticity": settings.vorticity,
-            "heat_buoyancy": settings.heat_buoyancy,
-            "smoke_dissipation": settings.smoke_dissipation,
-            "heat_dissipation": settings.heat_dissipation,
-            "pressure_iterations": settings.pressure_iterations,
-            "pressure_solver": settings.pressure_solver.lower(),
-            "pressure_tolerance": settings.pressure_tolerance,
-        },
+        "fluid": fluid_dict(scene, settings),
         "frames": {"start": settings.frame_start, "end": settings.frame_end, "fps": fps},
         "substeps": "adaptive" if settings.adaptive_substeps else settings.substeps,
         "cfl": settings.cfl,
@@ -100,21 +186,12 @@ def scene_dict(scene, settings):
             "tolerance": settings.tolerance,
         },
     }
-    if settings.source is not None:
-        src = settings.source
-        data["source"] = {"centre": list(src.matrix_world.translation), "radius": 0.5 * max(src.dimensions),
-                          "density": settings.source_density, "temperature": settings.source_temperature}
-        if data["source"]["radius"] <= 0.0:  # an empty: use its display size
-            data["source"]["radius"] = src.empty_display_size * max(src.matrix_world.to_scale())
+    source = source_dict(settings)
+    if source is not None:
+        data["source"] = source
     if settings.probe is not None:
         probe = settings.probe
-        if settings.probe_shape == "MESH":
-            if probe.type != "MESH":
-                raise SceneError(f"the probe '{probe.name}' is not a mesh: choose a mesh object or the Sphere shape")
-            shape = {"shape": "mesh", **_mesh_arrays(probe)}
-        else:
-            shape = {"shape": "sphere",
-                     "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
+        shape = probe_shape_dict(probe, settings.probe_shape)
         keys = []
         current = scene.frame_current
         try:
@@ -123,5 +200,24 @@ def scene_dict(scene, settings):
                 keys.append({"frame": frame, "matrix": [list(row) for row in probe.matrix_world]})
         finally:
             scene.frame_set(current)
+        if shape["shape"] == "sphere":
+            _check_sphere_fits(probe, shape["radius"], keys, lo, hi, settings.resolution)
         data["probe"] = {**shape, "keys": keys}
     return data
+
+
+def _check_sphere_fits(probe, local_radius, keys, lo, hi, resolution):
+    """A sphere probe wider than the domain (an Empty's Size is 1 m by default) is refused here
+    with what sets its size; the package's own check would give an impossible range."""
+    from mathutils import Matrix
+
+    cell = max(hi[i] - lo[i] for i in range(3)) / resolution
+    room = min(hi[i] - lo[i] for i in range(3)) - 2.0 * cell * 1.001  # one cell of fluid to each wall
+    scale = max(max(abs(s) for s in Matrix(k["matrix"]).to_scale()) for k in keys)
+    radius = local_radius * scale
+    if 2.0 * radius > room:
+        size = (f"the Empty's Size ({probe.empty_display_size:.4g}) x its scale ({scale:.4g})" if probe.type == "EMPTY"
+                else f"half its largest local extent x its scale ({scale:.4g})")
+        raise SceneError(f"make the sphere probe '{probe.name}' smaller (lower its Size or scale): its radius "
+                         f"{radius:.4g} m ({size}) does not fit the domain, whose smallest side leaves room for a "
+                         f"radius of at most {max(room, 0.0) / 2:.4g} m with one cell of fluid to each wall")

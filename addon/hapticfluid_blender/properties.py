@@ -3,6 +3,8 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
+from . import volume
+
 
 def _is_mesh(_self, obj):
     return obj.type == "MESH"
@@ -46,9 +48,9 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
         name="Cache Folder", subtype="DIR_PATH", default="//hapticfluid_cache",
         description="Folder of the bake (data/fluid_data_####.vdb, checkpoint, manifest); // is the "
                     ".blend's folder")
-    write_velocity: BoolProperty(name="Velocity", default=False,
+    write_velocity: BoolProperty(name="Velocity (m/s)", default=False,
                                  description="Also write the 'velocity' grid (cell-centred, m/s)")
-    write_pressure: BoolProperty(name="Pressure", default=False,
+    write_pressure: BoolProperty(name="Pressure (Pa)", default=False,
                                  description="Also write the 'pressure' grid (dynamic pressure, Pa)")
     half_float: BoolProperty(name="Half Floats", default=True,
                              description="Store grids as 16-bit floats (about half the disk space)")
@@ -60,21 +62,21 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
         description="Compression of the VDB files")
     tolerance: FloatProperty(name="Sparse Tolerance", default=1e-4, min=0.0, max=1.0, precision=5,
                              description="Values at or below this are left out of the files (sparse)")
-    fluid_density: FloatProperty(name="Fluid Density", default=1.2, min=1e-3, max=1e5, unit="NONE",
+    fluid_density: FloatProperty(name="Fluid Density (kg/m³)", default=1.2, min=1e-3, max=1e5, unit="NONE",
                                  description="Density of the fluid (kg/m^3): 1.2 air, 1000 water")
     open_top: BoolProperty(name="Open Top", default=True,
                            description="The domain's top is open (smoke leaves) instead of a lid")
     vorticity: FloatProperty(name="Vorticity", default=0.4, min=0.0, max=100.0,
                              description="Vorticity confinement (dimensionless): curlier smoke")
-    heat_buoyancy: FloatProperty(name="Heat Buoyancy", default=1.0, min=0.0, max=1000.0,
+    heat_buoyancy: FloatProperty(name="Heat Buoyancy (m/s²/K)", default=1.0, min=0.0, max=1000.0,
                                  description="Upward acceleration per kelvin above ambient (m/s^2/K)")
-    smoke_dissipation: FloatProperty(name="Smoke Dissipation", default=0.05, min=0.0, max=1000.0,
+    smoke_dissipation: FloatProperty(name="Smoke Dissipation (1/s)", default=0.05, min=0.0, max=1000.0,
                                      description="Rate the smoke fades (1/s)")
-    heat_dissipation: FloatProperty(name="Heat Dissipation", default=0.4, min=0.0, max=1000.0,
+    heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, min=0.0, max=1000.0,
                                     description="Rate the heat fades (1/s)")
     source_density: FloatProperty(name="Source Density", default=1.0, min=0.0, max=1000.0,
                                   description="Smoke concentration held in the emitter")
-    source_temperature: FloatProperty(name="Source Temperature", default=8.0, min=0.0, max=10000.0,
+    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, min=0.0, max=10000.0,
                                       description="Temperature above ambient held in the emitter (K)")
     pressure_solver: EnumProperty(
         name="Pressure Solver", default="JACOBI",
@@ -89,6 +91,8 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
                                       description="Stop the pressure solve at this relative residual "
                                                   "(dimensionless); 0 runs the fixed iteration count")
     density_scale: FloatProperty(name="Render Density", default=20.0, min=0.0, max=10000.0,
+                                 update=lambda self, _context: volume.apply_density(self.volume_object,
+                                                                                    self.density_scale),
                                  description="Density multiplier of the smoke material (Principled Volume)")
     volume_object: PointerProperty(name="Volume", type=bpy.types.Object,
                                    description="The Volume object showing the baked frames")
@@ -97,6 +101,16 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
     progress: FloatProperty(name="Progress", default=0.0, min=0.0, max=1.0, subtype="FACTOR",
                             description="Share of the frames baked")
     status: StringProperty(name="Status", default="", description="What the last bake did")
+    baked_inputs: StringProperty(
+        name="Baked Inputs", default="",
+        description="The settings the cache was baked from (JSON of cache_inputs), for 'cache out of date'")
+    # The domain's display before the bake turned it into a wire frame; Free restores it.
+    domain_display_saved: BoolProperty(name="Domain Display Saved", default=False,
+                                       description="The two properties below hold the domain's display")
+    domain_display_type: StringProperty(name="Domain Display Type", default="TEXTURED",
+                                        description="The domain's display type before the bake")
+    domain_hide_render: BoolProperty(name="Domain Hidden in Renders", default=False,
+                                     description="The domain's hide_render before the bake")
 
 
 @bpy.app.handlers.persistent
@@ -109,8 +123,60 @@ def clear_stale_bake_state(_filepath=None):
         settings = getattr(scene, "hapticfluid_bake", None)
         if settings is not None and settings.is_baking:
             settings.is_baking = False
-            settings.status = ("the last bake was interrupted (Blender closed during it); Resume continues "
-                               "after its last complete frame")
+            settings.status = ("the last bake was interrupted (Blender closed or the add-on was disabled during "
+                               "it); Resume continues after its last complete frame")
+
+
+# Settings the cache depends on (frame_end is not one: raising it and pressing Resume extends
+# the cache). Display-only settings (density_scale) and the status are left out.
+CACHE_SETTINGS = ("probe_shape", "resolution", "frame_start", "substeps", "adaptive_substeps", "cfl", "max_substeps",
+                  "cache_dir", "write_velocity", "write_pressure", "half_float", "compression", "tolerance",
+                  "fluid_density", "open_top", "vorticity", "heat_buoyancy", "smoke_dissipation", "heat_dissipation",
+                  "source_density", "source_temperature", "pressure_solver", "pressure_iterations",
+                  "pressure_tolerance")
+
+
+def cache_inputs(scene, settings):
+    """What the cache is made from, cheap enough for a panel's draw: the settings above (by their
+    UI names), the objects' names, the domain's and the source's world placement and size (both
+    read at the current frame by the bake), gravity and frame rate. The probe counts by its name
+    only: its animation is read with frame_set on every frame, too slow for a draw, and its
+    placement at the current frame changes as the timeline plays."""
+    out = {}
+    for key in CACHE_SETTINGS:
+        value = getattr(settings, key)
+        out[settings.bl_rna.properties[key].name] = round(value, 9) if isinstance(value, float) else value
+    for key in ("domain", "probe", "source"):
+        obj = getattr(settings, key)
+        name = settings.bl_rna.properties[key].name
+        if obj is None or key == "probe":
+            out[name] = None if obj is None else obj.name
+            continue
+        out[name] = [obj.name, [round(v, 6) for row in obj.matrix_world for v in row],
+                     [round(v, 6) for v in obj.dimensions]]
+    out["Gravity"] = [round(v, 6) for v in scene.gravity] if scene.use_gravity else [0.0, 0.0, 0.0]
+    out["Frame Rate"] = round(scene.render.fps / scene.render.fps_base, 6)
+    return out
+
+
+def cache_inputs_json(scene, settings) -> str:
+    import json
+
+    return json.dumps(cache_inputs(scene, settings), sort_keys=True)
+
+
+def changed_cache_inputs(scene, settings):
+    """The names of the settings changed since the bake ([] if none, or no bake recorded)."""
+    import json
+
+    if not settings.baked_inputs:
+        return []
+    try:
+        baked = json.loads(settings.baked_inputs)
+    except ValueError:
+        return ["(unreadable record)"]
+    now = json.loads(cache_inputs_json(scene, settings))  # the same rounding and JSON types
+    return sorted(k for k in set(baked) | set(now) if baked.get(k) != now.get(k))
 
 
 def attach():

@@ -199,6 +199,29 @@ def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
 
 # ---- checkpoint ----------------------------------------------------------------------------
 
+def fingerprint_until(fingerprint: Dict[str, Any], frame: int) -> Dict[str, Any]:
+    """The fingerprint as the state after ``frame`` depends on it: the probe's keys up to that
+    frame only, so that raising the end frame (more keys) still resumes the checkpoint."""
+    probe = fingerprint.get("probe")
+    if not probe or "keys" not in probe:
+        return fingerprint
+    return {**fingerprint, "probe": {**probe, "keys": [k for k in probe["keys"] if k[0] <= frame]}}
+
+
+def settings_differences(saved: Dict[str, Any], now: Dict[str, Any]) -> List[str]:
+    """Names of the fingerprint entries that differ (one level into dicts: 'fluid.vorticity')."""
+    out = []
+    for key in sorted(set(saved) | set(now)):
+        a, b = saved.get(key), now.get(key)
+        if a == b:
+            continue
+        if isinstance(a, dict) and isinstance(b, dict):
+            out += [f"{key}.{k}" for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k)]
+        else:
+            out.append(key)
+    return out
+
+
 def settings_digest(fingerprint: Dict[str, Any]) -> str:
     return hashlib.sha256(json.dumps(fingerprint, sort_keys=True).encode()).hexdigest()
 
@@ -218,7 +241,8 @@ def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str,
         "format": CHECKPOINT_FORMAT,
         "frame": int(frame),
         "scalars": {k: (float(v) if isinstance(v, float) else int(v)) for k, v in scalars.items()},
-        "settings_sha256": settings_digest(fingerprint),
+        "settings_sha256": settings_digest(fingerprint_until(fingerprint, frame)),
+        "settings": fingerprint_until(fingerprint, frame),  # to say which setting differs on resume
         "arrays": {k: {"sha256": _array_digest(stored[k]), "shape": list(a.shape), "dtype": str(a.dtype),
                        "fortran": bool(a.flags.f_contiguous and not a.flags.c_contiguous)}
                    for k, a in arrays.items()},
@@ -256,10 +280,13 @@ def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any])
     if meta.get("format") != CHECKPOINT_FORMAT:
         raise BakeError(f"checkpoint '{path}' has format {meta.get('format')!r}, this version reads "
                         f"{CHECKPOINT_FORMAT}; {fix}")
-    if meta.get("settings_sha256") != settings_digest(fingerprint):
-        raise BakeError(f"checkpoint '{path}' was baked with other settings (resolution, fluid, probe keys, "
-                        "frames, grids or substeps differ); resume with the same scene and resolution, or bake "
-                        "from the start")
+    now = fingerprint_until(fingerprint, int(meta.get("frame", 0)))
+    if meta.get("settings_sha256") not in (settings_digest(now), settings_digest(fingerprint)):
+        saved = meta.get("settings")
+        which = (", ".join(settings_differences(saved, now)) if isinstance(saved, dict)
+                 else "resolution, fluid, probe keys, frames, grids or substeps")
+        raise BakeError(f"set these back to what the checkpoint was baked with, or bake from the start: checkpoint "
+                        f"'{path}' was baked with other settings ({which} differ)")
     state: Dict[str, Any] = {}
     for k, info in meta["arrays"].items():
         a = arrays[k]

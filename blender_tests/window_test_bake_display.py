@@ -1,0 +1,246 @@
+"""Runs in a windowed Blender under xvfb-run (--enable-event-simulate): a bake invoked from the UI
+makes its Volume object at the first finished frame, in the active collection, and extends it
+as frames land; disabling the add-on in the middle of the bake cancels and joins the worker
+and shows the finished frames; enabling it again clears is_baking; Resume finishes the bake.
+Then the Properties editor (Scene tab) and the 3D viewport in Solid mode are screenshotted:
+the PNGs go to $HAPTICFLUID_OUT_DIR, else <HAPTICFLUID_SOURCE_DIR>/out/addon, and the smoke
+must cover a region of the viewport (pixels that change when the Volume is hidden).
+Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
+
+import os
+import shutil
+import sys
+import tempfile
+import threading
+import time
+import traceback
+
+import bpy
+
+SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
+sys.path.insert(0, os.path.join(SOURCE, "addon"))
+import hapticfluid_blender  # noqa: E402
+
+FRAMES = 48
+OUT = os.environ.get("HAPTICFLUID_OUT_DIR") or os.path.join(SOURCE, "out", "addon")
+TMP = tempfile.mkdtemp(prefix="hf_blender_display_")
+CACHE = os.path.join(TMP, "cache")
+state = {"phase": "start", "t0": time.time(), "durations": [], "waits": 0}
+
+
+def fail(message):
+    print("FAILED:", message, flush=True)
+    shutil.rmtree(TMP, ignore_errors=True)
+    os._exit(1)
+
+
+def check(condition, message):
+    if not condition:
+        fail(message)
+    print("ok:", message, flush=True)
+
+
+def window():
+    return bpy.context.window_manager.windows[0]
+
+
+def area_of(kind):
+    return next(a for a in window().screen.areas if a.type == kind)
+
+
+def setup():
+    hapticfluid_blender.register()
+    scene = bpy.context.scene
+    for obj in list(scene.objects):
+        bpy.data.objects.remove(obj)
+    fx = bpy.data.collections.new("FX")
+    scene.collection.children.link(fx)
+    bpy.context.view_layer.active_layer_collection = bpy.context.view_layer.layer_collection.children["FX"]
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
+    domain = bpy.context.active_object
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, location=(0.3, 0.5, 0.6))
+    probe = bpy.context.active_object
+    probe.keyframe_insert("location", frame=0)
+    probe.location = (0.7, 0.5, 0.6)
+    probe.keyframe_insert("location", frame=FRAMES)
+    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.14, location=(0.5, 0.5, 0.22))
+    source = bpy.context.active_object
+    source.hide_set(True)  # the screenshots show the smoke, not the emitter
+    s = scene.hapticfluid_bake
+    s.domain, s.probe, s.source = domain, probe, source
+    s.resolution, s.frame_start, s.frame_end, s.substeps = 24, 1, FRAMES, 2
+    s.heat_buoyancy, s.source_temperature, s.source_density = 2.0, 10.0, 1.0
+    s.cache_dir = CACHE
+    # close the splash screen before any modal operator listens for Esc
+    window().event_simulate(type="ESC", value="PRESS")
+    window().event_simulate(type="ESC", value="RELEASE")
+
+
+def invoke(op):
+    with bpy.context.temp_override(window=window(), area=area_of("VIEW_3D")):
+        return op("INVOKE_DEFAULT")
+
+
+def frames_on_disk():
+    folder = os.path.join(CACHE, "data")
+    return sorted(os.listdir(folder)) if os.path.isdir(folder) else []
+
+
+def bake_threads():
+    return [t for t in threading.enumerate() if t.name == "hapticfluid-bake" and t.is_alive()]
+
+
+def screenshot(kind, name):
+    os.makedirs(OUT, exist_ok=True)
+    path = os.path.join(OUT, name)
+    with bpy.context.temp_override(window=window(), area=area_of(kind)):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    check(os.path.getsize(path) > 1000, f"screenshot {path}")
+    return path
+
+
+def pixels(path):
+    img = bpy.data.images.load(path)
+    px = list(img.pixels)
+    w, h = img.size
+    bpy.data.images.remove(img)
+    return px, w, h
+
+
+def frame_viewport():
+    from mathutils import Euler, Vector
+
+    space = area_of("VIEW_3D").spaces.active
+    space.shading.type = "SOLID"
+    space.overlay.show_overlays = False  # no grid or outlines: only the scene
+    r3d = space.region_3d
+    r3d.view_perspective = "PERSP"
+    r3d.view_location = Vector((0.5, 0.5, 0.5))
+    r3d.view_rotation = Euler((1.25, 0.0, 0.5)).to_quaternion()
+    r3d.view_distance = 2.6
+    props = area_of("PROPERTIES").spaces.active
+    props.context = "SCENE"
+
+
+def redraw_all():
+    for area in window().screen.areas:
+        area.tag_redraw()
+
+
+def tick():
+    try:
+        return step()
+    except Exception:
+        traceback.print_exc()
+        fail("exception in the test timer")
+
+
+def step():
+    if time.time() - state["t0"] > 400:
+        fail(f"timed out in phase {state['phase']}")
+    phase = state["phase"]
+    scene = bpy.context.scene
+    if phase == "start":
+        check(invoke(bpy.ops.hapticfluid.bake) == {"RUNNING_MODAL"}, "Bake invoked from the UI runs modal")
+        state["phase"] = "baking"
+    elif phase == "baking":
+        s = scene.hapticfluid_bake
+        if not s.is_baking:
+            fail(f"the bake ended before the add-on could be disabled: {s.status}")
+        vol = s.volume_object
+        if vol is not None:
+            duration = vol.data.frame_duration
+            if not state["durations"]:
+                check(duration < FRAMES and vol.name in bpy.data.collections["FX"].objects,
+                      f"the Volume appears during the bake ({duration} frame(s)), in the active collection")
+            if not state["durations"] or state["durations"][-1] != duration:
+                state["durations"].append(duration)
+        if len(state["durations"]) >= 2:  # it followed at least one more frame: disable now
+            check(state["durations"] == sorted(state["durations"]),
+                  f"the Volume follows the frames as they land: {state['durations']}")
+            hapticfluid_blender.unregister()
+            check(not bake_threads(), "disabling the add-on joined the bake's worker")
+            done = len(frames_on_disk())
+            check(0 < done < FRAMES, f"the bake was cancelled with {done} complete frame(s)")
+            vol = bpy.data.objects.get("hapticfluid Smoke")
+            check(vol is not None and vol.data.frame_duration == done,
+                  f"the Volume shows the {done} finished frame(s)")
+            check(not scene.get("hapticfluid_bake", {}).get("is_baking", False),
+                  "is_baking is cleared in the saved settings")
+            hapticfluid_blender.register()
+            s = scene.hapticfluid_bake
+            check(not s.is_baking and "disabled" in s.status, f"enabled again: not baking, status {s.status!r}")
+            check(invoke(bpy.ops.hapticfluid.bake_resume) == {"RUNNING_MODAL"}, "Resume runs modal")
+            state["phase"] = "resuming"
+    elif phase == "resuming":
+        s = scene.hapticfluid_bake
+        if not s.is_baking:
+            check("finished" in s.status, f"Resume finished the bake: '{s.status}'")
+            check(len(frames_on_disk()) == FRAMES and s.volume_object.data.frame_duration == FRAMES,
+                  f"all {FRAMES} frames on disk and in the Volume")
+            scene.frame_set(FRAMES)
+            frame_viewport()
+            redraw_all()
+            state["phase"] = "shoot"
+            state["waits"] = 0
+    elif phase == "shoot":
+        state["waits"] += 1
+        if state["waits"] < 5:  # a few redraws first
+            redraw_all()
+            return 0.2
+        state["with_smoke"] = screenshot("VIEW_3D", "viewport_solid.png")
+        with bpy.context.temp_override(window=window()):
+            bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "window.png"))
+        scene.hapticfluid_bake.volume_object.hide_viewport = True
+        redraw_all()
+        state["phase"] = "shoot_without"
+        state["waits"] = 0
+    elif phase == "shoot_without":
+        state["waits"] += 1
+        if state["waits"] < 5:
+            redraw_all()
+            return 0.2
+        without = screenshot("VIEW_3D", "viewport_solid_no_volume.png")
+        a, w, h = pixels(state["with_smoke"])
+        b, w2, h2 = pixels(without)
+        check((w, h) == (w2, h2), "both viewport screenshots have one size")
+        changed = sum(1 for i in range(0, len(a), 4)
+                      if max(abs(a[i + c] - b[i + c]) for c in range(3)) > 0.08)
+        share = changed / (w * h)
+        check(share > 0.01, f"the smoke covers a visible region of the Solid viewport: {changed} of {w * h} pixels "
+                            f"({100 * share:.1f} %)")
+        # The panel, large: the 3D view becomes a Properties editor on the Scene tab, scrolled
+        # down to the add-on's panel; a changed setting shows "cache out of date".
+        scene.hapticfluid_bake.vorticity = 0.9
+        big = area_of("VIEW_3D")
+        big.type = "PROPERTIES"  # its tabs exist after its first draw: the Scene tab is chosen then
+        redraw_all()
+        state["phase"] = "scroll"
+        state["waits"] = 0
+    elif phase == "scroll":
+        state["waits"] += 1
+        big = max((a for a in window().screen.areas if a.type == "PROPERTIES"), key=lambda a: a.width * a.height)
+        region = next(r for r in big.regions if r.type == "WINDOW")
+        if state["waits"] == 2:
+            big.spaces.active.context = "SCENE"
+        if 2 <= state["waits"] < 10:
+            with bpy.context.temp_override(window=window(), area=big, region=region):
+                bpy.ops.view2d.scroll_down(deltay=60)
+        if state["waits"] < 12:
+            redraw_all()
+            return 0.2
+        os.makedirs(OUT, exist_ok=True)
+        path = os.path.join(OUT, "panel_scene_tab.png")
+        with bpy.context.temp_override(window=window(), area=big):
+            bpy.ops.screen.screenshot_area(filepath=path)
+        check(os.path.getsize(path) > 1000, f"screenshot {path}")
+        hapticfluid_blender.unregister()
+        shutil.rmtree(TMP, ignore_errors=True)
+        print("blender bake display test passed; screenshots in", OUT, flush=True)
+        bpy.ops.wm.quit_blender()
+        return None
+    return 0.1
+
+
+setup()
+bpy.app.timers.register(tick, first_interval=1.0)

@@ -1,0 +1,54 @@
+"""Resume extends a finished bake when the end frame is raised (the checkpoint matches the
+settings up to its own frame), and a checkpoint from other settings names what differs."""
+
+import numpy as np
+import pytest
+import pyopenvdb as vdb
+
+from hapticfluid.bake import BakeError, bake, frame_path, list_frames, scene_from_dict
+
+
+def per_frame_scene(cache, end, shift=0.0, **fluid):
+    """Keys at every frame (as the Blender add-on samples them): raising end only adds keys."""
+    return scene_from_dict({
+        "domain": {"origin": [0.0, 0.0, 0.0], "size": [1.0, 1.0, 1.0]},
+        "resolution": 12,
+        "fluid": {"heat_buoyancy": 1.5, "vorticity": 0.3, "pressure_iterations": 8, **fluid},
+        "source": {"centre": [0.5, 0.5, 0.25], "radius": 0.15, "temperature": 6.0},
+        "probe": {"shape": "sphere", "radius": 0.12,
+                  "keys": [{"frame": f, "location": [0.3 + shift + 0.05 * f, 0.5, 0.55]} for f in range(0, end + 1)]},
+        "frames": {"start": 1, "end": end, "fps": 24},
+        "substeps": 1,
+        "cache": {"directory": str(cache), "grids": ["density"], "tolerance": 0.0},
+    })
+
+
+def density(cache, frame):
+    grid = vdb.read(str(frame_path(cache, frame)), "density")
+    out = np.zeros((12, 12, 12), dtype=np.float32)
+    grid.copyToArray(out)
+    return out
+
+
+def test_raising_the_end_frame_and_resuming_extends_the_bake(tmp_path):
+    reference = tmp_path / "ref"
+    bake(per_frame_scene(reference, end=5))
+    cache = tmp_path / "c"
+    first = bake(per_frame_scene(cache, end=3))
+    assert first.status == "finished" and list_frames(cache) == [1, 2, 3]
+    extended = bake(per_frame_scene(cache, end=5), resume=True)
+    assert extended.status == "finished" and extended.resumed_from == 3 and extended.frames_written == 2
+    assert list_frames(cache) == [1, 2, 3, 4, 5]
+    for frame in range(1, 6):  # as if baked to 5 in one go
+        np.testing.assert_array_equal(density(reference, frame), density(cache, frame), err_msg=f"frame {frame}")
+
+
+def test_a_checkpoint_from_other_settings_names_them(tmp_path):
+    cache = tmp_path / "c"
+    bake(per_frame_scene(cache, end=2))
+    with pytest.raises(BakeError, match=r"\(fluid\.vorticity differ\)"):
+        bake(per_frame_scene(cache, end=3, vorticity=0.9), resume=True)
+    with pytest.raises(BakeError, match=r"grid_resolution, resolution differ"):
+        bake(per_frame_scene(cache, end=2).with_resolution(16), resume=True)
+    with pytest.raises(BakeError, match=r"\(probe\.keys differ\)"):  # the probe's path up to the checkpoint moved
+        bake(per_frame_scene(cache, end=2, shift=0.01), resume=True)
