@@ -61,32 +61,67 @@ def _mesh_arrays(obj):
     return {"vertices": vertices, "triangles": triangles}
 
 
-def scene_dict(scene, settings):
-    """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
+def domain_box(settings):
+    """The domain's world box (lo, hi), m, after the checks the bake and the live session share."""
     if settings.domain is None:
         raise SceneError("choose a domain object (its bounding box is the simulated box)")
+    if settings.domain.matrix_world.to_3x3().determinant() < 0.0:
+        raise SceneError(f"apply or clear the negative scale of the domain '{settings.domain.name}' (Ctrl+A > Scale): "
+                         "it is mirrored, and the simulated box is axis-aligned and unmirrored")
     if not _is_axis_aligned(settings.domain.matrix_world):
         raise SceneError(f"the domain '{settings.domain.name}' is rotated: the simulated box is axis-aligned, "
                          "clear its rotation (Alt+R) and scale it instead")
+    return _world_box(settings.domain)
+
+
+def fluid_dict(scene, settings):
+    """The fluid settings, named as hapticfluid.Simulation's keyword arguments."""
+    return {
+        "fluid_density": settings.fluid_density,
+        "gravity": list(scene.gravity) if scene.use_gravity else [0.0, 0.0, 0.0],
+        "open_top": settings.open_top,
+        "vorticity": settings.vorticity,
+        "heat_buoyancy": settings.heat_buoyancy,
+        "smoke_dissipation": settings.smoke_dissipation,
+        "heat_dissipation": settings.heat_dissipation,
+        "pressure_iterations": settings.pressure_iterations,
+        "pressure_solver": settings.pressure_solver.lower(),
+        "pressure_tolerance": settings.pressure_tolerance,
+    }
+
+
+def source_dict(settings):
+    """The smoke emitter (centre, radius in m, density, temperature) or None."""
+    if settings.source is None:
+        return None
+    src = settings.source
+    data = {"centre": list(src.matrix_world.translation), "radius": 0.5 * max(src.dimensions),
+            "density": settings.source_density, "temperature": settings.source_temperature}
+    if data["radius"] <= 0.0:  # an empty: use its display size
+        data["radius"] = src.empty_display_size * max(src.matrix_world.to_scale())
+    return data
+
+
+def probe_shape_dict(probe, shape):
+    """The probe's shape in its local frame: {"shape": "mesh", vertices, triangles} or a sphere."""
+    if shape == "MESH":
+        if probe.type != "MESH":
+            raise SceneError(f"choose a mesh object as the probe, or the Sphere shape: the probe '{probe.name}' is not a "
+                             "mesh")
+        return {"shape": "mesh", **_mesh_arrays(probe)}
+    return {"shape": "sphere", "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
+
+
+def scene_dict(scene, settings):
+    """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
+    lo, hi = domain_box(settings)
     if settings.frame_end < settings.frame_start:
         raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
-    lo, hi = _world_box(settings.domain)
     fps = scene.render.fps / scene.render.fps_base
     data = {
         "domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]},
         "resolution": settings.resolution,
-        "fluid": {
-            "fluid_density": settings.fluid_density,
-            "gravity": list(scene.gravity) if scene.use_gravity else [0.0, 0.0, 0.0],
-            "open_top": settings.open_top,
-            "vorticity": settings.vorticity,
-            "heat_buoyancy": settings.heat_buoyancy,
-            "smoke_dissipation": settings.smoke_dissipation,
-            "heat_dissipation": settings.heat_dissipation,
-            "pressure_iterations": settings.pressure_iterations,
-            "pressure_solver": settings.pressure_solver.lower(),
-            "pressure_tolerance": settings.pressure_tolerance,
-        },
+        "fluid": fluid_dict(scene, settings),
         "frames": {"start": settings.frame_start, "end": settings.frame_end, "fps": fps},
         "substeps": "adaptive" if settings.adaptive_substeps else settings.substeps,
         "cfl": settings.cfl,
@@ -100,21 +135,12 @@ def scene_dict(scene, settings):
             "tolerance": settings.tolerance,
         },
     }
-    if settings.source is not None:
-        src = settings.source
-        data["source"] = {"centre": list(src.matrix_world.translation), "radius": 0.5 * max(src.dimensions),
-                          "density": settings.source_density, "temperature": settings.source_temperature}
-        if data["source"]["radius"] <= 0.0:  # an empty: use its display size
-            data["source"]["radius"] = src.empty_display_size * max(src.matrix_world.to_scale())
+    source = source_dict(settings)
+    if source is not None:
+        data["source"] = source
     if settings.probe is not None:
         probe = settings.probe
-        if settings.probe_shape == "MESH":
-            if probe.type != "MESH":
-                raise SceneError(f"the probe '{probe.name}' is not a mesh: choose a mesh object or the Sphere shape")
-            shape = {"shape": "mesh", **_mesh_arrays(probe)}
-        else:
-            shape = {"shape": "sphere",
-                     "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
+        shape = probe_shape_dict(probe, settings.probe_shape)
         keys = []
         current = scene.frame_current
         try:
