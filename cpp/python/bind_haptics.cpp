@@ -135,7 +135,7 @@ py::array_t<float> snapshotArray(const std::shared_ptr<const session::FieldSnaps
   const py::ssize_t b = static_cast<py::ssize_t>(sizeof(float));
   py::array_t<float> a({py::ssize_t{n.x}, py::ssize_t{n.y}, py::ssize_t{n.z}}, {b, b * n.x, b * n.x * n.y},
                        field.data(), keep);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  a.attr("setflags")(py::arg("write") = false);  // the snapshot is shared: nobody writes into it
   return a;
 }
 
