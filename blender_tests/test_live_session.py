@@ -177,6 +177,50 @@ def mouse_moves_the_probe_and_record_keys_it():
     check(controller.session.state == "stopped", "stopped")
 
 
+def timeline_drives_a_sphere_probe():
+    scene, _domain, probe = new_scene(probe_at=(0.3, 0.5, 0.5))
+    scene.hapticfluid_bake.probe_shape = "SPHERE"
+    probe.keyframe_insert("location", frame=1)
+    probe.location.x = 0.7
+    probe.keyframe_insert("location", frame=20)
+    scene.frame_set(1)
+    scene.hapticfluid_live.device = "TIMELINE"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    sim = run.controller.engine.sim
+    check(sim.probe["kind"] == "sphere" and abs(sim.probe["radius"] - 0.1) < 1e-6, "a sphere probe of the object's size")
+    for frame in range(1, 21):
+        scene.frame_set(frame)
+        run_for_seconds(run, 0.05)
+    run_for_seconds(run, 0.5)  # the simulation thread takes the newest pose at its next step
+    x = float(sim.probe["centre"][0])
+    check(abs(x - 0.7) < 1e-3, f"the timeline moved the probe in the simulation to x = 0.7 m ({x:.4f})")
+    live_ops.stop_all()
+
+
+def deleted_objects_and_device_errors_end_it():
+    for what in ("probe", "domain", "device"):
+        scene, domain, probe = new_scene()
+        scene.hapticfluid_live.device = "SIMULATED_FALCON"
+        run = live_ops.start(scene)
+        run.controller.wait_started()
+        run_for_seconds(run, 0.2)
+        session = run.controller.session
+        if what == "probe":
+            bpy.data.objects.remove(probe)
+        elif what == "domain":
+            bpy.data.objects.remove(domain)
+        else:
+            run.controller.engine.device.close()  # what unplugging looks like to the session
+            time.sleep(0.2)
+        check(live_ops.tick(run) == "stopped" and session.state in ("stopped", "failed") and not live_ops._RUNNING
+              and not live_threads(), f"a {what} {'error' if what == 'device' else 'deleted'} ends the session")
+        words = {"probe": "'Probe' was deleted", "domain": "'Domain' was deleted", "device": "read() after close()"}[what]
+        check(words in (run.controller.report or ""), f"the report names the cause: {run.controller.report}")
+        if what == "device":
+            check(run.controller.report.startswith("Check the device's cable"), "... after the fix")
+
+
 def bad_setups():
     def report_for(prepare, mode="MOUSE"):
         scene, domain, probe = new_scene()
@@ -280,7 +324,7 @@ def sessions_end_with_the_addon_and_the_file():
 
 
 def measure():
-    for res in (32, 48):
+    for res in (32, 48, 64):
         scene, _domain, probe = new_scene(fluid_density=1.2)
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, location=(0.5, 0.5, 0.15))
         scene.hapticfluid_bake.source = bpy.context.active_object
@@ -308,6 +352,8 @@ def main():
     register_twice()
     simulated_falcon_moves_the_probe()
     mouse_moves_the_probe_and_record_keys_it()
+    timeline_drives_a_sphere_probe()
+    deleted_objects_and_device_errors_end_it()
     bad_setups()
     sessions_end_with_the_addon_and_the_file()
     measure()

@@ -124,7 +124,11 @@ def stop_on_load(_filepath=None):
 
 
 def _stop_at_exit():
-    stop_all("Blender is quitting")
+    """Quitting: Blender's data may already be gone, so end the engines without touching bpy
+    (hapticfluid's own atexit hook would stop the sessions too, after this one)."""
+    for run in list(_RUNNING):
+        run.controller.engine.close()
+    _RUNNING.clear()
 
 
 atexit.register(_stop_at_exit)

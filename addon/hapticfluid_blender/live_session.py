@@ -267,6 +267,14 @@ def _fix_first(message: str) -> str:
     return message
 
 
+def _failure_report(error: str) -> str:
+    """The report for a session the engine ended (fix first, then the engine's words)."""
+    if error.startswith("simulation thread"):
+        return (f"Start the session again (the fluid is reset); if it recurs, raise the pressure iterations or move "
+                f"the probe more slowly: {error}")
+    return f"Check the device's cable and power, then start the session again: {error}"
+
+
 class LiveController:
     """One live session of one scene. Main thread only (bpy); the engine runs on its own threads."""
 
@@ -339,7 +347,7 @@ class LiveController:
             return self.state
         session = self.session
         if session.state == "failed":
-            self._end(_fix_first(f"The device or the simulation stopped the session: {session.error}"))
+            self._end(_failure_report(session.error or ""))
             return self.state
         now = self.clock()
         self.ticks += 1
