@@ -158,18 +158,18 @@ def mouse_moves_the_probe_and_record_keys_it():
         controller.tick()
     n = controller.stop_recording()
     check(n == 6, f"one key per 1/24 s ({n})")
-    action = probe.animation_data.action
+    fcurves = live_session.object_fcurves(probe)
     compared = 0
     for path, slot in (("location", 1), ("rotation_euler", 2)):
         for index in range(3):
-            keys = {round(p.co.x, 4): p.co.y for p in action.fcurves.find(path, index=index).keyframe_points}
+            keys = {round(p.co.x, 4): p.co.y for p in fcurves.find(path, index=index).keyframe_points}
             for frame, loc, rot in performed:
                 value = (loc, rot)[slot - 1][index]
                 if abs(keys.get(round(frame, 4), math.nan) - value) > 1e-6:
                     raise AssertionError(f"{path}[{index}] key at frame {frame}: {keys.get(round(frame, 4))} != {value}")
                 compared += 1
     check(compared == 36, "every recorded key holds the performed location and rotation")
-    loc_x = {round(p.co.x, 4): p.co.y for p in action.fcurves.find("location", index=0).keyframe_points}
+    loc_x = {round(p.co.x, 4): p.co.y for p in fcurves.find("location", index=0).keyframe_points}
     check(set(loc_x) == {10.0, 11.0, 12.0, 13.0, 14.0, 15.0, 40.0},
           f"keys of the recorded range replaced, the one outside kept: {sorted(loc_x)}")
     check(abs(loc_x[40.0] - 0.45) < 1e-6, "the key outside the range keeps its value")

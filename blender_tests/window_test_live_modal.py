@@ -119,7 +119,9 @@ def step():
             n = len(recording.samples)
             check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record again ends it")
             probe = scene.hapticfluid_bake.probe
-            fc = probe.animation_data.action.fcurves.find("location", index=0)
+            from hapticfluid_blender import live_session
+
+            fc = live_session.object_fcurves(probe).find("location", index=0)
             check(fc is not None and len(fc.keyframe_points) == n, f"one key per recorded tick ({n})")
             win, _area = view3d()
             win.event_simulate(type="ESC", value="PRESS")

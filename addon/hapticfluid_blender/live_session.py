@@ -200,7 +200,7 @@ class _Engine:
         info = self.device.info()
         if plan.auto_workspace:  # the device's workspace fills the domain (uniform scale, centred)
             ws = [info.workspace_max[i] - info.workspace_min[i] for i in range(3)]
-            args["workspace_scale"] = min(size[i] / ws[i] for i in range(3))
+            args["workspace_scale"] = float(min(size[i] / ws[i] for i in range(3)))
         try:
             self.session = hf.HapticSession(self.sim, self.device, **args)
         except hf.InvalidArgumentError as exc:
@@ -492,20 +492,28 @@ class LiveController:
 def write_keys(obj, rotation_path, samples):
     """Keys location and rotation at each (frame, location, rotation) sample into the object's
     action, first removing the keys of those channels within the samples' frame range."""
-    if obj.animation_data is None:
-        obj.animation_data_create()
-    if obj.animation_data.action is None:
-        obj.animation_data.action = bpy.data.actions.new(f"{obj.name}Action")
-    action = obj.animation_data.action
     lo = min(s[0] for s in samples) - 1e-4
     hi = max(s[0] for s in samples) + 1e-4
+    for path in ("location", rotation_path):  # makes the action, its slot and the F-curves as Blender does
+        obj.keyframe_insert(path, frame=samples[0][0])
+    fcurves = object_fcurves(obj)
     for path, slot in (("location", 1), (rotation_path, 2)):
-        width = len(samples[0][slot])
-        for index in range(width):
-            fc = action.fcurves.find(path, index=index) or action.fcurves.new(path, index=index, action_group="Object Transforms")
+        for index in range(len(samples[0][slot])):
+            fc = fcurves.find(path, index=index)
             for k in reversed(range(len(fc.keyframe_points))):
                 if lo <= fc.keyframe_points[k].co.x <= hi:
                     fc.keyframe_points.remove(fc.keyframe_points[k], fast=True)
             for s in samples:
-                fc.keyframe_points.insert(s[0], s[slot][index], options={"FAST", "REPLACE"})
+                fc.keyframe_points.insert(s[0], s[slot][index], options={"FAST"})
             fc.update()
+
+
+def object_fcurves(obj):
+    """The F-curves animating the object: on the action up to Blender 4.x, in the action slot's
+    channel bag from 4.4 (only there in 5.0)."""
+    data = obj.animation_data
+    if hasattr(data.action, "fcurves"):
+        return data.action.fcurves
+    from bpy_extras import anim_utils
+
+    return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot).fcurves
