@@ -103,6 +103,47 @@ def simulated_falcon_moves_the_probe():
     check(tuple(session.latest_force) == (0.0, 0.0, 0.0), "the force went to zero")
 
 
+class RecordingDrawer:
+    """Stands in for live_draw.LiveDrawer (which does nothing in --background): keeps the calls."""
+
+    def __init__(self):
+        self.calls = {}
+
+    def __getattr__(self, name):
+        if not name.startswith("set_"):
+            raise AttributeError(name)
+        return lambda *args: self.calls.setdefault(name, []).append(args)
+
+
+def the_drawer_gets_what_it_draws():
+    scene, _domain, probe = new_scene()
+    scene.hapticfluid_live.device = "SIMULATED_FALCON"
+    drawer = RecordingDrawer()
+    controller = live_session.LiveController(scene, drawer=drawer)
+    controller.wait_started()
+    end = time.monotonic() + 1.0
+    while time.monotonic() < end or "set_density" not in drawer.calls:
+        controller.tick()
+        time.sleep(0.02)
+    c = drawer.calls
+    check(c["set_domain"] == [((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))], f"the domain box: {c['set_domain']}")
+    (lo, hi), = c["set_workspace_box"]
+    check(all(-1e-5 <= lo[i] and hi[i] <= 1.0 + 1e-5 for i in range(3))
+          and any(abs(hi[i] - lo[i] - 1.0) < 1e-4 for i in range(3)),
+          f"the fitted Falcon workspace fills the domain on its tightest axis: {lo} {hi}")
+    density, temperature = c["set_density"][-1]
+    check(density.shape == (16, 16, 16) and str(density.dtype) == "float32" and temperature is None,
+          f"density [x, y, z] float32 at the session's resolution {density.shape}")
+    origin, force, max_force = c["set_force"][-1]
+    check(all(abs(origin[i] - probe.matrix_world.translation[i]) < 1e-6 for i in range(3)) and len(force) == 3
+          and max_force == scene.hapticfluid_live.max_force, "the force arrow at the probe, scaled by Max Force")
+    check(c["set_display"] == [(scene.hapticfluid_live.density_scale, False)], "the display settings")
+    scene.hapticfluid_live.density_scale = 5.0
+    controller.tick()
+    check(c["set_display"][-1] == (5.0, False), "a display change during the session reaches the drawer")
+    controller.stop()
+
+
 def mouse_moves_the_probe_and_record_keys_it():
     scene, _domain, probe = new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1000.0)
     scene.hapticfluid_live.device = "MOUSE"
@@ -351,6 +392,7 @@ def measure():
 def main():
     register_twice()
     simulated_falcon_moves_the_probe()
+    the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()
     timeline_drives_a_sphere_probe()
     deleted_objects_and_device_errors_end_it()

@@ -23,7 +23,8 @@ def cache_folder(settings) -> str:
     return os.path.normpath(bpy.path.abspath(path))
 
 
-def _world_box(obj):
+def world_box(obj):
+    """The object's world-space bounding box (lo, hi), m."""
     corners = [obj.matrix_world @ _vec(c) for c in obj.bound_box]
     lo = [min(c[i] for c in corners) for i in range(3)]
     hi = [max(c[i] for c in corners) for i in range(3)]
@@ -71,7 +72,7 @@ def domain_box(settings):
     if not _is_axis_aligned(settings.domain.matrix_world):
         raise SceneError(f"the domain '{settings.domain.name}' is rotated: the simulated box is axis-aligned, "
                          "clear its rotation (Alt+R) and scale it instead")
-    return _world_box(settings.domain)
+    return world_box(settings.domain)
 
 
 def fluid_dict(scene, settings):

@@ -78,19 +78,19 @@ def _import_hf():
     return hapticfluid
 
 
-def _world_box(obj):
-    return blender_scene._world_box(obj)
+def _sentence(text: str) -> str:
+    return text[:1].upper() + text[1:]
 
 
 def read_plan(scene) -> LivePlan:
     """Main thread: the scene's roles and settings -> LivePlan, or SessionError (fix first)."""
-    hf = _import_hf()
+    _import_hf()  # the first thing to fix if it fails
     bake = scene.hapticfluid_bake
     live = scene.hapticfluid_live
     try:
         lo, hi = blender_scene.domain_box(bake)
     except blender_scene.SceneError as exc:
-        raise SessionError(str(exc)[:1].upper() + str(exc)[1:]) from None
+        raise SessionError(_sentence(str(exc))) from None
     if min(hi[i] - lo[i] for i in range(3)) <= 0.0:
         raise SessionError(f"Give the domain '{bake.domain.name}' a volume: its bounding box is flat")
     probe = bake.probe
@@ -101,8 +101,8 @@ def read_plan(scene) -> LivePlan:
     try:
         shape = blender_scene.probe_shape_dict(probe, bake.probe_shape)
     except blender_scene.SceneError as exc:
-        raise SessionError(str(exc)[:1].upper() + str(exc)[1:]) from None
-    plo, phi = _world_box(probe) if probe.type == "MESH" else (
+        raise SessionError(_sentence(str(exc))) from None
+    plo, phi = blender_scene.world_box(probe) if probe.type == "MESH" else (
         [probe.matrix_world.translation[i] - shape.get("radius", 0.0) for i in range(3)],
         [probe.matrix_world.translation[i] + shape.get("radius", 0.0) for i in range(3)])
     if any(plo[i] < lo[i] or phi[i] > hi[i] for i in range(3)):
@@ -114,7 +114,6 @@ def read_plan(scene) -> LivePlan:
         if not os.path.isfile(firmware):
             raise SessionError(f"Choose the Falcon firmware file (Novint's nvent_firmware.bin) in the sidebar: "
                                f"'{firmware}' does not exist")
-    defaults = hf.haptic_session_defaults()
     session_args = {
         "force_gain": live.force_gain,
         "filter": "lowpass",
@@ -124,7 +123,6 @@ def read_plan(scene) -> LivePlan:
         "probe_radius": None,  # keep the probe the simulation was given (sphere or mesh)
         "snapshot": SNAPSHOT_INTERVAL_S,
         "snapshot_temperature": live.show_temperature,
-        "rate": defaults["rate"],
     }
     if live.device in HOST_MODES:  # the device frame is the world: the pose pushed is the object's
         session_args.update(workspace_scale=1.0, workspace_offset=(0.0, 0.0, 0.0))
@@ -297,6 +295,7 @@ class LiveController:
         self.keys_written = 0
         self.last_sequence = 0
         self.ticks = 0
+        self._display = None
         self._worker_error = None
         self._worker = threading.Thread(target=self._build, name="hapticfluid-live-start", daemon=True)
         self._worker.start()
@@ -370,7 +369,6 @@ class LiveController:
         if self.drawer is not None:
             self.drawer.set_domain(self.plan.domain_lo, self.plan.domain_hi)
             self.drawer.set_workspace_box(*(self.engine.workspace_box or (None, None)))
-            self.drawer.set_display(live.density_scale, live.show_temperature)
 
     def _lost_object(self) -> Optional[str]:
         for obj, name, role in ((self.probe, self.probe_name, "probe"), (self.domain, self.domain_name, "domain")):
@@ -400,6 +398,10 @@ class LiveController:
             if self.drawer is not None:
                 self.drawer.set_density(snap["density"], snap["temperature"])
         if self.drawer is not None:
+            display = (self.live.density_scale, self.live.show_temperature)
+            if display != self._display:  # the user may change them during the session
+                self._display = display
+                self.drawer.set_display(*display)
             self.drawer.set_force(tuple(self.probe.matrix_world.translation), tuple(latest["sim_force"]),
                                   self.plan.max_force)
 
@@ -416,8 +418,7 @@ class LiveController:
         live.realtime = bool(s["realtime"])
         live.device_state = (f"{self.engine.device.info().name}: {'homed' if latest['homed'] else 'not homed'}, "
                              f"buttons {latest['buttons']:#x}")
-        if s["scheduling"]:
-            live.scheduling = s["scheduling"]
+        live.scheduling = s["scheduling"]
 
     # -- recording ------------------------------------------------------------------------
     def start_recording(self):
