@@ -20,6 +20,7 @@ log = logging.getLogger(__name__)
 TICK_S = 1.0 / 40.0     # main-thread update period (s)
 
 _RUNNING = []           # [_Run]: the live sessions of this Blender, at most one per scene
+_KEPT_DRAWERS = []      # drawers of stopped sessions still showing their last frame
 
 
 class _Run:
@@ -31,10 +32,16 @@ class _Run:
         self.timer = None       # (window_manager, timer) of a modal operator
         self.app_timer = None   # function registered with bpy.app.timers
 
-    def end(self, reason=None):
+    def end(self, reason=None, keep_drawing=False):
+        """Stops the session. keep_drawing: the last frame stays drawn (without the force arrow)
+        until the next Start, a file load or the add-on's unregister."""
         report = self.controller.stop(reason)
         if self.drawer is not None:
-            self.drawer.remove()
+            if keep_drawing:
+                self.drawer.set_force(self.controller.force_origin, (0.0, 0.0, 0.0), self.controller.plan.max_force)
+                _KEPT_DRAWERS.append(self.drawer)
+            else:
+                self.drawer.remove()
         if self.timer is not None:
             wm, timer = self.timer
             try:
@@ -78,6 +85,7 @@ def start(scene):
     live_session.SessionError (fix first) for a bad setup."""
     if run_for(scene) is not None:
         raise live_session.SessionError("Stop the running live session first: this scene already has one")
+    clear_kept_drawings()
     drawer = _make_drawer()
     try:
         controller = live_session.LiveController(scene, drawer=drawer)
@@ -92,19 +100,27 @@ def start(scene):
 
 
 def tick(run):
-    """One update of a run; ends it (drawer removed) when its controller stopped. Returns the
-    controller's state."""
+    """One update of a run; ends it (its last frame stays drawn) when its controller stopped.
+    Returns the controller's state."""
     state = run.controller.tick()
     if state == "stopped":
-        run.end()
+        run.end(keep_drawing=True)
     else:
         _redraw_views()
     return state
 
 
+def clear_kept_drawings():
+    while _KEPT_DRAWERS:
+        _KEPT_DRAWERS.pop().remove()
+
+
 def stop_all(reason=None):
-    """Ends every live session; returns their reports (None for a clean stop)."""
-    return [run.end(reason) for run in list(_RUNNING)]
+    """Ends every live session and removes every drawing; returns their reports (None for a
+    clean stop)."""
+    reports = [run.end(reason) for run in list(_RUNNING)]
+    clear_kept_drawings()
+    return reports
 
 
 def _redraw_views():
@@ -198,7 +214,7 @@ class HAPTICFLUID_OT_live_start(bpy.types.Operator):
             return self._finish(run)
         if event.value == "PRESS" and (event.type == "ESC" or (event.type == "RIGHTMOUSE"
                                                                and _in_3d_view(context, event))):
-            run.end()
+            run.end(keep_drawing=True)
             return self._finish(run)
         if event.type == "TIMER":  # ours or another's: an extra tick is harmless
             if tick(run) == "stopped":
@@ -227,7 +243,7 @@ class HAPTICFLUID_OT_live_stop(bpy.types.Operator):
 
     def execute(self, context):
         run = run_for(context.scene)
-        report = run.end()
+        report = run.end(keep_drawing=True)
         if report:
             self.report({"ERROR"}, report)
         return {"FINISHED"}

@@ -288,6 +288,7 @@ class LiveController:
         self.probe_name = self.probe.name
         self.domain_name = self.domain.name
         self.start_matrix = self.probe.matrix_world.copy()
+        self.force_origin = tuple(self.start_matrix.translation)  # where the force arrow was last drawn (m)
         self.engine = _Engine()
         self.state = "starting"   # starting -> running -> stopped
         self.report = None        # why it ended (None: stopped by the user without error)
@@ -402,8 +403,8 @@ class LiveController:
             if display != self._display:  # the user may change them during the session
                 self._display = display
                 self.drawer.set_display(*display)
-            self.drawer.set_force(tuple(self.probe.matrix_world.translation), tuple(latest["sim_force"]),
-                                  self.plan.max_force)
+            self.force_origin = tuple(self.probe.matrix_world.translation)
+            self.drawer.set_force(self.force_origin, tuple(latest["sim_force"]), self.plan.max_force)
 
     def _update_stats(self, latest):
         s = self.session.stats()
