@@ -75,6 +75,9 @@ def register_twice():
         hapticfluid_blender.unregister()
         check(not hasattr(bpy.types.Scene, "hapticfluid_live"), "unregister removes them")
     hapticfluid_blender.register()
+    from hapticfluid_blender import live_panel
+
+    check(live_panel.package_problem() is None, "the preferences find the package importable")
 
 
 def simulated_falcon_moves_the_probe():
@@ -327,6 +330,11 @@ def bad_setups():
     sys.modules["hapticfluid"] = None  # what an uninstalled package looks like to `import`
     try:
         expect(lambda s, d, p: None, "not importable", first="Install the hapticfluid package")
+        from hapticfluid_blender import live_panel
+
+        problem = live_panel.package_problem()  # what the preferences and the sidebar show
+        check(problem is not None and problem.startswith("Install the hapticfluid package"),
+              f"the add-on's preferences say the package is missing: {problem}")
     finally:
         sys.modules["hapticfluid"] = saved
 
@@ -380,12 +388,15 @@ def measure():
             probe.location.x = 0.5 + 0.2 * math.sin(2.0 * (time.monotonic() - t0))
             bpy.context.view_layer.update()
 
-        run_for_seconds(run, 5.0, each=move)
+        end = time.monotonic() + 90.0  # at least 12 steps (or 90 s) so the rates are measured, not guessed
+        while run.controller.session.stats()["sim_steps"] < 12 and time.monotonic() < end:
+            run_for_seconds(run, 0.5, each=move)
         s = run.controller.session.stats()
         print(f"MEASURED live session {res}^3 in Blender (mouse mode, 40 Jacobi sweeps): sim {s['sim_rate_hz']:.1f} Hz, "
               f"step {s['sim_step_ms']:.1f} ms, haptic {s['haptic_rate_hz']:.0f} Hz, jitter p99 "
               f"{s['jitter_p99_ms']:.3f} ms, latency p50 {s['latency_p50_ms']:.1f} ms p99 {s['latency_p99_ms']:.1f} ms, "
-              f"snapshots {s['snapshots']}, realtime {s['realtime']}", flush=True)
+              f"snapshots {s['snapshots']}, steps {s['sim_steps']}, realtime {s['realtime']}, load average "
+              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores", flush=True)
         live_ops.stop_all()
 
 
