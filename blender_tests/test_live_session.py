@@ -152,24 +152,29 @@ def mouse_moves_the_probe_and_record_keys_it():
     scene.hapticfluid_live.device = "MOUSE"
     run = live_ops.start(scene)
     run.controller.wait_started()
-    speed = 0.25  # m/s
+    # Each direction: constant speed until 5 simulation steps that began after the motion did
+    # (their poses are moving ones; a step already running used an older pose) or 0.3 m of travel.
+    # Counting steps, not seconds, keeps this true on a loaded machine where a step takes long.
+    speed, travel_s = 0.12, 2.5  # m/s, s
     forces = {}
+    session = run.controller.session
     for direction in (1.0, -1.0):
-        t0 = time.monotonic()
-        x0 = probe.location.x
-        samples = []
-
-        def move():
+        t0, x0 = time.monotonic(), probe.location.x
+        s0 = session.stats()["sim_steps"]
+        per_step = {}
+        while len(per_step) < 5 and time.monotonic() - t0 < 60.0:
             t = time.monotonic() - t0
-            probe.location.x = x0 + direction * speed * min(t, 1.2)
+            probe.location.x = x0 + direction * speed * min(t, travel_s)
             bpy.context.view_layer.update()
-            if 0.4 < t < 1.2:
-                samples.append(run.controller.session.latest()["sim_force"][0])
-
-        run_for_seconds(run, 1.2, each=move)
-        forces[direction] = sum(samples) / max(1, len(samples))
+            live_ops.tick(run)
+            steps = session.stats()["sim_steps"]
+            if steps >= s0 + 2 and t < travel_s:
+                per_step[steps] = session.latest()["sim_force"][0]
+            time.sleep(live_ops.TICK_S)
+        forces[direction] = sum(per_step.values()) / max(1, len(per_step))
         print(f"moving {'+' if direction > 0 else '-'}x at {speed} m/s: mean fluid force x {forces[direction]:.3f} N "
-              f"over {len(samples)} ticks")
+              f"over {len(per_step)} steps")
+        run_for_seconds(run, 0.3)
     check(forces[1.0] < 0.0 < forces[-1.0], f"the fluid force opposes the motion and changes sign: {forces}")
     live_ops.stop_all()
 
