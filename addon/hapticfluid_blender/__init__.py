@@ -17,7 +17,7 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import bake_ops, live_ops, live_panel, live_props, panels, properties  # noqa: E402  (bl_info first)
+from . import bake_ops, farm_ops, live_ops, live_panel, live_props, panels, properties  # noqa: E402  (bl_info first)
 
 classes = (
     properties.HapticFluidBakeSettings,
@@ -25,6 +25,7 @@ classes = (
     bake_ops.HAPTICFLUID_OT_bake_resume,
     bake_ops.HAPTICFLUID_OT_bake_free,
     panels.HAPTICFLUID_PT_bake,
+    farm_ops.HAPTICFLUID_OT_write_farm_job,
     live_props.HapticFluidLiveSettings,
     *live_ops.classes,
     *live_panel.classes,

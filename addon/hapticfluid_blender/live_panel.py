@@ -79,7 +79,10 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         sub.enabled = not live.auto_workspace
         sub.prop(live, "workspace_scale")
         sub.prop(live, "workspace_offset")
-        col.prop(live, "force_gain")
+        col.prop(live, "auto_force_gain")
+        sub = col.column()
+        sub.enabled = not live.auto_force_gain
+        sub.prop(live, "force_gain")
         col.prop(live, "max_force")
         col.prop(live, "bandwidth_ratio")
         col.prop(live, "prediction")
@@ -104,6 +107,9 @@ class HAPTICFLUID_PT_live_stats(bpy.types.Panel):
         col.label(text=f"Haptic: {live.haptic_rate_hz:.0f} Hz, jitter p99 {live.jitter_p99_ms:.3f} ms")
         col.label(text=f"Latency: p50 {live.latency_p50_ms:.1f} ms, p99 {live.latency_p99_ms:.1f} ms")
         col.label(text=f"Force: {live.force_n:.4f} N (device {live.device_force_n:.3f} N)")
+        col.label(text=f"Gain: {live.force_gain_used:.3g} device N per fluid N")
+        if live.force_gain_reason:
+            col.label(text=live.force_gain_reason)
         if live.device_state:
             col.label(text=live.device_state)
         col.label(text="Real-time priority: " + ("granted" if live.realtime else "not granted"))

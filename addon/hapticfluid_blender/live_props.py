@@ -24,7 +24,7 @@ _DEFAULTS = _engine_defaults()
 
 
 def _default(name):
-    return {"default": _DEFAULTS[name]} if name in _DEFAULTS else {}
+    return {"default": _DEFAULTS[name]} if _DEFAULTS.get(name) is not None else {}
 
 
 DEVICE_ITEMS = (
@@ -60,8 +60,12 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     workspace_offset: FloatVectorProperty(name="Workspace Offset", size=3, subtype="TRANSLATION", unit="LENGTH",
                                           description="World position (m) of the device's origin (Falcon modes, "
                                                       "Fit Workspace off)")
-    force_gain: FloatProperty(name="Force Gain", min=0.0, max=1e6, soft_max=1000.0,
-                              description="Device newtons per fluid newton", **_default("force_gain"))
+    auto_force_gain: BoolProperty(
+        name="Derive Gain", default=True,
+        description="Force gain the device can render for this probe, fluid and workspace scale (the engine "
+                    "derives it; Stats shows why); off: Force Gain")
+    force_gain: FloatProperty(name="Force Gain", default=1.0, min=0.0, max=1e6, soft_max=1000.0,
+                              description="Device newtons per fluid newton (Derive Gain off)")
     max_force: FloatProperty(name="Max Force", default=4.0, min=0.01, max=8.0, unit="NONE",
                              description="Largest force sent to the device (N); the Falcon's limit is 8 N")
     bandwidth_ratio: FloatProperty(name="Filter Bandwidth", min=0.01, max=10.0,
@@ -91,6 +95,8 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     latency_p99_ms: _stat("Latency p99", "99th percentile device pose -> force latency (ms)")
     force_n: _stat("Fluid Force", "Magnitude of the fluid force on the probe (N)", precision=4)
     device_force_n: _stat("Device Force", "Magnitude of the force commanded to the device (N)", precision=3)
+    force_gain_used: _stat("Gain", "Device newtons per fluid newton in use", precision=3)
+    force_gain_reason: StringProperty(name="Gain Reason", default="", description="How the force gain was chosen")
     device_state: StringProperty(name="Device", default="", description="Device name, homed, buttons")
     realtime: BoolProperty(name="Real-time Priority", default=False,
                            description="The haptic thread got real-time (SCHED_FIFO) priority")

@@ -115,7 +115,7 @@ def read_plan(scene) -> LivePlan:
             raise SessionError(f"Choose the Falcon firmware file (Novint's nvent_firmware.bin) in the sidebar: "
                                f"'{firmware}' does not exist")
     session_args = {
-        "force_gain": live.force_gain,
+        "force_gain": None if live.auto_force_gain else live.force_gain,  # None: the engine derives it
         "filter": "lowpass",
         "bandwidth_ratio": live.bandwidth_ratio,
         "prediction": live.prediction,
@@ -417,6 +417,8 @@ class LiveController:
         live.force_n = float(sum(c * c for c in latest["sim_force"]) ** 0.5)
         live.device_force_n = float(sum(c * c for c in latest["commanded_force"]) ** 0.5)
         live.realtime = bool(s["realtime"])
+        live.force_gain_used = s.get("force_gain", 0.0)
+        live.force_gain_reason = s.get("force_gain_reason", "")
         live.device_state = (f"{self.engine.device.info().name}: {'homed' if latest['homed'] else 'not homed'}, "
                              f"buttons {latest['buttons']:#x}")
         live.scheduling = s["scheduling"]

@@ -30,6 +30,15 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
     throw InvalidArgument("max_force " + std::to_string(s.pipeline.safety.max_force_n) + " N is above the maximum of '" +
                           device.info().name + "' (" + std::to_string(device_max) + " N); give at most that");
   }
+  // The passivity controller's damper is bounded by the device's maximum stable damping.
+  float& damping = s.pipeline.passivity.max_damping_n_s_m;
+  const float device_damping = device.info().max_damping_n_s_m;
+  if (damping == 0.0f) {
+    damping = device_damping;
+  } else if (device_damping > 0.0f && damping > device_damping) {
+    throw InvalidArgument("passivity_max_damping " + std::to_string(damping) + " N s/m is above the maximum stable damping of '" +
+                          device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most that");
+  }
   return s;
 }
 
@@ -165,6 +174,7 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   device_->writeForce(out.commanded_n);
 
   non_finite_.store(pipeline_.safety().nonFiniteCount(), std::memory_order_relaxed);
+  passivity_.write(pipeline_.passivity().state());
   latest_.write(out);
   if (trace_.capacity() > 0) {
     TraceSample t;
@@ -193,6 +203,8 @@ LoopStats HapticLoop::stats() const {
   st.frames = frames_.load(std::memory_order_relaxed);
   st.non_finite = non_finite_.load(std::memory_order_relaxed);
   st.trace_dropped = trace_.dropped();
+  passivity_.tryRead(st.passivity);
+  st.max_damping_n_s_m = s_.pipeline.passivity.max_damping_n_s_m;
   if (sched_known_.load(std::memory_order_acquire)) {
     st.realtime = realtime_.load(std::memory_order_relaxed);
     st.scheduling = scheduling_;

@@ -14,6 +14,7 @@
 #include "haptics/device_claim.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
+#include "haptics/passivity_controller.h"
 #include "haptics/scripted_device.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -71,6 +72,16 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["sim_step_ms"] = s.sim_step_ms;
   d["sim_dt"] = s.sim_dt_s;
   d["snapshots"] = s.snapshots;
+  d["force_gain"] = s.force_gain;
+  d["force_gain_reason"] = s.force_gain_reason;
+  const haptics::PassivityState& p = s.haptic.passivity;
+  d["passivity_energy"] = p.energy_j;
+  d["passivity_delivered"] = p.delivered_j;
+  d["passivity_dissipated"] = p.dissipated_j;
+  d["passivity_alpha"] = p.alpha_n_s_m;
+  d["passivity_active_ticks"] = p.active;
+  d["passivity_resets"] = p.resets;
+  d["passivity_max_damping"] = s.haptic.max_damping_n_s_m;
   d["error"] = s.error.empty() ? py::object(py::none()) : py::object(py::str(s.error));
   return d;
 }
@@ -90,8 +101,8 @@ simulation thread, started by start() (or by entering a `with` block) and ended 
 
 Per haptic period: device pose -> (workspace map) -> probe pose for the simulation thread;
 latest simulation force -> [prediction] -> low-pass (cutoff = bandwidth_ratio x measured
-simulation rate) -> force_gain -> safety (NaN guard, homing gate, stale-force fade, ramp-in,
-max_force clamp, slew_rate limit) -> device.
+simulation rate) -> force_gain -> passivity controller -> safety (NaN guard, homing gate,
+stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device.
 
 simulation: the Simulation to drive (kept alive by the session); the session steps it
   continuously and its probe follows the device.
@@ -99,7 +110,20 @@ device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...)
 workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
 workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
   of the device's workspace (DeviceInfo) at the domain's centre.
-force_gain: device newtons per fluid newton (>= 0).
+force_gain: device newtons per fluid newton (>= 0); None = the gain the device can render: the
+  probe's added mass (rho V / 2) x workspace scale, rendered over the shortest simulation step T
+  (sim_dt, or min_sim_dt in real time) as a damping M / T and a stiffness M / T^2, kept within
+  the device's max_damping and max_stiffness (at most 1; 1 for devices that report no limits).
+  stats()['force_gain'] and ['force_gain_reason'] say what was chosen.
+passivity: a time-domain passivity observer and controller (Hannaford and Ryu 2002) between the
+  force gain and the safety stage: it sums the energy the device delivers to the hand
+  (F . dx, positive = into the hand) and, when the loop has made net energy, a damper
+  -alpha v removes it (alpha <= passivity_max_damping). False: observe only.
+passivity_max_damping: bound on alpha (N s/m); None = the device's max_damping (a device that
+  reports none is observed only).
+passivity_deadband: below this device speed (m/s) no damping is applied.
+passivity_reserve: most stored dissipation (J) the observer keeps, and passivity_memory the
+  time constant (s) over which it is forgotten, so old dissipation cannot license a burst.
 probe_radius: the probe becomes a sphere of this radius (m, at least one cell); None = keep the
   simulation's probe (a sphere, or a mesh from set_mesh_probe with its orientation), or a
   0.1 m sphere if it has none.
@@ -151,8 +175,12 @@ void addHaptics(py::module_& m) {
       .def_property_readonly("workspace_max", [](const DeviceInfo& i) { return vec3Array(i.workspace_max_m); },
                              "Reachable box, maximum corner (m, device frame).")
       .def_readonly("max_force", &DeviceInfo::max_force_n, "Largest force the device is commanded (N).")
-      .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m, "N/m (informative).")
-      .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m, "N s/m (informative).")
+      .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m,
+                    "Largest stiffness the device renders stably (N/m; 0: not reported). Bounds the\n"
+                    "default force gain.")
+      .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m,
+                    "Largest damping the device renders stably (N s/m; 0: not reported). Bounds the\n"
+                    "default force gain and the passivity controller's damper.")
       .def("__repr__", [](const DeviceInfo& i) {
         return "DeviceInfo(name='" + i.name + "', kind='" + i.kind + "', max_force=" + std::to_string(i.max_force_n) +
                " N)";
@@ -268,7 +296,7 @@ session on it fails to start; close() still stops it (the session then fails wit
         const auto& p = defaults.loop.pipeline;
         py::dict d;
         d["workspace_scale"] = p.map.scale.x;
-        d["force_gain"] = p.map.force_gain;
+        d["force_gain"] = py::none();  // derived from the device's rendering limits
         d["bandwidth_ratio"] = p.filter.bandwidth_ratio;
         d["max_cutoff_per_rate"] = defaults.max_cutoff_per_rate;
         d["prediction"] = p.prediction;
@@ -287,21 +315,34 @@ session on it fails to start; close() still stops it (the session then fails wit
       "The HapticSession's default settings (SI units, the names of its keyword arguments): the\n"
       "engine defines them once; the Blender add-on takes its defaults from here. workspace_offset\n"
       "None puts the middle of the device's workspace at the domain's centre; max_cutoff_per_rate\n"
-      "bounds the low-pass cutoff to that fraction of the haptic rate.");
+      "bounds the low-pass cutoff to that fraction of the haptic rate; force_gain None: the gain\n"
+      "the device can render, derived by the session (stats()['force_gain_reason']).");
 
   py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
   c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& workspace_scale,
-                    const py::object& workspace_offset, float force_gain, std::optional<float> probe_radius,
+                    const py::object& workspace_offset, std::optional<float> force_gain, std::optional<float> probe_radius,
                     const std::string& filter, double bandwidth_ratio, bool prediction,
                     std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
                     double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
-                    double trace_seconds, std::optional<double> snapshot, bool snapshot_temperature) {
+                    double trace_seconds, bool passivity, std::optional<float> passivity_max_damping,
+                    float passivity_deadband, double passivity_reserve, double passivity_memory,
+                    std::optional<double> snapshot, bool snapshot_temperature) {
           if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
           session::HapticSessionSettings s;
           auto& p = s.loop.pipeline;
           p.map.scale = scaleArg(workspace_scale, "workspace_scale");
           if (!workspace_offset.is_none()) s.workspace_offset_m = scaleArg(workspace_offset, "workspace_offset");
-          p.map.force_gain = force_gain;
+          s.derive_force_gain = !force_gain.has_value();
+          if (force_gain) p.map.force_gain = *force_gain;
+          p.passivity.enabled = passivity;
+          p.passivity.max_damping_n_s_m = passivity_max_damping.value_or(0.0f);
+          if (passivity_max_damping && !(*passivity_max_damping > 0.0f)) {
+            throw InvalidArgument("passivity_max_damping must be a positive number of N s/m, or None (the device's), got " +
+                                  std::to_string(*passivity_max_damping));
+          }
+          p.passivity.velocity_deadband_m_s = passivity_deadband;
+          p.passivity.max_reserve_j = passivity_reserve;
+          p.passivity.reserve_decay_s = passivity_memory;
           if (filter != "lowpass" && filter != "none") {
             throw InvalidArgument("filter must be 'lowpass' or 'none', got '" + filter + "'");
           }
@@ -331,7 +372,7 @@ session on it fails to start; close() still stops it (the session then fails wit
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
         py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = dp.map.scale.x,
-        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = dp.map.force_gain,
+        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = py::none(),
         py::arg("probe_radius") = py::none(), py::arg("filter") = "lowpass",
         py::arg("bandwidth_ratio") = dp.filter.bandwidth_ratio, py::arg("prediction") = dp.prediction,
         py::arg("max_force") = py::none(), py::arg("slew_rate") = dp.safety.slew_rate_n_s,
@@ -340,6 +381,10 @@ session on it fails to start; close() still stops it (the session then fails wit
         py::arg("sim_dt") = defaults.sim_dt_s, py::arg("min_sim_dt") = defaults.min_sim_dt_s,
         py::arg("max_sim_dt") = defaults.max_sim_dt_s, py::arg("realtime") = defaults.loop.realtime,
         py::arg("trace") = false, py::arg("trace_seconds") = session::kDefaultTraceS,
+        py::arg("passivity") = dp.passivity.enabled, py::arg("passivity_max_damping") = py::none(),
+        py::arg("passivity_deadband") = dp.passivity.velocity_deadband_m_s,
+        py::arg("passivity_reserve") = dp.passivity.max_reserve_j,
+        py::arg("passivity_memory") = dp.passivity.reserve_decay_s,
         py::arg("snapshot") = py::none(), py::arg("snapshot_temperature") = false, py::keep_alive<1, 2>());
   // Started sessions join a WeakSet on the module; an atexit hook stops those still running
   // before the interpreter tears down (their threads must not outlive the objects they use).
@@ -375,8 +420,13 @@ session on it fails to start; close() still stops it (the session then fails wit
   c.def("stats", [](const HapticSession& s) { return statsDict(s.stats()); },
         "A dict: state, haptic_rate_hz, period/jitter/latency p50, p99, max and mean (ms), ticks,\n"
         "skipped_periods, force_frames, sim_rate_hz, sim_steps, sim_step_ms, sim_dt (s), realtime,\n"
-        "scheduling (warning or ''), error (or None). Latency: device read -> the first haptic period\n"
-        "that uses the force computed from that pose.");
+        "scheduling (warning or ''), error (or None), force_gain and force_gain_reason (the gain in\n"
+        "use and how it was chosen), and the passivity controller's state since its last reset:\n"
+        "passivity_energy (J, the observer: > 0 means the loop made net energy), passivity_delivered\n"
+        "(J, plain sum of the energy delivered to the hand, F . dx), passivity_dissipated (J, removed\n"
+        "by the damper), passivity_alpha (N s/m, the latest damping), passivity_active_ticks,\n"
+        "passivity_resets, passivity_max_damping (N s/m, its bound). Latency: device read -> the\n"
+        "first haptic period that uses the force computed from that pose.");
   c.def_property_readonly(
       "latest_force", [](const HapticSession& s) { return vec3Array(s.latest().commanded_n); },
       "The force commanded to the device in the latest haptic period (N, device frame).");
@@ -388,6 +438,8 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["sim_force"] = vec3Array(o.sim_force_n);
         d["predicted_force"] = vec3Array(o.predicted_n);
         d["filtered_force"] = vec3Array(o.filtered_n);
+        d["passive_force"] = vec3Array(o.passive_n);
+        d["damping"] = o.damping_n_s_m;
         d["commanded_force"] = vec3Array(o.commanded_n);
         d["cutoff_hz"] = o.cutoff_hz;
         d["force_age"] = o.force_age_s;
@@ -397,9 +449,10 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["buttons"] = state.buttons;
         return d;
       },
-      "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, commanded_force\n"
-      "(device N), cutoff_hz, force_age (s), position (m, device frame), homed, buttons (bit i:\n"
-      "button i) of the device's latest reading.");
+      "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, passive_force\n"
+      "(after the passivity controller), commanded_force (device N), damping (N s/m), cutoff_hz,\n"
+      "force_age (s), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
+      "latest reading.");
   c.def(
       "trace",
       [](HapticSession& s) {

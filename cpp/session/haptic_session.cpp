@@ -9,6 +9,7 @@
 #include "common/format.h"
 #include "fluid/validate.h"
 #include "haptics/clock.h"
+#include "haptics/rendering_limits.h"
 #include "haptics/rate_estimator.h"
 #include "session/simulation.h"
 
@@ -17,6 +18,36 @@ namespace hf::session {
 namespace {
 constexpr double kDtSmoothing = 0.25;  // real time: weight of the newest wall period in the step
 constexpr float kDefaultProbeRadiusM = 0.1f;  // the sphere made when there is no probe to keep
+constexpr double kPi = 3.14159265358979323846;
+
+// The settings with the force gain in use: derived from the device's rendering limits and the
+// probe's added mass (a sphere's volume, or a mesh probe's world box: an upper bound), or given.
+HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& sim, const haptics::DevicePtr& device) {
+  if (!device) throw InvalidArgument("haptic session: give a device (got None)");
+  float& gain = s.loop.pipeline.map.force_gain;
+  if (!s.derive_force_gain) {
+    s.force_gain_reason = "force gain " + num(gain) + ": given";
+    return s;
+  }
+  const std::optional<ProbeState> probe = sim.probe();
+  double volume_m3 = 0.0;
+  if (s.probe_radius_m || !probe || probe->kind == ProbeState::Kind::Sphere) {
+    const double r = s.probe_radius_m ? *s.probe_radius_m : probe ? probe->sphere.radius_m : kDefaultProbeRadiusM;
+    volume_m3 = 4.0 / 3.0 * kPi * r * r * r;
+  } else {
+    const obstacle::WorldBox box = obstacle::worldBox(probe->extent, probe->pose.transform);
+    const glm::dvec3 edge(box.hi - box.lo);
+    volume_m3 = edge.x * edge.y * edge.z;
+  }
+  const glm::vec3 scale = glm::abs(s.loop.pipeline.map.scale);
+  const double step_s = s.sim_dt_s > 0.0 ? s.sim_dt_s : s.min_sim_dt_s;
+  const haptics::GainChoice c = haptics::renderableForceGain(
+      device->info(), haptics::addedMassKg(sim.params().density_kg_m3, volume_m3),
+      std::max({scale.x, scale.y, scale.z}), step_s);
+  gain = c.gain;
+  s.force_gain_reason = c.reason;
+  return s;
+}
 }  // namespace
 
 const char* stateName(SessionState s) {
@@ -82,7 +113,9 @@ HapticSessionSettings HapticSessionSettings::resolve(const glm::vec3& domain_ori
 HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings)
     : sim_(sim),
       device_(std::move(device)),
-      s_(settings.resolve(sim.grid().origin_m, sim.grid().sizeM(), device_ ? device_->info() : haptics::DeviceInfo{})),
+      s_(withForceGain(settings.resolve(sim.grid().origin_m, sim.grid().sizeM(),
+                                        device_ ? device_->info() : haptics::DeviceInfo{}),
+                       sim, device_)),
       loop_(device_, poses_, forces_, s_.loop) {
   const fluid::Grid& g = sim_.grid();
   const std::optional<ProbeState> current = sim_.probe();
@@ -340,6 +373,8 @@ HapticSessionStats HapticSession::stats() const {
   st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
   st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
   st.snapshots = snapshots_.load(std::memory_order_relaxed);
+  st.force_gain = s_.loop.pipeline.map.force_gain;
+  st.force_gain_reason = s_.force_gain_reason;
   st.error = error();
   return st;
 }

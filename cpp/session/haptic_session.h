@@ -57,6 +57,10 @@ struct HapticSessionSettings {
   // The floor matters: a voxelized probe gives force impulses ~ 1/dt when it crosses cells.
   double min_sim_dt_s = 0.01;
   double max_sim_dt_s = 0.05;
+  // True: loop.pipeline.map.force_gain is replaced by the gain the device can render for this
+  // probe, fluid and workspace scale (haptics/rendering_limits.h); false: the given gain is used.
+  bool derive_force_gain = true;
+  std::string force_gain_reason;   // set by the session: how the gain in use was chosen
   void validate() const;
   // These settings with the derived loop fields filled in for this domain and device; validates.
   HapticSessionSettings resolve(const glm::vec3& domain_origin_m, const glm::vec3& domain_size_m,
@@ -74,6 +78,8 @@ struct HapticSessionStats {
   double sim_step_ms = 0.0;        // host time of the latest step, ms
   double sim_dt_s = 0.0;           // time step of the latest step, s
   std::uint64_t snapshots = 0;     // field snapshots published
+  float force_gain = 0.0f;         // device N per fluid N in use
+  std::string force_gain_reason;   // how it was chosen
   std::string error;               // "" or the first error
 };
 

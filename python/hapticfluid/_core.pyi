@@ -161,9 +161,9 @@ class DeviceInfo:
     @property
     def max_force(self) -> float: ...  # N
     @property
-    def max_stiffness(self) -> float: ...  # N/m
+    def max_stiffness(self) -> float: ...  # N/m; 0 = not reported
     @property
-    def max_damping(self) -> float: ...  # N s/m
+    def max_damping(self) -> float: ...  # N s/m; 0 = not reported
 
 class DeviceState:
     @property
@@ -218,7 +218,7 @@ class HapticSession:
         device: Device,
         workspace_scale: Union[float, Vec3] = 1.0,  # domain m per device m
         workspace_offset: Optional[Vec3] = None,  # m; None = workspace middle at domain centre
-        force_gain: float = 1.0,  # device N per fluid N
+        force_gain: Optional[float] = None,  # device N per fluid N; None = what the device can render
         probe_radius: Optional[float] = None,  # m; None = keep the simulation's probe
         filter: str = "lowpass",
         bandwidth_ratio: float = 0.5,
@@ -235,6 +235,11 @@ class HapticSession:
         realtime: bool = True,
         trace: bool = False,
         trace_seconds: float = 600.0,  # s
+        passivity: bool = True,  # passivity observer + controller (False: observe only)
+        passivity_max_damping: Optional[float] = None,  # N s/m; None = the device's max_damping
+        passivity_deadband: float = 0.001,  # m/s
+        passivity_reserve: float = 0.01,  # J
+        passivity_memory: float = 0.5,  # s
         snapshot: Optional[float] = None,  # s between field snapshots; 0 = every step; None = off
         snapshot_temperature: bool = False,
     ) -> None: ...

@@ -92,7 +92,9 @@ def test_defaults_are_the_sessions_keyword_defaults():
     defaults = hf.haptic_session_defaults()
     # pybind11 puts the keyword defaults into the signature line of the docstring.
     line = hf.HapticSession.__init__.__doc__.splitlines()[0]
-    for name in ("force_gain", "bandwidth_ratio", "slew_rate", "ramp_time", "stale_after", "fade_time", "rate",
+    assert defaults["force_gain"] is None and "force_gain: Optional[float] = None" in \
+        hf.HapticSession.__init__.__doc__.splitlines()[0]  # None: the session derives it
+    for name in ("bandwidth_ratio", "slew_rate", "ramp_time", "stale_after", "fade_time", "rate",
                  "min_sim_dt", "max_sim_dt", "trace_seconds"):
         value = defaults[name]
         assert f"{name}: float = {value!r}" in line or f"{name}: float = {float(value)!r}" in line, (name, line)
