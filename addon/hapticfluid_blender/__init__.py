@@ -1,4 +1,5 @@
-"""hapticfluid for Blender: bake a probe's animation into an OpenVDB smoke cache.
+"""hapticfluid for Blender: touch the smoke live (3D View > Sidebar > hapticfluid) and bake a
+probe's animation into an OpenVDB smoke cache.
 
 The add-on is a thin layer: properties describe the bake, operators turn them into a
 ``hapticfluid.bake`` scene on Blender's main thread and run the bake on a worker thread that
@@ -11,12 +12,12 @@ bl_info = {
     "author": "hapticfluid developers",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "Properties > Scene > hapticfluid Bake",
+    "location": "3D View > Sidebar > hapticfluid; Properties > Scene > hapticfluid Bake",
     "description": "Touchable GPU smoke: bake a probe's motion to an OpenVDB volume sequence",
     "category": "Physics",
 }
 
-from . import bake_ops, farm_ops, panels, prefs, properties  # noqa: E402  (bl_info first, as Blender expects)
+from . import bake_ops, farm_ops, live_ops, live_panel, live_props, panels, prefs, properties  # noqa: E402  (bl_info first)
 
 classes = (
     properties.HapticFluidBakeSettings,
@@ -26,6 +27,9 @@ classes = (
     *panels.classes,
     prefs.HapticFluidPreferences,
     farm_ops.HAPTICFLUID_OT_write_farm_job,
+    live_props.HapticFluidLiveSettings,
+    *live_ops.classes,
+    *live_panel.classes,
 )
 
 
@@ -37,23 +41,29 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.attach()
-    if properties.clear_stale_bake_state not in bpy.app.handlers.load_post:
-        bpy.app.handlers.load_post.append(properties.clear_stale_bake_state)
+    live_props.attach()
+    for handler in (properties.clear_stale_bake_state, live_props.clear_stale_live_state):
+        if handler not in bpy.app.handlers.load_post:
+            bpy.app.handlers.load_post.append(handler)
     try:  # re-enabled after a bake was cut short: no bake of ours runs now
         properties.clear_stale_bake_state()
     except AttributeError:  # bpy.data is not readable while Blender starts; load_post clears it then
         pass
+    live_ops.register()
     problem = prefs.package_problem()
-    if problem:  # also shown in the add-on's preferences and the panel
+    if problem:  # also shown in the add-on's preferences and the panels
         logging.getLogger(__name__).warning("hapticfluid: %s", problem)
 
 
 def unregister():
     import bpy
 
+    live_ops.unregister()  # ends running live sessions and removes their draw handlers first
     bake_ops.shutdown()  # cancels and joins running bakes, shows what finished
-    if properties.clear_stale_bake_state in bpy.app.handlers.load_post:
-        bpy.app.handlers.load_post.remove(properties.clear_stale_bake_state)
+    for handler in (properties.clear_stale_bake_state, live_props.clear_stale_live_state):
+        if handler in bpy.app.handlers.load_post:
+            bpy.app.handlers.load_post.remove(handler)
+    live_props.detach()
     properties.detach()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -35,7 +35,8 @@ def cache_note(settings) -> str:
     return ""
 
 
-def _world_box(obj):
+def world_box(obj):
+    """The object's world-space bounding box (lo, hi), m."""
     corners = [obj.matrix_world @ _vec(c) for c in obj.bound_box]
     lo = [min(c[i] for c in corners) for i in range(3)]
     hi = [max(c[i] for c in corners) for i in range(3)]
@@ -122,7 +123,7 @@ def domain_box(settings):
         raise SceneError(f"make the domain '{domain.name}' an axis-aligned box (e.g. a new cube scaled to size, "
                          f"or Clear Rotation before applying): its mesh is not a box along its axes ({problem}), "
                          "and only its bounding box would be simulated")
-    return _world_box(settings.domain)
+    return world_box(settings.domain)
 
 
 def fluid_dict(scene, settings):

@@ -18,6 +18,7 @@
 #include "haptics/scripted_device.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "session/field_snapshot.h"
 #include "session/haptic_session.h"
 #include "session/simulation.h"
 
@@ -70,6 +71,7 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["sim_steps"] = s.sim_steps;
   d["sim_step_ms"] = s.sim_step_ms;
   d["sim_dt"] = s.sim_dt_s;
+  d["snapshots"] = s.snapshots;
   d["force_gain"] = s.force_gain;
   d["force_gain_reason"] = s.force_gain_reason;
   const haptics::PassivityState& p = s.haptic.passivity;
@@ -141,7 +143,25 @@ sim_dt: fixed simulation step (s), stepped as fast as the GPU goes; 0 = real tim
 min_sim_dt, max_sim_dt: real-time step range (s).
 realtime: ask for SCHED_FIFO priority (a warning in stats()['scheduling'] if not granted).
 trace: keep a record per haptic period for trace() (up to trace_seconds of them).
+snapshot: None: no field snapshots; 0: the simulation thread reads the density back after every
+  step; s > 0: after the first step at least that long (wall time) after the last snapshot.
+  snapshot() returns the newest without waiting for the GPU (for drawing).
+snapshot_temperature: snapshots carry the temperature too (one more read-back).
+Defaults come from the engine: haptic_session_defaults().
 )doc";
+
+// A snapshot field as a read-only array [x, y, z] (x fastest) that keeps the snapshot alive.
+py::array_t<float> snapshotArray(const std::shared_ptr<const session::FieldSnapshot>& snap,
+                                 const std::vector<float>& field) {
+  auto* owner = new std::shared_ptr<const session::FieldSnapshot>(snap);
+  py::capsule keep(owner, [](void* p) { delete static_cast<std::shared_ptr<const session::FieldSnapshot>*>(p); });
+  const glm::ivec3 n = snap->resolution;
+  const py::ssize_t b = static_cast<py::ssize_t>(sizeof(float));
+  py::array_t<float> a({py::ssize_t{n.x}, py::ssize_t{n.y}, py::ssize_t{n.z}}, {b, b * n.x, b * n.x * n.y},
+                       field.data(), keep);
+  a.attr("setflags")(py::arg("write") = false);  // the snapshot is shared: nobody writes into it
+  return a;
+}
 
 }  // namespace
 
@@ -268,6 +288,36 @@ session on it fails to start; close() still stops it (the session then fails wit
       "extrapolate=True the 1 kHz loop carries the pose along the estimated velocity for up to one\n"
       "push interval. Not homed (no force) until the first push. max_force in N.");
 
+  const session::HapticSessionSettings defaults;  // the C++ defaults are the Python ones
+  const auto& dp = defaults.loop.pipeline;
+  m.def(
+      "haptic_session_defaults",
+      [defaults]() {
+        const auto& p = defaults.loop.pipeline;
+        py::dict d;
+        d["workspace_scale"] = p.map.scale.x;
+        d["force_gain"] = py::none();  // derived from the device's rendering limits
+        d["bandwidth_ratio"] = p.filter.bandwidth_ratio;
+        d["max_cutoff_per_rate"] = defaults.max_cutoff_per_rate;
+        d["prediction"] = p.prediction;
+        d["slew_rate"] = p.safety.slew_rate_n_s;
+        d["ramp_time"] = p.safety.ramp_s;
+        d["stale_after"] = p.safety.stale_after_s;
+        d["fade_time"] = p.safety.fade_s;
+        d["rate"] = defaults.loop.rate_hz;
+        d["sim_dt"] = defaults.sim_dt_s;
+        d["min_sim_dt"] = defaults.min_sim_dt_s;
+        d["max_sim_dt"] = defaults.max_sim_dt_s;
+        d["realtime"] = defaults.loop.realtime;
+        d["trace_seconds"] = session::kDefaultTraceS;
+        return d;
+      },
+      "The HapticSession's default settings (SI units, the names of its keyword arguments): the\n"
+      "engine defines them once; the Blender add-on takes its defaults from here. workspace_offset\n"
+      "None puts the middle of the device's workspace at the domain's centre; max_cutoff_per_rate\n"
+      "bounds the low-pass cutoff to that fraction of the haptic rate; force_gain None: the gain\n"
+      "the device can render, derived by the session (stats()['force_gain_reason']).");
+
   py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
   c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& workspace_scale,
                     const py::object& workspace_offset, std::optional<float> force_gain, std::optional<float> probe_radius,
@@ -275,18 +325,13 @@ session on it fails to start; close() still stops it (the session then fails wit
                     std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
                     double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
                     double trace_seconds, bool passivity, std::optional<float> passivity_max_damping,
-                    float passivity_deadband, double passivity_reserve, double passivity_memory) {
+                    float passivity_deadband, double passivity_reserve, double passivity_memory,
+                    std::optional<double> snapshot, bool snapshot_temperature) {
           if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
           session::HapticSessionSettings s;
           auto& p = s.loop.pipeline;
           p.map.scale = scaleArg(workspace_scale, "workspace_scale");
-          if (workspace_offset.is_none()) {  // the middle of the device's workspace at the domain's centre
-            const DeviceInfo info = device->info();
-            p.map.offset_m = sim.grid().origin_m + 0.5f * sim.grid().sizeM() -
-                             p.map.scale * (0.5f * (info.workspace_min_m + info.workspace_max_m));
-          } else {
-            p.map.offset_m = scaleArg(workspace_offset, "workspace_offset");
-          }
+          if (!workspace_offset.is_none()) s.workspace_offset_m = scaleArg(workspace_offset, "workspace_offset");
           s.derive_force_gain = !force_gain.has_value();
           if (force_gain) p.map.force_gain = *force_gain;
           p.passivity.enabled = passivity;
@@ -303,7 +348,6 @@ session on it fails to start; close() still stops it (the session then fails wit
           }
           p.filter.enabled = filter == "lowpass";
           p.filter.bandwidth_ratio = bandwidth_ratio;
-          p.filter.max_cutoff_hz = 0.2 * rate;
           p.prediction = prediction;
           p.safety.max_force_n = max_force ? *max_force : device->info().max_force_n;
           p.safety.slew_rate_n_s = slew_rate;
@@ -312,35 +356,36 @@ session on it fails to start; close() still stops it (the session then fails wit
           p.safety.fade_s = fade_time;
           s.loop.rate_hz = rate;
           s.loop.realtime = realtime;
-          if (trace) {
-            // The rate is checked (with its own message) when the session is made; a NaN or
-            // negative one must not reach the size_t conversion below first.
-            if (!(rate >= 100.0 && rate <= 10000.0)) {
-              throw InvalidArgument("haptic rate must be between 100 and 10000 Hz, got " + std::to_string(rate));
-            }
-            if (!(trace_seconds > 0.0) || trace_seconds * rate > double(std::size_t{1} << 24)) {
+          if (trace) {  // trace_s 0 means no trace: with trace=True, 0 is a bad length
+            if (!(trace_seconds > 0.0)) {
               throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
                                     std::to_string(trace_seconds) + " s");
             }
-            s.loop.trace_capacity = static_cast<std::size_t>(trace_seconds * rate) + 1;
+            s.trace_s = trace_seconds;
           }
           s.probe_radius_m = probe_radius;
           s.sim_dt_s = sim_dt;
           s.min_sim_dt_s = min_sim_dt;
           s.max_sim_dt_s = max_sim_dt;
+          s.snapshot_interval_s = snapshot;
+          s.snapshot_temperature = snapshot_temperature;
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
-        py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = 1.0f,
-        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = py::none(), py::arg("probe_radius") = py::none(),
-        py::arg("filter") = "lowpass", py::arg("bandwidth_ratio") = 0.5, py::arg("prediction") = false,
-        py::arg("max_force") = py::none(), py::arg("slew_rate") = 200.0f, py::arg("ramp_time") = 2.0,
-        py::arg("stale_after") = 0.1, py::arg("fade_time") = 0.2, py::arg("rate") = 1000.0, py::arg("sim_dt") = 0.0,
-        py::arg("min_sim_dt") = 0.01, py::arg("max_sim_dt") = 0.05, py::arg("realtime") = true, py::arg("trace") = false,
-        py::arg("trace_seconds") = 600.0, py::arg("passivity") = haptics::PassivitySettings{}.enabled,
-        py::arg("passivity_max_damping") = py::none(),
-        py::arg("passivity_deadband") = haptics::PassivitySettings{}.velocity_deadband_m_s,
-        py::arg("passivity_reserve") = haptics::PassivitySettings{}.max_reserve_j,
-        py::arg("passivity_memory") = haptics::PassivitySettings{}.reserve_decay_s, py::keep_alive<1, 2>());
+        py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = dp.map.scale.x,
+        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = py::none(),
+        py::arg("probe_radius") = py::none(), py::arg("filter") = "lowpass",
+        py::arg("bandwidth_ratio") = dp.filter.bandwidth_ratio, py::arg("prediction") = dp.prediction,
+        py::arg("max_force") = py::none(), py::arg("slew_rate") = dp.safety.slew_rate_n_s,
+        py::arg("ramp_time") = dp.safety.ramp_s, py::arg("stale_after") = dp.safety.stale_after_s,
+        py::arg("fade_time") = dp.safety.fade_s, py::arg("rate") = defaults.loop.rate_hz,
+        py::arg("sim_dt") = defaults.sim_dt_s, py::arg("min_sim_dt") = defaults.min_sim_dt_s,
+        py::arg("max_sim_dt") = defaults.max_sim_dt_s, py::arg("realtime") = defaults.loop.realtime,
+        py::arg("trace") = false, py::arg("trace_seconds") = session::kDefaultTraceS,
+        py::arg("passivity") = dp.passivity.enabled, py::arg("passivity_max_damping") = py::none(),
+        py::arg("passivity_deadband") = dp.passivity.velocity_deadband_m_s,
+        py::arg("passivity_reserve") = dp.passivity.max_reserve_j,
+        py::arg("passivity_memory") = dp.passivity.reserve_decay_s,
+        py::arg("snapshot") = py::none(), py::arg("snapshot_temperature") = false, py::keep_alive<1, 2>());
   // Started sessions join a WeakSet on the module; an atexit hook stops those still running
   // before the interpreter tears down (their threads must not outlive the objects they use).
   py::module_ weakref = py::module_::import("weakref");
@@ -398,12 +443,16 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["commanded_force"] = vec3Array(o.commanded_n);
         d["cutoff_hz"] = o.cutoff_hz;
         d["force_age"] = o.force_age_s;
-        d["position"] = vec3Array(s.latestState().position_m);
+        const DeviceState state = s.latestState();
+        d["position"] = vec3Array(state.position_m);
+        d["homed"] = state.homed;
+        d["buttons"] = state.buttons;
         return d;
       },
       "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, passive_force\n"
       "(after the passivity controller), commanded_force (device N), damping (N s/m), cutoff_hz,\n"
-      "force_age (s), position (m, device frame).");
+      "force_age (s), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
+      "latest reading.");
   c.def(
       "trace",
       [](HapticSession& s) {
@@ -427,6 +476,36 @@ session on it fails to start; close() still stops it (the session then fails wit
       "arrays time (s, monotonic clock), position (m, device frame), sim_force (fluid N),\n"
       "filtered_force and commanded_force (device N), one row per period.");
   c.def_property_readonly("device", [](const HapticSession& s) { return s.device(); }, "The Device it drives.");
+  c.def(
+      "snapshot",
+      [](const HapticSession& s) -> py::object {
+        std::shared_ptr<const session::FieldSnapshot> snap;
+        {
+          py::gil_scoped_release release;
+          snap = s.fieldSnapshot();
+        }
+        if (!snap) return py::none();
+        py::dict d;
+        d["sequence"] = snap->sequence;
+        d["time"] = snap->time_s;
+        d["steps"] = snap->steps;
+        d["resolution"] = py::make_tuple(snap->resolution.x, snap->resolution.y, snap->resolution.z);
+        d["density"] = snapshotArray(snap, snap->density);
+        d["temperature"] = snap->temperature.empty() ? py::object(py::none())
+                                                     : py::object(snapshotArray(snap, snap->temperature));
+        return d;
+      },
+      "The newest field snapshot (needs snapshot= at construction), or None before the first one.\n"
+      "Never waits for the GPU: the simulation thread read the fields back right after its step.\n"
+      "A dict: sequence (1, 2, ...: a new number means new fields), time (simulation s), steps,\n"
+      "resolution, density (read-only float32 array [x, y, z], no copy), temperature (K above\n"
+      "ambient, the same shape; None unless snapshot_temperature=True).");
+  c.def_property_readonly(
+      "workspace_offset", [](const HapticSession& s) { return vec3Array(s.settings().loop.pipeline.map.offset_m); },
+      "Domain position of the device origin in use (m): the given offset or the centred default.");
+  c.def_property_readonly(
+      "workspace_scale", [](const HapticSession& s) { return vec3Array(s.settings().loop.pipeline.map.scale); },
+      "Domain metres per device metre, per axis.");
   c.def("__enter__", [start](const py::object& self) {
     if (self.cast<HapticSession&>().state() == session::SessionState::Idle) start(self);
     return self;

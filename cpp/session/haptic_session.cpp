@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/finite.h"
 #include "common/format.h"
 #include "fluid/validate.h"
 #include "haptics/clock.h"
@@ -77,12 +78,45 @@ void HapticSessionSettings::validate() const {
   if (!std::isfinite(sim_dt_s) || (sim_dt_s != 0.0 && (sim_dt_s < fluid::kMinTimeStep || sim_dt_s > fluid::kMaxTimeStep))) {
     throw InvalidArgument("sim_dt must be 0 (real time) or between 1e-6 and 10 s, got " + std::to_string(sim_dt_s));
   }
+  if (workspace_offset_m && !allFinite(*workspace_offset_m)) {
+    throw InvalidArgument("workspace_offset must be finite metres (or None: centred), got " + vecText(*workspace_offset_m));
+  }
+  if (!(max_cutoff_per_rate > 0.0 && max_cutoff_per_rate <= 0.5)) {
+    throw InvalidArgument("the low-pass cutoff's bound must be a fraction of the haptic rate in (0, 0.5], got " +
+                          std::to_string(max_cutoff_per_rate));
+  }
+  // The rate is checked here too (loop.validate() says so with its own words) so the trace's
+  // size below never meets a NaN or negative rate.
+  if (!(trace_s >= 0.0) || !(loop.rate_hz > 0.0) || trace_s * loop.rate_hz > double(std::size_t{1} << 24)) {
+    throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
+                          std::to_string(trace_s) + " s");
+  }
+  if (snapshot_interval_s && !(*snapshot_interval_s >= 0.0 && *snapshot_interval_s <= 3600.0)) {
+    throw InvalidArgument("snapshot must be None (off), 0 (after every step) or seconds between snapshots up to "
+                          "3600, got " + std::to_string(*snapshot_interval_s));
+  }
+}
+
+HapticSessionSettings HapticSessionSettings::resolve(const glm::vec3& domain_origin_m, const glm::vec3& domain_size_m,
+                                                     const haptics::DeviceInfo& device) const {
+  validate();
+  HapticSessionSettings r = *this;
+  auto& p = r.loop.pipeline;
+  p.map.offset_m = workspace_offset_m ? *workspace_offset_m
+                                      : domain_origin_m + 0.5f * domain_size_m -
+                                            p.map.scale * (0.5f * (device.workspace_min_m + device.workspace_max_m));
+  p.filter.max_cutoff_hz = max_cutoff_per_rate * r.loop.rate_hz;
+  r.loop.trace_capacity = trace_s > 0.0 ? static_cast<std::size_t>(trace_s * r.loop.rate_hz) + 1 : 0;
+  r.loop.validate();
+  return r;
 }
 
 HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings)
     : sim_(sim),
       device_(std::move(device)),
-      s_((settings.validate(), withForceGain(settings, sim, device_))),
+      s_(withForceGain(settings.resolve(sim.grid().origin_m, sim.grid().sizeM(),
+                                        device_ ? device_->info() : haptics::DeviceInfo{}),
+                       sim, device_)),
       loop_(device_, poses_, forces_, s_.loop) {
   // Not while another session drives this simulation: the probe set below would replace its probe.
   { SimulationClaim free_now(sim_, "make a haptic session on it"); }
@@ -296,6 +330,7 @@ void HapticSession::simLoop() {
       sim_rate_hz_.store(rate.rateHz(), std::memory_order_relaxed);
       sim_step_ms_.store(1e3 * (done_s - start_s), std::memory_order_relaxed);
       sim_dt_s_.store(dt_s, std::memory_order_relaxed);
+      publishSnapshot(done_s);
       if (s_.sim_dt_s <= 0.0) {  // real time: no faster than one step per min_sim_dt_s of wall time
         std::unique_lock<std::mutex> lock(mutex_);
         const auto until = std::chrono::duration<double>(start_s + s_.min_sim_dt_s - haptics::monotonicNowS());
@@ -312,6 +347,32 @@ void HapticSession::simLoop() {
   cv_.notify_all();
 }
 
+void HapticSession::publishSnapshot(double now_s) {
+  if (!s_.snapshot_interval_s) return;
+  if (last_snapshot_s_ >= 0.0 && now_s - last_snapshot_s_ < *s_.snapshot_interval_s) return;
+  auto snap = std::make_shared<FieldSnapshot>();
+  snap->resolution = sim_.grid().res;
+  snap->density = sim_.readFloat(Field::Density);  // this thread waits for the GPU, the host never does
+  if (s_.snapshot_temperature) snap->temperature = sim_.readFloat(Field::Temperature);
+  snap->time_s = sim_.timeS();  // only this thread steps, so the clock is the step's
+  snap->steps = sim_.steps();
+  snap->sequence = ++snapshot_sequence_;
+  last_snapshot_s_ = now_s;
+  std::shared_ptr<const FieldSnapshot> old;
+  {
+    std::lock_guard<std::mutex> lock(snapshot_mutex_);
+    old = std::move(snapshot_);
+    snapshot_ = std::move(snap);
+  }
+  snapshots_.store(snapshot_sequence_, std::memory_order_relaxed);
+  // `old` is freed here, outside the lock (unless the host still holds it).
+}
+
+std::shared_ptr<const FieldSnapshot> HapticSession::fieldSnapshot() const {
+  std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  return snapshot_;
+}
+
 SessionState HapticSession::state() const {
   return loop_.failed() ? SessionState::Failed : state_.load(std::memory_order_acquire);
 }
@@ -324,6 +385,7 @@ HapticSessionStats HapticSession::stats() const {
   st.sim_steps = sim_steps_.load(std::memory_order_relaxed);
   st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
   st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
+  st.snapshots = snapshots_.load(std::memory_order_relaxed);
   st.force_gain = s_.loop.pipeline.map.force_gain;
   st.force_gain_reason = s_.force_gain_reason;
   st.error = error();

@@ -4,8 +4,10 @@
 //     filter, map, safety -> device. It never waits on this object, the GPU or Python.
 //   simulation thread (owned here, free-running): latest pose -> probe -> Simulation::step ->
 //     force mailbox. A step takes as long as the GPU needs; the haptic thread does not notice.
-//   host (Python, Blender): start/pause/resume/stop, stats(), latest(), drainTrace(); none of
-//     these waits for a GPU step except stop(), which waits at most its timeout.
+//   host (Python, Blender): start/pause/resume/stop, stats(), latest(), drainTrace(),
+//     fieldSnapshot(); none of these waits for a GPU step except stop(), which waits at most its
+//     timeout. With snapshots on, the simulation thread reads the fields back right after its
+//     step and publishes them (FieldSnapshot), so the host can draw them without the GPU.
 // An error on either thread (device gone: zero at once; solver failure: slewed to zero) stops force output and is
 // kept: error() returns it and stop() throws it as hf::Error after a clean shutdown.
 #include <atomic>
@@ -22,14 +24,31 @@
 #include "haptics/haptic_loop.h"
 #include "haptics/mailbox.h"
 #include "obstacle/triangle_mesh.h"
+#include "session/field_snapshot.h"
 
 namespace hf::session {
 
 class Simulation;
 class SimulationClaim;
 
+inline constexpr double kDefaultTraceS = 600.0;  // trace length the Python API keeps when asked, s
+
 struct HapticSessionSettings {
+  // The session fills loop.pipeline.map.offset_m, loop.pipeline.filter.max_cutoff_hz and
+  // loop.trace_capacity from the three settings below (resolve()); the rest is used as set.
   haptics::HapticLoopSettings loop;
+  // Domain position (m) of the device origin; none: the offset that puts the middle of the
+  // device's workspace (DeviceInfo) at the domain's centre, for the map's scale.
+  std::optional<glm::vec3> workspace_offset_m;
+  // The low-pass cutoff is at most this fraction of the haptic rate (dimensionless, (0, 0.5]).
+  double max_cutoff_per_rate = 0.2;
+  // Haptic periods kept for drainTrace(), in seconds of them at the loop's rate; 0: no trace.
+  double trace_s = 0.0;
+  // Field snapshots: none: off; 0: after every step; > 0: after the first step that ends at least
+  // this long (s, wall time) after the previous snapshot. Each costs one density read-back (and
+  // one temperature read-back with snapshot_temperature) on the simulation thread.
+  std::optional<double> snapshot_interval_s;
+  bool snapshot_temperature = false;
   // A sphere of this radius (m, >= one cell) becomes the probe; none: the simulation's current
   // probe (sphere or mesh, its orientation kept) is moved, or a 0.1 m sphere if it has none.
   std::optional<float> probe_radius_m = 0.1f;
@@ -44,6 +63,9 @@ struct HapticSessionSettings {
   bool derive_force_gain = true;
   std::string force_gain_reason;   // set by the session: how the gain in use was chosen
   void validate() const;
+  // These settings with the derived loop fields filled in for this domain and device; validates.
+  HapticSessionSettings resolve(const glm::vec3& domain_origin_m, const glm::vec3& domain_size_m,
+                                const haptics::DeviceInfo& device) const;
 };
 
 enum class SessionState { Idle, Running, Paused, Stopped, Failed };
@@ -56,6 +78,7 @@ struct HapticSessionStats {
   std::uint64_t sim_steps = 0;     // steps taken by this session
   double sim_step_ms = 0.0;        // host time of the latest step, ms
   double sim_dt_s = 0.0;           // time step of the latest step, s
+  std::uint64_t snapshots = 0;     // field snapshots published
   float force_gain = 0.0f;         // device N per fluid N in use
   std::string force_gain_reason;   // how it was chosen
   std::string error;               // "" or the first error
@@ -90,6 +113,9 @@ class HapticSession {
   haptics::DeviceState latestState() const { return loop_.latestState(); }
   std::string error() const;
   std::vector<haptics::TraceSample> drainTrace();
+  // The newest field snapshot, or null (snapshots off, or none published yet). Never waits for
+  // the GPU: it copies a pointer under a lock the simulation thread holds only to swap it.
+  std::shared_ptr<const FieldSnapshot> fieldSnapshot() const;
   const HapticSessionSettings& settings() const { return s_; }
   const haptics::DevicePtr& device() const { return device_; }
 
@@ -101,6 +127,7 @@ class HapticSession {
 
  private:
   void simLoop();
+  void publishSnapshot(double now_s);  // simulation thread
   void fail(const std::string& message);
   void joinAll();
 
@@ -129,6 +156,12 @@ class HapticSession {
   std::atomic<std::uint64_t> sim_steps_{0};
   std::atomic<double> sim_step_ms_{0.0};
   std::atomic<double> sim_dt_s_{0.0};
+
+  mutable std::mutex snapshot_mutex_;  // guards snapshot_ (held only to swap or copy the pointer)
+  std::shared_ptr<const FieldSnapshot> snapshot_;
+  std::atomic<std::uint64_t> snapshots_{0};
+  std::uint64_t snapshot_sequence_ = 0;  // simulation thread only
+  double last_snapshot_s_ = -1.0;        // simulation thread only
 };
 
 }  // namespace hf::session

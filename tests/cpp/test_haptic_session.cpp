@@ -30,7 +30,7 @@ TEST(HapticSession, RunsStopsAndReportsADeviceError) {
   auto device = std::make_shared<HostDevice>(5.0f);
   session::HapticSessionSettings s;
   s.probe_radius_m = 0.15f;
-  s.loop.pipeline.map.offset_m = glm::vec3(0.5f);
+  s.workspace_offset_m = glm::vec3(0.5f);
   s.loop.pipeline.safety.ramp_s = 0.0;
   session::HapticSession hs(sim, device, s);
   // A pose far outside the domain is held inside the region the simulation accepts.
@@ -94,7 +94,7 @@ TEST(HapticSession, KeepsTheSimulationsMeshProbeAndItsOrientation) {
   sim.setMeshProbe(cube, start, std::nullopt);
   session::HapticSessionSettings s;
   s.probe_radius_m = std::nullopt;  // keep the simulation's probe
-  s.loop.pipeline.map.offset_m = glm::vec3(0.5f);
+  s.workspace_offset_m = glm::vec3(0.5f);
   session::HapticSession hs(sim, std::make_shared<HostDevice>(5.0f), s);
   PoseFrame p;
   p.position_m = glm::vec3(0.6f, 0.45f, 3.0f);

@@ -1,0 +1,126 @@
+"""The live session's settings and read-only stats, stored on the scene as ``scene.hapticfluid_live``.
+
+The domain, probe and smoke source are the bake's (``scene.hapticfluid_bake``): one set of roles.
+Defaults of the haptic settings come from the engine (``hapticfluid.haptic_session_defaults()``),
+so the add-on and the Python API behave alike; without the package the properties register with
+no default (no session can start then, and the panel says why).
+"""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty, \
+    StringProperty
+
+
+def _engine_defaults():
+    try:
+        import hapticfluid
+
+        return hapticfluid.haptic_session_defaults()
+    except ImportError:
+        return {}
+
+
+_DEFAULTS = _engine_defaults()
+
+
+def _default(name):
+    return {"default": _DEFAULTS[name]} if _DEFAULTS.get(name) is not None else {}
+
+
+DEVICE_ITEMS = (
+    ("MOUSE", "Mouse / Transform", "No device: the probe object's own transform drives the fluid; grab it (G) or "
+                                   "move it any way Blender allows"),
+    ("TIMELINE", "Timeline", "The probe's animation drives the fluid while the timeline plays"),
+    ("FALCON", "Falcon", "A Novint Falcon: the probe follows its grip and the force goes to the handle"),
+    ("SIMULATED_FALCON", "Simulated Falcon", "The Falcon driver on a simulated Falcon held by a simulated hand "
+                                             "(demos and tests, no hardware)"),
+)
+
+
+def _stat(name, description, unit="NONE", precision=1):
+    return FloatProperty(name=name, description=description, default=0.0, unit=unit, precision=precision)
+
+
+class HapticFluidLiveSettings(bpy.types.PropertyGroup):
+    device: EnumProperty(name="Device", items=DEVICE_ITEMS, default="MOUSE",
+                         description="What moves the probe during the live session")
+    auto_resolution: BoolProperty(
+        name="Auto Resolution", default=True,
+        description="Preview resolution by the GPU: 32 cells on a software renderer (llvmpipe), 64 on a hardware GPU")
+    resolution: IntProperty(name="Preview Resolution", default=32, min=8, max=512, soft_max=128,
+                            description="Cells along the domain's longest edge during the live session "
+                                        "(the bake has its own)")
+    auto_workspace: BoolProperty(
+        name="Fit Workspace", default=True,
+        description="Map the device's workspace onto the domain: uniform scale so it fits, its middle at the "
+                    "domain's centre")
+    workspace_scale: FloatProperty(name="Workspace Scale", min=-1000.0, max=1000.0, soft_min=0.1, soft_max=100.0,
+                                   description="Domain metres per device metre (Falcon modes, Fit Workspace off)",
+                                   **_default("workspace_scale"))
+    workspace_offset: FloatVectorProperty(name="Workspace Offset", size=3, subtype="TRANSLATION", unit="LENGTH",
+                                          description="World position (m) of the device's origin (Falcon modes, "
+                                                      "Fit Workspace off)")
+    auto_force_gain: BoolProperty(
+        name="Derive Gain", default=True,
+        description="Force gain the device can render for this probe, fluid and workspace scale (the engine "
+                    "derives it; Stats shows why); off: Force Gain")
+    force_gain: FloatProperty(name="Force Gain", default=1.0, min=0.0, max=1e6, soft_max=1000.0,
+                              description="Device newtons per fluid newton (Derive Gain off)")
+    max_force: FloatProperty(name="Max Force", default=4.0, min=0.01, max=8.0, unit="NONE",
+                             description="Largest force sent to the device (N); the Falcon's limit is 8 N")
+    bandwidth_ratio: FloatProperty(name="Filter Bandwidth", min=0.01, max=10.0,
+                                   description="Force low-pass cutoff as a fraction of the measured simulation "
+                                               "rate (dimensionless)", **_default("bandwidth_ratio"))
+    prediction: BoolProperty(name="Prediction",
+                             description="Update the force between simulation frames with a fitted drag model",
+                             **_default("prediction"))
+    firmware_path: StringProperty(name="Falcon Firmware", subtype="FILE_PATH", default="",
+                                  description="Novint's firmware file (nvent_firmware.bin), uploaded when the Falcon "
+                                              "runs none (after power-on); empty: it must already run")
+    record_rate: FloatProperty(name="Record Rate", default=24.0, min=1.0, max=1000.0,
+                               description="Keys per second of performance recorded into the probe's action (Hz)")
+    density_scale: FloatProperty(name="Smoke Density", default=20.0, min=0.0, max=10000.0,
+                                 description="Viewport extinction per unit density per metre (1/m)")
+    show_temperature: BoolProperty(name="Temperature Colour", default=False,
+                                   description="Colour the viewport smoke by temperature")
+    # Live state and stats, written by the session (not settings).
+    is_running: BoolProperty(name="Running", default=False, description="A live session runs")
+    is_recording: BoolProperty(name="Recording", default=False, description="The probe's motion is being keyed")
+    status: StringProperty(name="Status", default="", description="What the live session does or why it ended")
+    resolution_used: IntProperty(name="Resolution", default=0, description="Cells along the longest edge in use")
+    sim_rate_hz: _stat("Simulation", "Simulation steps per second (Hz)")
+    haptic_rate_hz: _stat("Haptic", "Haptic loop periods per second (Hz)", precision=0)
+    jitter_p99_ms: _stat("Jitter p99", "99th percentile of the haptic period's deviation (ms)", precision=3)
+    latency_p50_ms: _stat("Latency p50", "Median device pose -> force latency (ms)")
+    latency_p99_ms: _stat("Latency p99", "99th percentile device pose -> force latency (ms)")
+    force_n: _stat("Fluid Force", "Magnitude of the fluid force on the probe (N)", precision=4)
+    device_force_n: _stat("Device Force", "Magnitude of the force commanded to the device (N)", precision=3)
+    force_gain_used: _stat("Gain", "Device newtons per fluid newton in use", precision=3)
+    force_gain_reason: StringProperty(name="Gain Reason", default="", description="How the force gain was chosen")
+    device_state: StringProperty(name="Device", default="", description="Device name, homed, buttons")
+    realtime: BoolProperty(name="Real-time Priority", default=False,
+                           description="The haptic thread got real-time (SCHED_FIFO) priority")
+    scheduling: StringProperty(name="Scheduling", default="", description="Why real-time priority was not granted")
+
+
+_LIVE_STATE = ("is_running", "is_recording")
+
+
+@bpy.app.handlers.persistent
+def clear_stale_live_state(_filepath=None):
+    """load_post handler: a file saved during a live session keeps is_running; no session of a
+    file just opened runs."""
+    for scene in bpy.data.scenes:
+        live = getattr(scene, "hapticfluid_live", None)
+        if live is not None and (live.is_running or live.is_recording):
+            for name in _LIVE_STATE:
+                setattr(live, name, False)
+            live.status = "the live session of this file ended when it was saved or closed"
+
+
+def attach():
+    bpy.types.Scene.hapticfluid_live = PointerProperty(type=HapticFluidLiveSettings)
+
+
+def detach():
+    del bpy.types.Scene.hapticfluid_live

@@ -1,0 +1,523 @@
+"""The live session's controller: a plain class, no drawing and no operator, testable headless.
+
+``LiveController(scene)`` reads everything it needs from bpy on the main thread (``read_plan``),
+then a worker thread (which never touches bpy) opens the device, makes the Simulation and the
+HapticSession and starts it, so a Falcon's firmware upload or the GL context never freezes
+Blender. ``tick()`` runs on the main thread ~30-60 times a second: it pushes the probe object's
+pose to the host device (Mouse, Timeline) or moves the object to the device pose (Falcon,
+Simulated Falcon), takes the newest field snapshot if its sequence changed, copies the stats
+into the scene's live properties and records keys while recording. ``stop()`` ramps the force
+down through the session's slew limit, joins the threads and returns a report (or None).
+
+Every bad setup raises (or, found by the worker, ends the session with) a ``SessionError`` whose
+message starts with the fix.
+"""
+
+import logging
+import math
+import os
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Tuple
+
+import bpy
+
+from . import blender_scene
+
+log = logging.getLogger(__name__)
+
+HOST_MODES = ("MOUSE", "TIMELINE")     # the object's transform drives the probe
+DEVICE_MODES = ("FALCON", "SIMULATED_FALCON")  # the device drives the object
+SNAPSHOT_INTERVAL_S = 1.0 / 60.0       # newest fields for the viewport at most this often (wall s)
+STOP_TIMEOUT_S = 10.0                  # stop() waits this long for the simulation's current step
+
+
+class SessionError(Exception):
+    """A live session cannot start or had to end; the message starts with the fix."""
+
+
+@dataclass
+class LivePlan:
+    """What the worker needs, read from bpy on the main thread (plain values only)."""
+
+    mode: str
+    probe_name: str
+    resolution: Optional[int]          # cells along the longest edge; None: by the GL renderer
+    domain_lo: Tuple[float, float, float]
+    domain_hi: Tuple[float, float, float]
+    fluid: Dict[str, Any]
+    source: Optional[Dict[str, Any]]
+    probe_shape: Dict[str, Any]        # blender_scene.probe_shape_dict
+    probe_matrix: List[List[float]]    # matrix_world at the start (rows)
+    session_args: Dict[str, Any]       # HapticSession keyword arguments (SI)
+    auto_workspace: bool
+    max_force: float                   # N
+    firmware: Optional[str] = None
+    show_temperature: bool = False
+
+
+@dataclass
+class _Recording:
+    obj_name: str
+    rotation_path: str
+    start_frame: float
+    fps: float
+    interval_s: float
+    t0: float
+    last_t: float = -math.inf
+    samples: List[Tuple[float, Tuple[float, ...], Tuple[float, ...]]] = field(default_factory=list)
+
+
+def _import_hf():
+    try:
+        import hapticfluid
+    except ImportError as exc:
+        raise SessionError(f"Install the hapticfluid package where Blender's Python finds it (see README: "
+                           f"pip install into Blender's Python, or PYTHONPATH): it is not importable ({exc})") from None
+    return hapticfluid
+
+
+def _sentence(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
+def read_plan(scene) -> LivePlan:
+    """Main thread: the scene's roles and settings -> LivePlan, or SessionError (fix first)."""
+    _import_hf()  # the first thing to fix if it fails
+    bake = scene.hapticfluid_bake
+    live = scene.hapticfluid_live
+    try:
+        lo, hi = blender_scene.domain_box(bake)
+    except blender_scene.SceneError as exc:
+        raise SessionError(_sentence(str(exc))) from None
+    if min(hi[i] - lo[i] for i in range(3)) <= 0.0:
+        raise SessionError(f"Give the domain '{bake.domain.name}' a volume: its bounding box is flat")
+    probe = bake.probe
+    if probe is None:
+        raise SessionError("Choose a probe object (hapticfluid sidebar > Probe): the object that pushes the smoke")
+    if probe.name not in scene.objects:
+        raise SessionError(f"Link the probe '{probe.name}' into this scene: it is not in scene '{scene.name}'")
+    try:
+        shape = blender_scene.probe_shape_dict(probe, bake.probe_shape)
+    except blender_scene.SceneError as exc:
+        raise SessionError(_sentence(str(exc))) from None
+    plo, phi = blender_scene.world_box(probe) if probe.type == "MESH" else (
+        [probe.matrix_world.translation[i] - shape.get("radius", 0.0) for i in range(3)],
+        [probe.matrix_world.translation[i] + shape.get("radius", 0.0) for i in range(3)])
+    if any(plo[i] < lo[i] or phi[i] > hi[i] for i in range(3)):
+        raise SessionError(f"Move the probe '{probe.name}' inside the domain '{bake.domain.name}': its box "
+                           f"{_box_text(plo, phi)} reaches outside the domain {_box_text(lo, hi)}")
+    firmware = None
+    if live.device == "FALCON" and live.firmware_path:
+        firmware = bpy.path.abspath(live.firmware_path)
+        if not os.path.isfile(firmware):
+            raise SessionError(f"Choose the Falcon firmware file (Novint's nvent_firmware.bin) in the sidebar: "
+                               f"'{firmware}' does not exist")
+    session_args = {
+        "force_gain": None if live.auto_force_gain else live.force_gain,  # None: the engine derives it
+        "filter": "lowpass",
+        "bandwidth_ratio": live.bandwidth_ratio,
+        "prediction": live.prediction,
+        "max_force": live.max_force,
+        "probe_radius": None,  # keep the probe the simulation was given (sphere or mesh)
+        "snapshot": SNAPSHOT_INTERVAL_S,
+        "snapshot_temperature": live.show_temperature,
+    }
+    if live.device in HOST_MODES:  # the device frame is the world: the pose pushed is the object's
+        session_args.update(workspace_scale=1.0, workspace_offset=(0.0, 0.0, 0.0))
+    elif not live.auto_workspace:
+        session_args.update(workspace_scale=live.workspace_scale, workspace_offset=tuple(live.workspace_offset))
+    return LivePlan(
+        mode=live.device, probe_name=probe.name, resolution=None if live.auto_resolution else live.resolution,
+        domain_lo=tuple(lo), domain_hi=tuple(hi), fluid=blender_scene.fluid_dict(scene, bake),
+        source=blender_scene.source_dict(bake), probe_shape=shape,
+        probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
+        auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
+        firmware=firmware, show_temperature=live.show_temperature)
+
+
+def _box_text(lo, hi) -> str:
+    return "(" + ", ".join(f"{a:.3g}..{b:.3g}" for a, b in zip(lo, hi)) + ") m"
+
+
+def preview_resolution(software: bool) -> int:
+    """Cells along the longest edge when the resolution is automatic: a software renderer
+    (llvmpipe) steps 32^3 at about 40 Hz, a hardware GPU 64^3 faster still."""
+    return 32 if software else 64
+
+
+class _Engine:
+    """The hapticfluid objects of one session, made on the worker thread (no bpy there)."""
+
+    def __init__(self):
+        self.sim = None
+        self.device = None
+        self.session = None
+        self.resolution = None
+        self.workspace_box = None  # (lo, hi) world m for device modes
+
+    def build(self, plan: LivePlan):
+        hf = _import_hf()
+        self.device = self._open_device(hf, plan)
+        size = [plan.domain_hi[i] - plan.domain_lo[i] for i in range(3)]
+        try:
+            res = plan.resolution
+            if res is None:
+                res = preview_resolution(bool(hf.probe_device().get("software", True)))
+            h = max(size) / res
+            cells = tuple(max(8, int(round(s / h))) for s in size)
+            self.sim = hf.Simulation(resolution=cells, domain_size=tuple(n * h for n in cells),
+                                     origin=plan.domain_lo, compute_residual=False, **plan.fluid)
+        except hf.HapticFluidError as exc:
+            raise SessionError(f"Check the GPU driver (or set HAPTICFLUID_EGL_DEVICE, see README): the simulation's "
+                               f"GL context could not be made: {exc}") from None
+        self.resolution = cells
+        if plan.source is not None:
+            s = plan.source
+            self.sim.set_smoke_source(tuple(s["centre"]), s["radius"], density=s["density"],
+                                      temperature=s["temperature"])
+        shape = plan.probe_shape
+        matrix = plan.probe_matrix
+        try:
+            if shape["shape"] == "mesh":
+                import numpy as np
+
+                self.sim.set_mesh_probe(np.asarray(shape["vertices"], dtype=np.float32),
+                                        np.asarray(shape["triangles"], dtype=np.int32), matrix)
+            else:
+                scale = max(math.sqrt(sum(matrix[r][c] ** 2 for r in range(3))) for c in range(3))
+                self.sim.set_probe(tuple(matrix[r][3] for r in range(3)), shape["radius"] * scale)
+        except hf.InvalidArgumentError as exc:
+            if "not closed" in str(exc):
+                raise SessionError(f"Close the probe '{plan.probe_name}' mesh (Edit Mode: Mesh > Clean Up > Fill Holes, "
+                                   f"then Mesh > Normals > Recalculate Outside) or use the Sphere probe shape: "
+                                   f"{exc}") from None
+            raise SessionError(_fix_first(str(exc))) from None
+        args = dict(plan.session_args)
+        info = self.device.info()
+        if plan.auto_workspace:  # the device's workspace fills the domain (uniform scale, centred)
+            ws = [info.workspace_max[i] - info.workspace_min[i] for i in range(3)]
+            args["workspace_scale"] = float(min(size[i] / ws[i] for i in range(3)))
+        try:
+            self.session = hf.HapticSession(self.sim, self.device, **args)
+        except hf.InvalidArgumentError as exc:
+            raise SessionError(_fix_first(str(exc))) from None
+        if plan.mode in DEVICE_MODES:
+            off, scale = self.session.workspace_offset, self.session.workspace_scale
+            a = off + scale * info.workspace_min
+            b = off + scale * info.workspace_max
+            self.workspace_box = (tuple(float(min(a[i], b[i])) for i in range(3)),
+                                  tuple(float(max(a[i], b[i])) for i in range(3)))
+        if plan.mode in HOST_MODES:  # the first pose the haptic thread reads is the object's
+            self.device.push_pose(tuple(matrix[r][3] for r in range(3)))
+        self.session.start()
+
+    @staticmethod
+    def _open_device(hf, plan: LivePlan):
+        if plan.mode in HOST_MODES:
+            return hf.host_device(max_force=plan.max_force)
+        if plan.mode == "SIMULATED_FALCON":
+            return hf.open_simulated_falcon(max_force=plan.max_force)
+        try:
+            # No homing wait: the session commands no force until the user has homed it.
+            return hf.open_falcon(firmware=plan.firmware, home=False, max_force=plan.max_force)
+        except (hf.HapticFluidError, hf.InvalidArgumentError) as exc:
+            text = str(exc)
+            if "may not open" in text:  # the driver's message ends with the udev rule and how to install it
+                raise SessionError(f"Install the udev rule below, then unplug and replug the Falcon: {text}") from None
+            if "is plugged in" in text:
+                raise SessionError(f"Plug in the Falcon's USB cable and power supply, or choose the Simulated Falcon "
+                                   f"device (no Novint Falcon is plugged in)") from None
+            raise SessionError(_fix_first(f"Falcon: {text}")) from None
+
+    def close(self):
+        """Stops the session (force slewed to zero, threads joined) and frees the device and GPU;
+        returns the error that ended the session, or None."""
+        error = None
+        if self.session is not None:
+            try:
+                self.session.stop(timeout=STOP_TIMEOUT_S)
+            except Exception as exc:  # the error that ended the session (device gone, solver) or a slow step
+                error = str(exc)
+                try:
+                    self.session.stop(timeout=STOP_TIMEOUT_S)  # a slow last step: once more
+                except Exception:
+                    pass
+        if self.device is not None:
+            self.device.close()
+        if self.sim is not None:
+            self.sim.close()
+        return error
+
+
+def _fix_first(message: str) -> str:
+    """An engine message as a report, fix first: the engine's messages say what is wrong, then
+    after '; ' (or ': plug ...') what to do."""
+    for marker in ("; ", ": plug "):
+        i = message.rfind(marker)
+        if i > 0:
+            fix = message[i + len(marker):].strip()
+            if marker == ": plug ":
+                fix = "plug " + fix
+            if fix:
+                return f"{fix[:1].upper()}{fix[1:]} ({message[:i]})"
+    return message
+
+
+def _failure_report(error: str) -> str:
+    """The report for a session the engine ended (fix first, then the engine's words)."""
+    if error.startswith("simulation thread"):
+        return (f"Start the session again (the fluid is reset); if it recurs, raise the pressure iterations or move "
+                f"the probe more slowly: {error}")
+    return f"Check the device's cable and power, then start the session again: {error}"
+
+
+class LiveController:
+    """One live session of one scene. Main thread only (bpy); the engine runs on its own threads."""
+
+    def __init__(self, scene, drawer=None, clock=time.monotonic):
+        self.scene = scene
+        self.scene_name = scene.name
+        self.drawer = drawer
+        self.clock = clock
+        self.plan = read_plan(scene)  # SessionError on a bad setup, before any thread starts
+        bake = scene.hapticfluid_bake
+        self.probe = bake.probe
+        self.domain = bake.domain
+        self.probe_name = self.probe.name
+        self.domain_name = self.domain.name
+        self.start_matrix = self.probe.matrix_world.copy()
+        self.force_origin = tuple(self.start_matrix.translation)  # where the force arrow was last drawn (m)
+        self.engine = _Engine()
+        self.state = "starting"   # starting -> running -> stopped
+        self.report = None        # why it ended (None: stopped by the user without error)
+        self.recording = None
+        self.keys_written = 0
+        self.last_sequence = 0
+        self.ticks = 0
+        self._display = None
+        self._worker_error = None
+        self._worker = threading.Thread(target=self._build, name="hapticfluid-live-start", daemon=True)
+        self._worker.start()
+
+    # -- worker -----------------------------------------------------------------------------
+    def _build(self):
+        try:
+            self.engine.build(self.plan)
+        except SessionError as exc:
+            self._worker_error = str(exc)
+        except Exception as exc:  # anything else the engine raised: still a report, never a traceback
+            self._worker_error = f"Report this as a bug: the live session failed to start: {type(exc).__name__}: {exc}"
+
+    def wait_started(self, timeout=120.0):
+        """Blocks until the worker has finished (for scripts and tests); raises SessionError if the
+        session could not start."""
+        self._worker.join(timeout)
+        self.tick()
+        if self.state == "stopped" and self.report:
+            raise SessionError(self.report)
+        if self.state != "running":
+            raise SessionError(f"Wait longer or lower the preview resolution: the session did not start in {timeout} s")
+
+    # -- main thread ----------------------------------------------------------------------
+    @property
+    def live(self):
+        return self.scene.hapticfluid_live
+
+    @property
+    def session(self):
+        return self.engine.session
+
+    def tick(self):
+        """One main-thread update; returns the state ('starting', 'running' or 'stopped')."""
+        if self.state == "starting":
+            if self._worker.is_alive():
+                return self.state
+            if self._worker_error is not None:
+                self._end(self._worker_error)
+                return self.state
+            self.state = "running"
+            self._on_started()
+        if self.state != "running":
+            return self.state
+        problem = self._lost_object()
+        if problem:
+            self._end(problem)
+            return self.state
+        session = self.session
+        if session.state == "failed":
+            self._end(_failure_report(session.error or ""))
+            return self.state
+        now = self.clock()
+        self.ticks += 1
+        latest = session.latest()
+        if self.plan.mode in HOST_MODES:
+            self.engine.device.push_pose(tuple(self.probe.matrix_world.translation))
+        else:
+            self._follow_device(latest)
+        self._update_drawer(latest)
+        self._update_stats(latest)
+        if self.recording is not None:
+            self._sample(now)
+        return self.state
+
+    def _on_started(self):
+        live = self.live
+        live.is_running = True
+        live.resolution_used = max(self.engine.resolution)
+        live.status = f"running at {'x'.join(map(str, self.engine.resolution))} cells"
+        if self.drawer is not None:
+            self.drawer.set_domain(self.plan.domain_lo, self.plan.domain_hi)
+            self.drawer.set_workspace_box(*(self.engine.workspace_box or (None, None)))
+
+    def _lost_object(self) -> Optional[str]:
+        for obj, name, role in ((self.probe, self.probe_name, "probe"), (self.domain, self.domain_name, "domain")):
+            try:
+                linked = obj.name in self.scene.objects
+            except ReferenceError:
+                linked = False
+            if not linked:
+                return f"Start the session again with a {role}: the {role} '{name}' was deleted"
+        return None
+
+    def _follow_device(self, latest):
+        from mathutils import Vector
+
+        p = Vector(latest["position"])
+        off = Vector(self.session.workspace_offset)
+        scale = Vector(self.session.workspace_scale)
+        world = off + Vector((scale[0] * p[0], scale[1] * p[1], scale[2] * p[2]))
+        m = self.start_matrix.copy()
+        m.translation = world
+        self.probe.matrix_world = m
+
+    def _update_drawer(self, latest):
+        snap = self.session.snapshot()
+        if snap is not None and snap["sequence"] != self.last_sequence:
+            self.last_sequence = snap["sequence"]
+            if self.drawer is not None:
+                self.drawer.set_density(snap["density"], snap["temperature"])
+        if self.drawer is not None:
+            display = (self.live.density_scale, self.live.show_temperature)
+            if display != self._display:  # the user may change them during the session
+                self._display = display
+                self.drawer.set_display(*display)
+            self.force_origin = tuple(self.probe.matrix_world.translation)
+            self.drawer.set_force(self.force_origin, tuple(latest["sim_force"]), self.plan.max_force)
+
+    def _update_stats(self, latest):
+        s = self.session.stats()
+        live = self.live
+        live.sim_rate_hz = s["sim_rate_hz"]
+        live.haptic_rate_hz = s["haptic_rate_hz"]
+        live.jitter_p99_ms = s["jitter_p99_ms"]
+        live.latency_p50_ms = s["latency_p50_ms"]
+        live.latency_p99_ms = s["latency_p99_ms"]
+        live.force_n = float(sum(c * c for c in latest["sim_force"]) ** 0.5)
+        live.device_force_n = float(sum(c * c for c in latest["commanded_force"]) ** 0.5)
+        live.realtime = bool(s["realtime"])
+        live.force_gain_used = s.get("force_gain", 0.0)
+        live.force_gain_reason = s.get("force_gain_reason", "")
+        live.device_state = (f"{self.engine.device.info().name}: {'homed' if latest['homed'] else 'not homed'}, "
+                             f"buttons {latest['buttons']:#x}")
+        live.scheduling = s["scheduling"]
+
+    # -- recording ------------------------------------------------------------------------
+    def start_recording(self):
+        if self.state != "running":
+            raise SessionError("Start the live session first: Record keys the motion performed during it")
+        if self.plan.mode == "TIMELINE":
+            raise SessionError("Record in Mouse or Falcon mode: in Timeline mode the probe plays its existing keys")
+        scene = self.scene
+        obj = self.probe
+        path = {"QUATERNION": "rotation_quaternion", "AXIS_ANGLE": "rotation_axis_angle"}.get(
+            obj.rotation_mode, "rotation_euler")
+        now = self.clock()
+        self.recording = _Recording(obj_name=obj.name, rotation_path=path, start_frame=float(scene.frame_current),
+                                    fps=scene.render.fps / scene.render.fps_base,
+                                    interval_s=1.0 / self.live.record_rate, t0=now)
+        self.live.is_recording = True
+        self._sample(now)
+
+    def _sample(self, now):
+        r = self.recording
+        if now - r.last_t < r.interval_s - 1e-9:
+            return
+        r.last_t = now
+        obj = self.probe
+        frame = r.start_frame + (now - r.t0) * r.fps
+        r.samples.append((frame, tuple(obj.location), tuple(getattr(obj, r.rotation_path))))
+
+    def stop_recording(self) -> int:
+        """Writes the recorded samples as keys (replacing keys in their frame range); returns the
+        number of poses keyed."""
+        r, self.recording = self.recording, None
+        self.live.is_recording = False
+        if r is None or not r.samples:
+            return 0
+        try:
+            obj = self.probe
+            obj.name  # noqa: B018 (raises ReferenceError if it was deleted)
+        except ReferenceError:
+            return 0
+        write_keys(obj, r.rotation_path, r.samples)
+        self.keys_written += len(r.samples)
+        return len(r.samples)
+
+    # -- ending ---------------------------------------------------------------------------
+    def stop(self, reason: Optional[str] = None) -> Optional[str]:
+        """Ends the session (force down through the slew limit, threads joined); the report to
+        show (reason, or the error that ended it), or None."""
+        if self.state == "stopped":
+            return self.report
+        if self.state == "starting":
+            self._worker.join()
+        self._end(reason)
+        return self.report
+
+    def _end(self, reason):
+        if self.recording is not None:
+            self.stop_recording()
+        error = self.engine.close()
+        self.state = "stopped"
+        self.report = reason or (_fix_first(error) if error else None)
+        try:
+            live = self.live
+            live.is_running = False
+            live.is_recording = False
+            live.status = self.report or "stopped"
+        except ReferenceError:  # the scene itself is gone
+            pass
+        if self.report:
+            log.warning("hapticfluid live session ended: %s", self.report)
+
+
+def write_keys(obj, rotation_path, samples):
+    """Keys location and rotation at each (frame, location, rotation) sample into the object's
+    action, first removing the keys of those channels within the samples' frame range."""
+    lo = min(s[0] for s in samples) - 1e-4
+    hi = max(s[0] for s in samples) + 1e-4
+    for path in ("location", rotation_path):  # makes the action, its slot and the F-curves as Blender does
+        obj.keyframe_insert(path, frame=samples[0][0])
+    fcurves = object_fcurves(obj)
+    for path, slot in (("location", 1), (rotation_path, 2)):
+        for index in range(len(samples[0][slot])):
+            fc = fcurves.find(path, index=index)
+            for k in reversed(range(len(fc.keyframe_points))):
+                if lo <= fc.keyframe_points[k].co.x <= hi:
+                    fc.keyframe_points.remove(fc.keyframe_points[k], fast=True)
+            for s in samples:
+                fc.keyframe_points.insert(s[0], s[slot][index], options={"FAST"})
+            fc.update()
+
+
+def object_fcurves(obj):
+    """The F-curves animating the object: on the action up to Blender 4.x, in the action slot's
+    channel bag from 4.4 (only there in 5.0)."""
+    data = obj.animation_data
+    if hasattr(data.action, "fcurves"):
+        return data.action.fcurves
+    from bpy_extras import anim_utils
+
+    return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot).fcurves

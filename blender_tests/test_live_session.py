@@ -1,0 +1,427 @@
+"""Runs inside `blender --background --factory-startup --python-exit-code 1`: the live session.
+
+Modal operators get no events in --background, so this drives the controller and the operator
+helpers (live_ops.start / tick / stop_all) directly: register and unregister twice; a session on
+the simulated Falcon moves the probe object to the device pose; in Mouse mode moving the object
+moves the probe (the fluid force opposes the motion, so it changes sign with the direction);
+Record keys the performed poses (replacing keys in that range); every bad setup gives a report
+that starts with the fix; disabling the add-on, read_homefile and open_mainfile during a session
+stop it. Measures (prints, never asserts) simulation Hz, haptic Hz and latency at 32^3 and 48^3.
+Any failure raises, so Blender exits 1."""
+
+import math
+import os
+import sys
+import tempfile
+import threading
+import time
+
+import bpy
+
+SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
+sys.path.insert(0, os.path.join(SOURCE, "addon"))
+
+import hapticfluid_blender  # noqa: E402
+from hapticfluid_blender import live_ops, live_session  # noqa: E402
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message, flush=True)
+
+
+def new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1.2):
+    """Empty file: a 1 m domain cube with its corner at the origin, a 0.2 m cube probe."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
+    domain = bpy.context.active_object
+    domain.name = "Domain"
+    bpy.ops.mesh.primitive_cube_add(size=0.2, location=probe_at)
+    probe = bpy.context.active_object
+    probe.name = "Probe"
+    bake = scene.hapticfluid_bake
+    bake.domain, bake.probe = domain, probe
+    bake.fluid_density = fluid_density
+    bake.pressure_iterations = 20
+    live = scene.hapticfluid_live
+    live.auto_resolution = False
+    live.resolution = 16
+    bpy.context.view_layer.update()
+    return scene, domain, probe
+
+
+def live_threads():
+    return [t for t in threading.enumerate() if t.name.startswith("hapticfluid-live")]
+
+
+def run_for_seconds(run, seconds, each=None):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        if each is not None:
+            each()
+        state = live_ops.tick(run)
+        if state == "stopped":
+            raise AssertionError(f"the session stopped: {run.controller.report}")
+        time.sleep(live_ops.TICK_S)
+
+
+def register_twice():
+    for _ in range(2):
+        hapticfluid_blender.register()
+        check(hasattr(bpy.types.Scene, "hapticfluid_live") and hasattr(bpy.ops.hapticfluid, "live_start"),
+              "register adds the live settings and operators")
+        hapticfluid_blender.unregister()
+        check(not hasattr(bpy.types.Scene, "hapticfluid_live"), "unregister removes them")
+    hapticfluid_blender.register()
+    from hapticfluid_blender import live_panel
+
+    check(live_panel.package_problem() is None, "the preferences find the package importable")
+
+
+def simulated_falcon_moves_the_probe():
+    scene, _domain, probe = new_scene(probe_at=(0.35, 0.6, 0.45))
+    scene.hapticfluid_live.device = "SIMULATED_FALCON"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    check(scene.hapticfluid_live.is_running, "the session runs")
+    run_for_seconds(run, 2.0)
+    c = run.controller
+    # The simulated hand rests at the middle of the workspace, which the fitted map puts at the
+    # domain's centre: the probe object is moved there from where it started.
+    loc = probe.matrix_world.translation
+    print("probe at", tuple(loc), "device state", scene.hapticfluid_live.device_state)
+    check(all(abs(loc[i] - 0.5) < 0.02 for i in range(3)), f"the probe follows the device to the centre: {tuple(loc)}")
+    check(c.last_sequence >= 2, f"field snapshots arrive ({c.last_sequence})")
+    live = scene.hapticfluid_live
+    check(live.sim_rate_hz > 0.0 and live.haptic_rate_hz > 100.0,
+          f"stats are live: sim {live.sim_rate_hz:.1f} Hz, haptic {live.haptic_rate_hz:.0f} Hz")
+    check("homed" in live.device_state and "not homed" not in live.device_state, live.device_state)
+    session = c.session
+    report = live_ops.stop_all()[0]
+    check(report is None, f"Stop ends it without a report ({report})")
+    check(session.state == "stopped" and not live_threads() and not live.is_running,
+          "threads joined, session stopped")
+    check(tuple(session.latest_force) == (0.0, 0.0, 0.0), "the force went to zero")
+
+
+class RecordingDrawer:
+    """Stands in for live_draw.LiveDrawer (which does nothing in --background): keeps the calls."""
+
+    def __init__(self):
+        self.calls = {}
+
+    def __getattr__(self, name):
+        if not name.startswith("set_"):
+            raise AttributeError(name)
+        return lambda *args: self.calls.setdefault(name, []).append(args)
+
+
+def the_drawer_gets_what_it_draws():
+    scene, _domain, probe = new_scene()
+    scene.hapticfluid_live.device = "SIMULATED_FALCON"
+    drawer = RecordingDrawer()
+    controller = live_session.LiveController(scene, drawer=drawer)
+    controller.wait_started()
+    end = time.monotonic() + 1.0
+    while time.monotonic() < end or "set_density" not in drawer.calls:
+        controller.tick()
+        time.sleep(0.02)
+    c = drawer.calls
+    check(c["set_domain"] == [((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))], f"the domain box: {c['set_domain']}")
+    (lo, hi), = c["set_workspace_box"]
+    check(all(-1e-5 <= lo[i] and hi[i] <= 1.0 + 1e-5 for i in range(3))
+          and any(abs(hi[i] - lo[i] - 1.0) < 1e-4 for i in range(3)),
+          f"the fitted Falcon workspace fills the domain on its tightest axis: {lo} {hi}")
+    density, temperature = c["set_density"][-1]
+    check(density.shape == (16, 16, 16) and str(density.dtype) == "float32" and temperature is None,
+          f"density [x, y, z] float32 at the session's resolution {density.shape}")
+    origin, force, max_force = c["set_force"][-1]
+    check(all(abs(origin[i] - probe.matrix_world.translation[i]) < 1e-6 for i in range(3)) and len(force) == 3
+          and max_force == scene.hapticfluid_live.max_force, "the force arrow at the probe, scaled by Max Force")
+    check(c["set_display"] == [(scene.hapticfluid_live.density_scale, False)], "the display settings")
+    scene.hapticfluid_live.density_scale = 5.0
+    controller.tick()
+    check(c["set_display"][-1] == (5.0, False), "a display change during the session reaches the drawer")
+    controller.stop()
+
+
+def mouse_moves_the_probe_and_record_keys_it():
+    scene, _domain, probe = new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1000.0)
+    scene.hapticfluid_live.device = "MOUSE"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    # Each direction: 0.3 m at constant speed; the mean force of the simulation steps that began
+    # at least two steps after the first moved pose was pushed (a step already running used an
+    # older pose) and 0.3 s into the motion (past the start's transient), one sample per step.
+    speed, travel_s = 0.12, 2.5  # m/s, s
+    forces = {}
+    session = run.controller.session
+    for direction in (1.0, -1.0):
+        t0, x0 = time.monotonic(), probe.location.x
+        first_moving_step = None
+        per_step = {}
+        while time.monotonic() - t0 < travel_s:  # the whole travel: several cell crossings
+            t = time.monotonic() - t0
+            probe.location.x = x0 + direction * speed * min(t, travel_s)
+            bpy.context.view_layer.update()
+            live_ops.tick(run)  # pushes the moved pose
+            steps = session.stats()["sim_steps"]
+            if first_moving_step is None and t > 0.0:
+                first_moving_step = steps
+            if steps >= first_moving_step + 2 and 0.3 <= t < travel_s:
+                per_step[steps] = session.latest()["sim_force"][0]
+            time.sleep(live_ops.TICK_S)
+        check(len(per_step) >= 3, f"enough steps during the motion ({len(per_step)})")
+        forces[direction] = sum(per_step.values()) / len(per_step)
+        print(f"moving {'+' if direction > 0 else '-'}x at {speed} m/s: mean fluid force x {forces[direction]:.3f} N "
+              f"over {len(per_step)} steps")
+        run_for_seconds(run, 0.3)
+    check(forces[1.0] < 0.0 < forces[-1.0], f"the fluid force opposes the motion and changes sign: {forces}")
+    live_ops.stop_all()
+
+    # Record with a controlled clock: one key per 1/24 s at 24 fps, replacing keys in the range.
+    scene, _domain, probe = new_scene(probe_at=(0.5, 0.5, 0.5))
+    scene.hapticfluid_live.device = "MOUSE"
+    scene.render.fps, scene.render.fps_base = 24, 1.0
+    scene.hapticfluid_live.record_rate = 24.0
+    scene.frame_set(10)
+    probe.location = (0.5, 0.5, 0.5)
+    probe.keyframe_insert("location", frame=12)   # inside the recorded range: replaced
+    probe.location = (0.45, 0.5, 0.5)
+    probe.keyframe_insert("location", frame=40)   # outside it: kept
+    probe.rotation_euler = (0.0, 0.0, 0.0)
+    clock = [100.0]
+    controller = live_session.LiveController(scene, clock=lambda: clock[0])
+    controller.wait_started()
+    performed = []
+    for k in range(6):
+        clock[0] = 100.0 + k / 24.0
+        probe.location = (0.4 + 0.02 * k, 0.5, 0.5 + 0.01 * k)
+        probe.rotation_euler = (0.0, 0.0, 0.1 * k)
+        bpy.context.view_layer.update()
+        if k == 0:
+            controller.start_recording()  # keys the pose at the start at once
+        else:
+            controller.tick()
+        performed.append((10.0 + k, tuple(probe.location), tuple(probe.rotation_euler)))
+        clock[0] += 0.01  # a second tick within the same key interval adds no key
+        controller.tick()
+    n = controller.stop_recording()
+    check(n == 6, f"one key per 1/24 s ({n})")
+    fcurves = live_session.object_fcurves(probe)
+    compared = 0
+    for path, slot in (("location", 1), ("rotation_euler", 2)):
+        for index in range(3):
+            keys = {round(p.co.x, 4): p.co.y for p in fcurves.find(path, index=index).keyframe_points}
+            for frame, loc, rot in performed:
+                value = (loc, rot)[slot - 1][index]
+                if abs(keys.get(round(frame, 4), math.nan) - value) > 1e-6:
+                    raise AssertionError(f"{path}[{index}] key at frame {frame}: {keys.get(round(frame, 4))} != {value}")
+                compared += 1
+    check(compared == 36, "every recorded key holds the performed location and rotation")
+    loc_x = {round(p.co.x, 4): p.co.y for p in fcurves.find("location", index=0).keyframe_points}
+    check(set(loc_x) == {10.0, 11.0, 12.0, 13.0, 14.0, 15.0, 40.0},
+          f"keys of the recorded range replaced, the one outside kept: {sorted(loc_x)}")
+    check(abs(loc_x[40.0] - 0.45) < 1e-6, "the key outside the range keeps its value")
+    controller.stop()
+    check(controller.session.state == "stopped", "stopped")
+
+
+def timeline_drives_a_sphere_probe():
+    scene, _domain, probe = new_scene(probe_at=(0.3, 0.5, 0.5))
+    scene.hapticfluid_bake.probe_shape = "SPHERE"
+    probe.keyframe_insert("location", frame=1)
+    probe.location.x = 0.7
+    probe.keyframe_insert("location", frame=20)
+    scene.frame_set(1)
+    scene.hapticfluid_live.device = "TIMELINE"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    sim = run.controller.engine.sim
+    check(sim.probe["kind"] == "sphere" and abs(sim.probe["radius"] - 0.1) < 1e-6, "a sphere probe of the object's size")
+    for frame in range(1, 21):
+        scene.frame_set(frame)
+        run_for_seconds(run, 0.05)
+    run_for_seconds(run, 0.5)  # the simulation thread takes the newest pose at its next step
+    x = float(sim.probe["centre"][0])
+    check(abs(x - 0.7) < 1e-3, f"the timeline moved the probe in the simulation to x = 0.7 m ({x:.4f})")
+    live_ops.stop_all()
+
+
+def deleted_objects_and_device_errors_end_it():
+    for what in ("probe", "domain", "device"):
+        scene, domain, probe = new_scene()
+        scene.hapticfluid_live.device = "SIMULATED_FALCON"
+        run = live_ops.start(scene)
+        run.controller.wait_started()
+        run_for_seconds(run, 0.2)
+        session = run.controller.session
+        if what == "probe":
+            bpy.data.objects.remove(probe)
+        elif what == "domain":
+            bpy.data.objects.remove(domain)
+        else:
+            run.controller.engine.device.close()  # what unplugging looks like to the session
+            time.sleep(0.2)
+        check(live_ops.tick(run) == "stopped" and session.state in ("stopped", "failed") and not live_ops._RUNNING
+              and not live_threads(), f"a {what} {'error' if what == 'device' else 'deleted'} ends the session")
+        words = {"probe": "'Probe' was deleted", "domain": "'Domain' was deleted", "device": "read() after close()"}[what]
+        check(words in (run.controller.report or ""), f"the report names the cause: {run.controller.report}")
+        if what == "device":
+            check(run.controller.report.startswith("Check the device's cable"), "... after the fix")
+
+
+def bad_setups():
+    def report_for(prepare, mode="MOUSE"):
+        scene, domain, probe = new_scene()
+        scene.hapticfluid_live.device = mode
+        prepare(scene, domain, probe)
+        bpy.context.view_layer.update()
+        try:
+            run = live_ops.start(scene)
+            run.controller.wait_started()
+        except live_session.SessionError as exc:
+            live_ops.stop_all()
+            check(not live_threads(), "no thread left behind")
+            return str(exc)
+        live_ops.stop_all()
+        raise AssertionError("the bad setup was accepted")
+
+    def expect(prepare, *words, mode="MOUSE", first=None):
+        text = report_for(prepare, mode)
+        check(all(w in text for w in words), f"report names the problem ({words}): {text[:160]}")
+        if first is not None:
+            check(text.startswith(first), f"the report starts with the fix '{first}'")
+
+    def no_domain(s, d, p):
+        s.hapticfluid_bake.domain = None
+    expect(no_domain, "domain", first="Choose a domain")
+
+    def rotated(s, d, p):
+        d.rotation_euler = (0.0, 0.0, 0.3)
+    expect(rotated, "turned", "Alt+R", first="Clear the rotation")
+
+    def rotation_applied(s, d, p):  # Ctrl+A on a turned box: the mesh itself is no longer axis-aligned
+        from mathutils import Matrix
+
+        d.data.transform(Matrix.Rotation(0.3, 4, "Z"))
+    expect(rotation_applied, "axis-aligned box", first="Make the domain")
+
+    def no_probe(s, d, p):
+        s.hapticfluid_bake.probe = None
+    expect(no_probe, "probe", first="Choose a probe")
+
+    def not_a_mesh(s, d, p):
+        bpy.ops.object.empty_add(location=(0.5, 0.5, 0.5))
+        s.hapticfluid_bake.probe = bpy.context.active_object
+    expect(not_a_mesh, "not a mesh", "Sphere shape", first="Choose a mesh object")
+
+    def open_mesh(s, d, p):
+        bpy.ops.mesh.primitive_monkey_add(size=0.3, location=(0.5, 0.5, 0.5))
+        s.hapticfluid_bake.probe = bpy.context.active_object
+    expect(open_mesh, "Fill Holes", "Recalculate Outside", first="Close the probe")
+
+    def outside(s, d, p):
+        p.location = (1.5, 0.5, 0.5)
+    expect(outside, "inside the domain", first="Move the probe")
+
+    def no_falcon(s, d, p):
+        pass
+    expect(no_falcon, "Falcon", mode="FALCON")
+
+    def firmware_missing(s, d, p):
+        s.hapticfluid_live.firmware_path = "/nonexistent/nvent_firmware.bin"
+    expect(firmware_missing, "firmware", "/nonexistent/nvent_firmware.bin", mode="FALCON",
+           first="Choose the Falcon firmware")
+
+    saved = sys.modules.get("hapticfluid")
+    sys.modules["hapticfluid"] = None  # what an uninstalled package looks like to `import`
+    try:
+        expect(lambda s, d, p: None, "not importable", first="Install the hapticfluid package")
+        from hapticfluid_blender import live_panel
+
+        problem = live_panel.package_problem()  # what the preferences and the sidebar show
+        check(problem is not None and problem.startswith("Install the hapticfluid package"),
+              f"the add-on's preferences say the package is missing: {problem}")
+    finally:
+        sys.modules["hapticfluid"] = saved
+
+    os.environ["HAPTICFLUID_EGL_DEVICE"] = "no-such-egl-device"
+    try:
+        expect(lambda s, d, p: None, "GL context", first="Check the GPU driver")
+    finally:
+        del os.environ["HAPTICFLUID_EGL_DEVICE"]
+
+
+def sessions_end_with_the_addon_and_the_file():
+    for how in ("unregister", "read_homefile", "open_mainfile"):
+        scene, _domain, _probe = new_scene()
+        scene.hapticfluid_live.device = "SIMULATED_FALCON"
+        run = live_ops.start(scene)
+        run.controller.wait_started()
+        run_for_seconds(run, 0.3)
+        session = run.controller.session
+        if how == "unregister":
+            hapticfluid_blender.unregister()
+        elif how == "read_homefile":
+            bpy.ops.wm.read_homefile(use_empty=True)
+        else:
+            with tempfile.TemporaryDirectory() as tmp:
+                path = os.path.join(tmp, "other.blend")
+                bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+                bpy.ops.wm.open_mainfile(filepath=path)
+        check(session.state == "stopped" and run.controller.state == "stopped" and not live_ops._RUNNING
+              and not live_threads(), f"{how} during a session stops it (threads joined)")
+        check(run.controller.report is not None, f"... with a report: {run.controller.report}")
+        if how == "unregister":
+            hapticfluid_blender.register()
+        else:
+            live = bpy.context.scene.hapticfluid_live
+            check(not live.is_running, "the new file has no running session")
+
+
+def measure():
+    for res in (32, 48, 64):
+        scene, _domain, probe = new_scene(fluid_density=1.2)
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, location=(0.5, 0.5, 0.15))
+        scene.hapticfluid_bake.source = bpy.context.active_object
+        scene.hapticfluid_bake.pressure_iterations = 40
+        scene.hapticfluid_live.resolution = res
+        scene.hapticfluid_live.device = "MOUSE"
+        run = live_ops.start(scene)
+        run.controller.wait_started()
+        t0 = time.monotonic()
+
+        def move():
+            probe.location.x = 0.5 + 0.2 * math.sin(2.0 * (time.monotonic() - t0))
+            bpy.context.view_layer.update()
+
+        end = time.monotonic() + 90.0  # at least 12 steps (or 90 s) so the rates are measured, not guessed
+        while run.controller.session.stats()["sim_steps"] < 12 and time.monotonic() < end:
+            run_for_seconds(run, 0.5, each=move)
+        s = run.controller.session.stats()
+        print(f"MEASURED live session {res}^3 in Blender (mouse mode, 40 Jacobi sweeps): sim {s['sim_rate_hz']:.1f} Hz, "
+              f"step {s['sim_step_ms']:.1f} ms, haptic {s['haptic_rate_hz']:.0f} Hz, jitter p99 "
+              f"{s['jitter_p99_ms']:.3f} ms, latency p50 {s['latency_p50_ms']:.1f} ms p99 {s['latency_p99_ms']:.1f} ms, "
+              f"snapshots {s['snapshots']}, steps {s['sim_steps']}, realtime {s['realtime']}, load average "
+              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores", flush=True)
+        live_ops.stop_all()
+
+
+def main():
+    register_twice()
+    simulated_falcon_moves_the_probe()
+    the_drawer_gets_what_it_draws()
+    mouse_moves_the_probe_and_record_keys_it()
+    timeline_drives_a_sphere_probe()
+    deleted_objects_and_device_errors_end_it()
+    bad_setups()
+    sessions_end_with_the_addon_and_the_file()
+    measure()
+    hapticfluid_blender.unregister()
+    print("live session: ok")
+
+
+main()
