@@ -87,6 +87,6 @@ echo "   vendored (hapticfluid.libs/):"
 "$VENV/bin/python" - "$wheel" <<'PY'
 import sys, zipfile
 names = sorted(n.split("/", 1)[1] for n in zipfile.ZipFile(sys.argv[1]).namelist()
-               if n.startswith("hapticfluid.libs/"))
+               if n.startswith("hapticfluid.libs/") and not n.endswith("/"))
 print("\n".join("     " + n for n in names) or "     (none)")
 PY
