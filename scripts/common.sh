@@ -1,6 +1,6 @@
 # Sourced by the README's commands: installs what is missing, then builds.
-# Debian packages only (PyPI is not reachable); Python is Debian's /usr/bin/python3 (3.11),
-# the interpreter Debian's Blender 3.4 embeds.
+# Debian packages; Python is Debian's /usr/bin/python3 (3.11), the interpreter Debian's Blender
+# 3.4 embeds (a pyenv python3 may come first on PATH: it is never used for the module).
 set -euo pipefail
 
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -8,7 +8,7 @@ HF_BUILD="${HF_BUILD:-$HF_ROOT/build}"
 
 HF_PACKAGES=(
   cmake g++ make
-  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib python3-yaml
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
   libusb-1.0-0-dev pkg-config clang libclang-rt-14-dev

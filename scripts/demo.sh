@@ -3,11 +3,29 @@
 # scene (examples/bake_demo.json) to an OpenVDB cache and render its last frame with Cycles.
 # Extra arguments go to `python3 -m hapticfluid demo` (see --help). Outputs: out/demo/
 # force.csv, density.png (the interactive demo), bake_cache/ (VDB frames) and render.png.
+# With a display ($DISPLAY or $WAYLAND_DISPLAY set) it instead opens Blender on the live demo scene
+# (scripts/live_demo.py: add-on from this tree, session running on the simulated Falcon, smoke drawn
+# in the viewport); arguments then go to live_demo.py (e.g. --device MOUSE).
+# HF_DEMO_LIVE=0 runs the headless demo on a machine with a display; HF_DEMO_LIVE=1 insists on Blender.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+case "${HF_DEMO_LIVE:-auto}" in
+  0) hf_live=0 ;;
+  1|auto)
+    if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then hf_live=1; else hf_live=0; fi
+    if [ "${HF_DEMO_LIVE:-auto}" = 1 ] && [ "$hf_live" = 0 ]; then
+      echo "error: HF_DEMO_LIVE=1 opens Blender and needs a display, but \$DISPLAY and \$WAYLAND_DISPLAY are empty" >&2
+      exit 1
+    fi ;;
+  *) echo "error: HF_DEMO_LIVE must be 0, 1 or auto (the default), got '$HF_DEMO_LIVE'" >&2; exit 1 ;;
+esac
 hf_install_missing
 hf_build --target _core
 cd "$HF_ROOT"
 export PYTHONPATH="$HF_BUILD/python${PYTHONPATH:+:$PYTHONPATH}"
+if [ "$hf_live" = 1 ]; then
+  echo "== live: Blender with the demo scene and the session running (Esc stops it; HF_DEMO_LIVE=0 for the headless demo)"
+  exec blender --factory-startup --python scripts/live_demo.py -- "$@"
+fi
 /usr/bin/python3 -m hapticfluid demo "$@"
 mkdir -p out/demo
 echo "== bake: examples/bake_demo.json -> out/demo/bake_cache"

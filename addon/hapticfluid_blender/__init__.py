@@ -16,7 +16,7 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import bake_ops, panels, properties  # noqa: E402  (bl_info first, as Blender expects)
+from . import bake_ops, farm_ops, panels, properties  # noqa: E402  (bl_info first, as Blender expects)
 
 classes = (
     properties.HapticFluidBakeSettings,
@@ -24,6 +24,7 @@ classes = (
     bake_ops.HAPTICFLUID_OT_bake_resume,
     bake_ops.HAPTICFLUID_OT_bake_free,
     panels.HAPTICFLUID_PT_bake,
+    farm_ops.HAPTICFLUID_OT_write_farm_job,
 )
 
 

@@ -2,6 +2,8 @@
 
 import bpy
 
+from . import farm_ops
+
 
 class HAPTICFLUID_PT_bake(bpy.types.Panel):
     bl_label = "hapticfluid Bake"
@@ -64,3 +66,4 @@ class HAPTICFLUID_PT_bake(bpy.types.Panel):
             layout.prop(s, "progress", text="Baking (Esc cancels)")
         if s.status:
             layout.label(text=s.status)
+        farm_ops.draw(layout, context)

@@ -20,8 +20,11 @@ struct DeviceInfo {
   glm::vec3 workspace_min_m{-0.05f};      // reachable box, device frame, m
   glm::vec3 workspace_max_m{0.05f};
   float max_force_n = 0.0f;               // the safety stage never commands more than this
-  float max_stiffness_n_m = 0.0f;         // N/m, informative (virtual springs)
-  float max_damping_n_s_m = 0.0f;         // N s/m, informative
+  // Rendering limits (0: not reported, as for the virtual devices): the largest stiffness and
+  // damping the device renders stably at its loop rate. They bound the session's default
+  // force gain (rendering_limits.h) and the passivity controller's damper.
+  float max_stiffness_n_m = 0.0f;         // N/m
+  float max_damping_n_s_m = 0.0f;         // N s/m
 };
 
 struct DeviceState {

@@ -7,8 +7,9 @@
 namespace hf::haptics {
 
 void checkMaxForce(float max_force_n, const std::string& who) {
-  if (!std::isfinite(max_force_n) || max_force_n <= 0.0f) {
-    throw InvalidArgument(who + ": max_force must be a positive number of newtons, got " + std::to_string(max_force_n));
+  if (!std::isfinite(max_force_n) || max_force_n <= 0.0f || max_force_n > kMaxDeviceForceN) {
+    throw InvalidArgument(who + ": max_force must be a positive number of newtons, at most " +
+                          std::to_string(kMaxDeviceForceN) + ", got " + std::to_string(max_force_n));
   }
 }
 

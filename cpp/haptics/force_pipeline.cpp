@@ -5,10 +5,11 @@ namespace hf::haptics {
 void PipelineSettings::validate() const {
   map.validate();
   filter.validate();
+  passivity.validate();
   safety.validate();
 }
 
-ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), safety_(s.safety) { s_.validate(); }
+ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), passivity_(s.passivity), safety_(s.safety) { s_.validate(); }
 
 TickOutput ForcePipeline::tick(const TickInput& in) {
   TickOutput out;
@@ -33,9 +34,26 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     }
   }
   out.filtered_n = s_.map.forceToDevice(smoothed);
+  // The observer sees the force the device held since the last reading: safety's last output.
+  // A (re)start begins with no stored energy and no debt: it is reset while the device is not
+  // homed, and while the output is off (paused, stopping, failed) with its force back at zero.
+  const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
+  if (output_off) {
+    passivity_.reset();
+    out.passive_n = out.filtered_n;
+  } else {
+    // The controller works on the force the device can deliver (clamped to max_force): the
+    // energy it balances is then the energy the device can put in. Not acting, it passes the
+    // force on untouched.
+    const glm::vec3 deliverable = clampMagnitude(out.filtered_n, s_.safety.max_force_n);
+    const glm::vec3 damped =
+        passivity_.apply(deliverable, in.state.position_m, in.state.velocity_m_s, safety_.last(), in.dt_s);
+    out.passive_n = passivity_.acted() ? damped : out.filtered_n;
+  }
+  out.damping_n_s_m = passivity_.state().alpha_n_s_m;
 
   SafetyInput safe;
-  safe.force_n = out.filtered_n;
+  safe.force_n = out.passive_n;
   safe.dt_s = in.dt_s;
   safe.force_age_s = in.have_force ? out.force_age_s : 0.0;
   safe.homed = in.state.homed;
@@ -48,6 +66,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
 void ForcePipeline::reset() {
   predictor_.reset();
   filter_.reset();
+  passivity_.reset();
   safety_.reset();
 }
 

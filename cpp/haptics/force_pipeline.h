@@ -2,7 +2,9 @@
 // ForcePipeline: one haptic period's force computation, free of threads and clocks so it can be
 // tested sample by sample:
 //   latest simulation force (fluid N) -> [prediction F0 + B (v - v0)] -> low-pass (cutoff from
-//   the simulation rate) -> workspace map (gain, axis signs) -> safety -> commanded device force.
+//   the simulation rate) -> workspace map (gain, axis signs) -> passivity controller (a damper that
+//   removes any energy the loop made, see passivity_controller.h) -> safety (the last word on
+//   |F|: clamp, slew) -> commanded device force.
 #include <cstdint>
 
 #include "haptics/device.h"
@@ -10,6 +12,7 @@
 #include "haptics/force_safety.h"
 #include "haptics/frames.h"
 #include "haptics/low_pass_filter.h"
+#include "haptics/passivity_controller.h"
 #include "haptics/workspace_map.h"
 
 namespace hf::haptics {
@@ -18,6 +21,7 @@ struct PipelineSettings {
   WorkspaceMap map;
   LowPassSettings filter;
   bool prediction = false;
+  PassivitySettings passivity;
   SafetySettings safety;
   void validate() const;
 };
@@ -36,6 +40,8 @@ struct TickOutput {
   glm::vec3 sim_force_n{0.0f};        // latest simulation force, fluid N
   glm::vec3 predicted_n{0.0f};        // after prediction (= sim force without it), fluid N
   glm::vec3 filtered_n{0.0f};         // low-passed and mapped, device N
+  glm::vec3 passive_n{0.0f};          // after the passivity controller, device N
+  double damping_n_s_m = 0.0;         // the passivity controller's damping this period, N s/m
   glm::vec3 commanded_n{0.0f};        // after safety, device N
   double cutoff_hz = 0.0;
   double force_age_s = 0.0;
@@ -49,11 +55,13 @@ class ForcePipeline {
   const PipelineSettings& settings() const { return s_; }
   const ForceSafety& safety() const { return safety_; }
   const DragPredictor& predictor() const { return predictor_; }
+  const PassivityController& passivity() const { return passivity_; }
 
  private:
   PipelineSettings s_;
   DragPredictor predictor_;
   LowPassFilter filter_;
+  PassivityController passivity_;
   ForceSafety safety_;
 };
 

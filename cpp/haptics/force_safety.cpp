@@ -15,14 +15,24 @@ void SafetySettings::validate() const {
   if (!std::isfinite(slew_rate_n_s) || slew_rate_n_s <= 0.0f) {
     throw InvalidArgument("slew_rate must be a positive number of N/s, got " + std::to_string(slew_rate_n_s));
   }
+  if (static_cast<double>(max_force_n) / slew_rate_n_s > kMaxWindDownS) {
+    throw InvalidArgument("slew_rate " + std::to_string(slew_rate_n_s) + " N/s would take " +
+                          std::to_string(max_force_n / slew_rate_n_s) + " s to bring max_force " +
+                          std::to_string(max_force_n) + " N down to zero on stop(); give at least " +
+                          std::to_string(max_force_n / kMaxWindDownS) + " N/s (max_force / " +
+                          std::to_string(kMaxWindDownS) + " s) or a lower max_force");
+  }
   if (!std::isfinite(ramp_s) || ramp_s < 0.0) {
     throw InvalidArgument("ramp_time must be >= 0 s, got " + std::to_string(ramp_s));
   }
-  if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0) {
-    throw InvalidArgument("stale_after must be > 0 s, got " + std::to_string(stale_after_s));
+  if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0 || stale_after_s > kMaxStaleS) {
+    throw InvalidArgument("stale_after must be > 0 s and at most " + std::to_string(kMaxStaleS) +
+                          " s (a larger value turns the fade of a stale force off), got " +
+                          std::to_string(stale_after_s));
   }
-  if (!std::isfinite(fade_s) || fade_s <= 0.0) {
-    throw InvalidArgument("fade_time must be > 0 s, got " + std::to_string(fade_s));
+  if (!std::isfinite(fade_s) || fade_s <= 0.0 || fade_s > kMaxStaleS) {
+    throw InvalidArgument("fade_time must be > 0 s and at most " + std::to_string(kMaxStaleS) + " s, got " +
+                          std::to_string(fade_s));
   }
 }
 

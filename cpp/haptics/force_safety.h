@@ -19,12 +19,22 @@
 
 namespace hf::haptics {
 
+// Longest wind-down of the force on stop() (max_force / slew_rate), s. validate() refuses a
+// slew rate slower than that, so stop() always slews the whole way down to zero; the haptic
+// loop ends a wind-down early only after twice the periods this takes at the nominal rate.
+inline constexpr double kMaxWindDownS = 2.0;
+
+// Longest stale_after_s and fade_s, s: a simulation force older than this is stale however slow
+// the simulation (a larger value would all but turn the stale fade off).
+inline constexpr double kMaxStaleS = 10.0;
+
 struct SafetySettings {
   float max_force_n = 5.0f;       // |commanded force| bound, N (> 0)
-  float slew_rate_n_s = 200.0f;   // largest change of the commanded force per second, N/s (> 0)
+  float slew_rate_n_s = 200.0f;   // largest change of the commanded force per second, N/s
+                                  // (>= max_force_n / kMaxWindDownS)
   double ramp_s = 2.0;            // ramp-in after (re)start, s (>= 0)
-  double stale_after_s = 0.1;     // simulation force this old starts fading, s (> 0)
-  double fade_s = 0.2;            // ... and reaches zero this much later, s (> 0)
+  double stale_after_s = 0.1;     // simulation force this old starts fading, s (0 .. kMaxStaleS]
+  double fade_s = 0.2;            // ... and reaches zero this much later, s (0 .. kMaxStaleS]
   void validate() const;          // throws InvalidArgument naming the bad value
 };
 

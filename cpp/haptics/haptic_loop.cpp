@@ -13,8 +13,6 @@ namespace hf::haptics {
 
 namespace {
 
-constexpr double kMaxWindDownS = 0.25;  // longest slew down to zero on stop(), s
-
 DevicePtr requireDevice(DevicePtr device) {
   if (!device) throw InvalidArgument("haptic loop: give a device (got None)");
   return device;
@@ -29,6 +27,15 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
   if (s.pipeline.safety.max_force_n > device_max) {
     throw InvalidArgument("max_force " + std::to_string(s.pipeline.safety.max_force_n) + " N is above the maximum of '" +
                           device.info().name + "' (" + std::to_string(device_max) + " N); give at most that");
+  }
+  // The passivity controller's damper is bounded by the device's maximum stable damping.
+  float& damping = s.pipeline.passivity.max_damping_n_s_m;
+  const float device_damping = device.info().max_damping_n_s_m;
+  if (damping == 0.0f) {
+    damping = device_damping;
+  } else if (device_damping > 0.0f && damping > device_damping) {
+    throw InvalidArgument("passivity_max_damping " + std::to_string(damping) + " N s/m is above the maximum stable damping of '" +
+                          device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most that");
   }
   return s;
 }
@@ -102,15 +109,16 @@ void HapticLoop::run() {
   try {
     clock.start();
     double previous_s = monotonicNowS();
-    // Once stop() is asked, a few more periods run with force disabled, so the command slews
-    // down to zero instead of dropping at once: max_force / slew_rate, at most kMaxWindDownS.
-    const SafetySettings& safety = s_.pipeline.safety;
-    const double wind_down_s = std::min(static_cast<double>(safety.max_force_n / safety.slew_rate_n_s), kMaxWindDownS);
-    const auto wind_down_ticks = static_cast<std::uint64_t>(std::ceil(wind_down_s * s_.rate_hz)) + 1;
+    // Once stop() is asked, periods run on with force disabled until the command has slewed
+    // down to zero (max_force / slew_rate <= kMaxWindDownS, by SafetySettings::validate), so it
+    // never drops at once; traced like any period. Counted in periods, not wall time, so a
+    // loaded machine slows the wind-down but never cuts it: the guard (twice the periods the
+    // longest wind-down needs) ends it only if the periods' dt ran short of nominal throughout.
+    const auto max_wind_down_ticks = static_cast<std::uint64_t>(std::ceil(2.0 * kMaxWindDownS * s_.rate_hz));
     std::uint64_t wound_down = 0;
     for (;;) {
       const bool stopping = stop_.load(std::memory_order_acquire);
-      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= wind_down_ticks)) break;
+      if (stopping && (pipeline_.safety().last() == glm::vec3(0.0f) || wound_down++ >= max_wind_down_ticks)) break;
       const double now_s = clock.waitNext();
       const double dt_s = now_s - previous_s;
       previous_s = now_s;
@@ -165,6 +173,7 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   device_->writeForce(out.commanded_n);
 
   non_finite_.store(pipeline_.safety().nonFiniteCount(), std::memory_order_relaxed);
+  passivity_.write(pipeline_.passivity().state());
   latest_.write(out);
   if (trace_.capacity() > 0) {
     TraceSample t;
@@ -193,6 +202,8 @@ LoopStats HapticLoop::stats() const {
   st.frames = frames_.load(std::memory_order_relaxed);
   st.non_finite = non_finite_.load(std::memory_order_relaxed);
   st.trace_dropped = trace_.dropped();
+  passivity_.tryRead(st.passivity);
+  st.max_damping_n_s_m = s_.pipeline.passivity.max_damping_n_s_m;
   if (sched_known_.load(std::memory_order_acquire)) {
     st.realtime = realtime_.load(std::memory_order_relaxed);
     st.scheduling = scheduling_;

@@ -24,7 +24,8 @@ namespace hf::haptics {
 
 struct HapticLoopSettings {
   double rate_hz = 1000.0;             // loop rate, Hz (100 .. 10000)
-  PipelineSettings pipeline;           // safety.max_force_n at most the device's maximum
+  PipelineSettings pipeline;           // safety.max_force_n at most the device's maximum;
+                                       // passivity.max_damping_n_s_m too (0: the device's)
   bool realtime = true;                // ask for SCHED_FIFO
   int realtime_priority = 80;          // 1 .. 99
   std::size_t trace_capacity = 0;      // records kept for drainTrace() (0: no trace)
@@ -50,6 +51,8 @@ struct LoopStats {
   std::uint64_t frames = 0;            // simulation force frames received
   std::uint64_t non_finite = 0;        // NaN/Inf forces zeroed by the safety stage
   std::uint64_t trace_dropped = 0;     // trace records lost (ring full)
+  PassivityState passivity;            // the passivity observer/controller (passivity_controller.h)
+  float max_damping_n_s_m = 0.0f;      // the controller's damping bound in use, N s/m
   bool realtime = false;               // SCHED_FIFO granted
   std::string scheduling;              // "" or the warning about real-time priority
   std::string error;                   // "" or the device error that ended the loop
@@ -66,8 +69,9 @@ class HapticLoop {
   // Starts the thread (once). Throws hf::Error if another loop (or a host call) holds the
   // device: the loop holds it (DeviceClaim) until its thread ends.
   void start();
-  // Slews the force down to zero (max_force / slew_rate, at most 0.25 s), ends the thread,
-  // joins, and sends a last zero. From any thread; concurrent calls take turns.
+  // Slews the force down to zero at the slew rate (max_force / slew_rate, at most
+  // kMaxWindDownS = 2 s; those periods are in the trace), ends the thread, joins, and sends a
+  // last zero. From any thread; concurrent calls take turns.
   void stop();
   void setEnabled(bool on);     // false: force slews down to zero; true: ramp in again
   bool running() const { return running_.load(std::memory_order_acquire); }
@@ -109,6 +113,7 @@ class HapticLoop {
   Mailbox<TickOutput> latest_;
   Mailbox<DeviceState> latest_state_;
   std::atomic<std::uint64_t> non_finite_{0};
+  Mailbox<PassivityState> passivity_;
   TraceRing<TraceSample> trace_;
 };
 

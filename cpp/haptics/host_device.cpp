@@ -30,6 +30,11 @@ void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
   if (!allFinite(position_m) || !std::isfinite(time_s)) {
     throw InvalidArgument("host device: push_pose needs a finite position (m) and time (s)");
   }
+  if (glm::any(glm::greaterThan(glm::abs(position_m), glm::vec3(kMaxPositionM)))) {
+    throw InvalidArgument("host device: push_pose position (" + std::to_string(position_m.x) + ", " +
+                          std::to_string(position_m.y) + ", " + std::to_string(position_m.z) +
+                          ") m is beyond " + std::to_string(kMaxPositionM) + " m; push positions in metres");
+  }
   std::lock_guard<std::mutex> lock(push_mutex_);
   Push next;
   next.valid = true;
@@ -58,6 +63,9 @@ void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
 }
 
 DeviceState HostDevice::stateAfter(double elapsed_s) const {
+  if (std::isnan(elapsed_s)) {
+    throw InvalidArgument("host device: state_after needs a number of seconds since the latest push, got NaN");
+  }
   Push p;
   if (!latest_.tryRead(p)) return DeviceState{};  // nothing pushed yet: not homed, no force
   return stateFrom(p, elapsed_s);

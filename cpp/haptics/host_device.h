@@ -16,6 +16,10 @@ namespace hf::haptics {
 
 class HostDevice : public Device {
  public:
+  // Largest |coordinate| of a pushed position, m (a scene's object, not a number that overflows
+  // the velocity or the workspace map).
+  static constexpr float kMaxPositionM = 1e6f;
+
   // extrapolate: move the pose along the estimated velocity between pushes.
   explicit HostDevice(float max_force_n = 10.0f, bool extrapolate = true);
 
@@ -26,13 +30,15 @@ class HostDevice : public Device {
 
   // position_m: device frame (m). time_s: when the pose was sampled, on any clock that runs in
   // seconds (time.monotonic() by default); it must increase from push to push.
-  // Throws InvalidArgument for a non-finite value or a time that does not increase.
+  // Throws InvalidArgument for a non-finite value, a coordinate beyond kMaxPositionM or a time
+  // that does not increase.
   void pushPose(const glm::vec3& position_m, double time_s);
   void pushPose(const glm::vec3& position_m);  // sampled now (monotonic clock)
   std::uint64_t pushes() const { return latest_.version(); }
   glm::vec3 lastForce() const;
 
-  // The state `elapsed_s` seconds after the latest push arrived (read() uses the clock).
+  // The state `elapsed_s` seconds after the latest push arrived (read() uses the clock); the
+  // extrapolation stops after one push interval (at most 0.1 s). NaN throws InvalidArgument.
   DeviceState stateAfter(double elapsed_s) const;
 
  private:

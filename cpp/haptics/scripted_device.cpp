@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -30,6 +31,16 @@ ScriptedDevice::ScriptedDevice(std::vector<double> times_s, std::vector<glm::vec
       throw InvalidArgument("scripted device: times must increase strictly; waypoint " + std::to_string(i) + " at " +
                             std::to_string(times_[i]) + " s follows " + std::to_string(times_[i - 1]) + " s");
     }
+    // Waypoints 1e-300 s apart (or 1 m in 1e-40 s) give an infinite or NaN velocity.
+    if (i > 0 && !allFinite(segmentVelocity(i - 1))) {
+      throw InvalidArgument("scripted device: waypoints " + std::to_string(i - 1) + " and " + std::to_string(i) +
+                            " (" + std::to_string(times_[i - 1]) + " s, " + std::to_string(times_[i]) +
+                            " s) are too close in time for a finite velocity; space them further apart");
+    }
+  }
+  if (durationS() > 0.0 && !std::isfinite(durationS())) {
+    throw InvalidArgument("scripted device: the script lasts longer than a double can hold; give times (s) that "
+                          "span a finite duration");
   }
   if (loop_ && times_.size() < 2) throw InvalidArgument("scripted device: a looping script needs at least two waypoints");
   info_.name = "scripted";
@@ -44,6 +55,14 @@ ScriptedDevice::ScriptedDevice(std::vector<double> times_s, std::vector<glm::vec
 }
 
 std::shared_ptr<ScriptedDevice> ScriptedDevice::fromCsv(const std::string& path, bool loop, float max_force_n) {
+  // A folder "opens" and reads as empty, /dev/zero reads until memory runs out: regular files only.
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) {
+    throw InvalidArgument("scripted device: '" + path + "' is " +
+                          (std::filesystem::is_directory(st) ? "a folder" : "not a regular file") +
+                          "; give a CSV file of t,x,y,z rows (s, m)");
+  }
   std::ifstream in(path);
   if (!in) throw InvalidArgument("scripted device: cannot open '" + path + "'; give a CSV file of t,x,y,z rows (s, m)");
   std::vector<double> times;
@@ -51,7 +70,20 @@ std::shared_ptr<ScriptedDevice> ScriptedDevice::fromCsv(const std::string& path,
   std::string line;
   int number = 0;
   bool header_seen = false;
-  while (std::getline(in, line)) {
+  // One line at a time, at most kMaxCsvLineChars (a t,x,y,z row is a few dozen characters).
+  const auto nextLine = [&]() {
+    line.clear();
+    for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+      if (c == '\n') return true;
+      if (line.size() >= kMaxCsvLineChars) {
+        throw InvalidArgument("scripted device: " + path + ":" + std::to_string(number + 1) + " is longer than " +
+                              std::to_string(kMaxCsvLineChars) + " characters; give a CSV file of t,x,y,z rows (s, m)");
+      }
+      line.push_back(static_cast<char>(c));
+    }
+    return !line.empty();
+  };
+  while (nextLine()) {
     ++number;
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
@@ -77,7 +109,17 @@ std::shared_ptr<ScriptedDevice> ScriptedDevice::fromCsv(const std::string& path,
   return std::make_shared<ScriptedDevice>(std::move(times), std::move(positions), loop, max_force_n);
 }
 
+glm::vec3 ScriptedDevice::segmentVelocity(std::size_t i) const {
+  // In double: the float of a tiny span is 0.
+  const glm::dvec3 step = glm::dvec3(positions_[i + 1]) - glm::dvec3(positions_[i]);
+  return glm::vec3(step / (times_[i + 1] - times_[i]));
+}
+
 DeviceState ScriptedDevice::stateAt(double t_s) const {
+  if (std::isnan(t_s) || std::isinf(t_s)) {
+    throw InvalidArgument("scripted device: state_at needs a finite time since the start (s), got " +
+                          std::to_string(t_s));
+  }
   DeviceState s;
   s.homed = true;
   if (times_.size() == 1) {
@@ -91,12 +133,15 @@ DeviceState ScriptedDevice::stateAt(double t_s) const {
     s.position_m = positions_.back();
     return s;
   }
-  // Segment [i, i + 1] with times_[i] <= t < times_[i + 1].
-  const std::size_t i = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin()) - 1;
+  // Segment [i, i + 1] with times_[i] <= t < times_[i + 1]. A looped time can round up onto the
+  // last waypoint (fmod leaves just under the duration, adding the start rounds it up): that
+  // is the end of the last segment, never a segment starting at the last waypoint.
+  const auto above = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
+  const std::size_t i = std::min(std::max<std::size_t>(above, 1), times_.size() - 1) - 1;
   const double span = times_[i + 1] - times_[i];
-  const float a = static_cast<float>((t - times_[i]) / span);
+  const float a = static_cast<float>(std::clamp((t - times_[i]) / span, 0.0, 1.0));
   s.position_m = positions_[i] + a * (positions_[i + 1] - positions_[i]);
-  s.velocity_m_s = (positions_[i + 1] - positions_[i]) / static_cast<float>(span);
+  s.velocity_m_s = segmentVelocity(i);
   return s;
 }
 

@@ -4,6 +4,7 @@
 // holds the last waypoint (velocity 0) or loops back to the first one. Always homed; forces are
 // accepted and kept (lastForce()) so tests and traces can see what the loop commanded.
 #include <atomic>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,11 +16,15 @@ namespace hf::haptics {
 
 class ScriptedDevice : public Device {
  public:
-  // times_s strictly increasing and finite (at least one); positions_m finite, one per time.
-  // loop needs at least two waypoints. Throws InvalidArgument naming the bad entry.
+  static constexpr std::size_t kMaxCsvLineChars = 4096;
+
+  // times_s strictly increasing and finite (at least one); positions_m finite, one per time;
+  // consecutive waypoints far enough apart in time for a finite velocity. loop needs at least
+  // two waypoints. Throws InvalidArgument naming the bad entry.
   ScriptedDevice(std::vector<double> times_s, std::vector<glm::vec3> positions_m, bool loop,
                  float max_force_n = 10.0f);
   // Reads "t,x,y,z" rows (s, m); blank lines, '#' comments and one header line are skipped.
+  // A regular file only (not a folder or a device), lines of at most kMaxCsvLineChars.
   static std::shared_ptr<ScriptedDevice> fromCsv(const std::string& path, bool loop, float max_force_n = 10.0f);
 
   DeviceInfo info() const override { return info_; }
@@ -28,12 +33,15 @@ class ScriptedDevice : public Device {
   void close() override { closed_ = true; }
 
   // The state t_s seconds after the script started (pure; read() uses it with the clock).
+  // t_s < 0 is the start; NaN or infinite t_s throws InvalidArgument.
   DeviceState stateAt(double t_s) const;
   double durationS() const { return times_.back() - times_.front(); }
   bool loops() const { return loop_; }
   glm::vec3 lastForce() const;
 
  private:
+  glm::vec3 segmentVelocity(std::size_t i) const;  // waypoint i to i + 1, m/s
+
   std::vector<double> times_;
   std::vector<glm::vec3> positions_;
   bool loop_;

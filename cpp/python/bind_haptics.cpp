@@ -14,6 +14,7 @@
 #include "haptics/device_claim.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
+#include "haptics/passivity_controller.h"
 #include "haptics/scripted_device.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -69,6 +70,16 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["sim_steps"] = s.sim_steps;
   d["sim_step_ms"] = s.sim_step_ms;
   d["sim_dt"] = s.sim_dt_s;
+  d["force_gain"] = s.force_gain;
+  d["force_gain_reason"] = s.force_gain_reason;
+  const haptics::PassivityState& p = s.haptic.passivity;
+  d["passivity_energy"] = p.energy_j;
+  d["passivity_delivered"] = p.delivered_j;
+  d["passivity_dissipated"] = p.dissipated_j;
+  d["passivity_alpha"] = p.alpha_n_s_m;
+  d["passivity_active_ticks"] = p.active;
+  d["passivity_resets"] = p.resets;
+  d["passivity_max_damping"] = s.haptic.max_damping_n_s_m;
   d["error"] = s.error.empty() ? py::object(py::none()) : py::object(py::str(s.error));
   return d;
 }
@@ -88,8 +99,8 @@ simulation thread, started by start() (or by entering a `with` block) and ended 
 
 Per haptic period: device pose -> (workspace map) -> probe pose for the simulation thread;
 latest simulation force -> [prediction] -> low-pass (cutoff = bandwidth_ratio x measured
-simulation rate) -> force_gain -> safety (NaN guard, homing gate, stale-force fade, ramp-in,
-max_force clamp, slew_rate limit) -> device.
+simulation rate) -> force_gain -> passivity controller -> safety (NaN guard, homing gate,
+stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device.
 
 simulation: the Simulation to drive (kept alive by the session); the session steps it
   continuously and its probe follows the device.
@@ -97,7 +108,20 @@ device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...)
 workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
 workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
   of the device's workspace (DeviceInfo) at the domain's centre.
-force_gain: device newtons per fluid newton (>= 0).
+force_gain: device newtons per fluid newton (>= 0); None = the gain the device can render: the
+  probe's added mass (rho V / 2) x workspace scale, rendered over the shortest simulation step T
+  (sim_dt, or min_sim_dt in real time) as a damping M / T and a stiffness M / T^2, kept within
+  the device's max_damping and max_stiffness (at most 1; 1 for devices that report no limits).
+  stats()['force_gain'] and ['force_gain_reason'] say what was chosen.
+passivity: a time-domain passivity observer and controller (Hannaford and Ryu 2002) between the
+  force gain and the safety stage: it sums the energy the device delivers to the hand
+  (F . dx, positive = into the hand) and, when the loop has made net energy, a damper
+  -alpha v removes it (alpha <= passivity_max_damping). False: observe only.
+passivity_max_damping: bound on alpha (N s/m); None = the device's max_damping (a device that
+  reports none is observed only).
+passivity_deadband: below this device speed (m/s) no damping is applied.
+passivity_reserve: most stored dissipation (J) the observer keeps, and passivity_memory the
+  time constant (s) over which it is forgotten, so old dissipation cannot license a burst.
 probe_radius: the probe becomes a sphere of this radius (m, at least one cell); None = keep the
   simulation's probe (a sphere, or a mesh from set_mesh_probe with its orientation), or a
   0.1 m sphere if it has none.
@@ -131,8 +155,12 @@ void addHaptics(py::module_& m) {
       .def_property_readonly("workspace_max", [](const DeviceInfo& i) { return vec3Array(i.workspace_max_m); },
                              "Reachable box, maximum corner (m, device frame).")
       .def_readonly("max_force", &DeviceInfo::max_force_n, "Largest force the device is commanded (N).")
-      .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m, "N/m (informative).")
-      .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m, "N s/m (informative).")
+      .def_readonly("max_stiffness", &DeviceInfo::max_stiffness_n_m,
+                    "Largest stiffness the device renders stably (N/m; 0: not reported). Bounds the\n"
+                    "default force gain.")
+      .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m,
+                    "Largest damping the device renders stably (N s/m; 0: not reported). Bounds the\n"
+                    "default force gain and the passivity controller's damper.")
       .def("__repr__", [](const DeviceInfo& i) {
         return "DeviceInfo(name='" + i.name + "', kind='" + i.kind + "', max_force=" + std::to_string(i.max_force_n) +
                " N)";
@@ -242,11 +270,12 @@ session on it fails to start; close() still stops it (the session then fails wit
 
   py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
   c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& workspace_scale,
-                    const py::object& workspace_offset, float force_gain, std::optional<float> probe_radius,
+                    const py::object& workspace_offset, std::optional<float> force_gain, std::optional<float> probe_radius,
                     const std::string& filter, double bandwidth_ratio, bool prediction,
                     std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
                     double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
-                    double trace_seconds) {
+                    double trace_seconds, bool passivity, std::optional<float> passivity_max_damping,
+                    float passivity_deadband, double passivity_reserve, double passivity_memory) {
           if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
           session::HapticSessionSettings s;
           auto& p = s.loop.pipeline;
@@ -258,7 +287,17 @@ session on it fails to start; close() still stops it (the session then fails wit
           } else {
             p.map.offset_m = scaleArg(workspace_offset, "workspace_offset");
           }
-          p.map.force_gain = force_gain;
+          s.derive_force_gain = !force_gain.has_value();
+          if (force_gain) p.map.force_gain = *force_gain;
+          p.passivity.enabled = passivity;
+          p.passivity.max_damping_n_s_m = passivity_max_damping.value_or(0.0f);
+          if (passivity_max_damping && !(*passivity_max_damping > 0.0f)) {
+            throw InvalidArgument("passivity_max_damping must be a positive number of N s/m, or None (the device's), got " +
+                                  std::to_string(*passivity_max_damping));
+          }
+          p.passivity.velocity_deadband_m_s = passivity_deadband;
+          p.passivity.max_reserve_j = passivity_reserve;
+          p.passivity.reserve_decay_s = passivity_memory;
           if (filter != "lowpass" && filter != "none") {
             throw InvalidArgument("filter must be 'lowpass' or 'none', got '" + filter + "'");
           }
@@ -292,12 +331,16 @@ session on it fails to start; close() still stops it (the session then fails wit
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
         py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = 1.0f,
-        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = 1.0f, py::arg("probe_radius") = py::none(),
+        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = py::none(), py::arg("probe_radius") = py::none(),
         py::arg("filter") = "lowpass", py::arg("bandwidth_ratio") = 0.5, py::arg("prediction") = false,
         py::arg("max_force") = py::none(), py::arg("slew_rate") = 200.0f, py::arg("ramp_time") = 2.0,
         py::arg("stale_after") = 0.1, py::arg("fade_time") = 0.2, py::arg("rate") = 1000.0, py::arg("sim_dt") = 0.0,
         py::arg("min_sim_dt") = 0.01, py::arg("max_sim_dt") = 0.05, py::arg("realtime") = true, py::arg("trace") = false,
-        py::arg("trace_seconds") = 600.0, py::keep_alive<1, 2>());
+        py::arg("trace_seconds") = 600.0, py::arg("passivity") = haptics::PassivitySettings{}.enabled,
+        py::arg("passivity_max_damping") = py::none(),
+        py::arg("passivity_deadband") = haptics::PassivitySettings{}.velocity_deadband_m_s,
+        py::arg("passivity_reserve") = haptics::PassivitySettings{}.max_reserve_j,
+        py::arg("passivity_memory") = haptics::PassivitySettings{}.reserve_decay_s, py::keep_alive<1, 2>());
   // Started sessions join a WeakSet on the module; an atexit hook stops those still running
   // before the interpreter tears down (their threads must not outlive the objects they use).
   py::module_ weakref = py::module_::import("weakref");
@@ -315,7 +358,7 @@ session on it fails to start; close() still stops it (the session then fails wit
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
   c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
-        "Force down to zero at slew_rate (at most 0.25 s) and both threads ended: waits at most\n"
+        "Force down to zero at slew_rate (max_force / slew_rate, at most 2 s) and both threads ended: waits at most\n"
         "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
         "Any thread may call it; concurrent calls take turns.");
@@ -332,8 +375,13 @@ session on it fails to start; close() still stops it (the session then fails wit
   c.def("stats", [](const HapticSession& s) { return statsDict(s.stats()); },
         "A dict: state, haptic_rate_hz, period/jitter/latency p50, p99, max and mean (ms), ticks,\n"
         "skipped_periods, force_frames, sim_rate_hz, sim_steps, sim_step_ms, sim_dt (s), realtime,\n"
-        "scheduling (warning or ''), error (or None). Latency: device read -> the first haptic period\n"
-        "that uses the force computed from that pose.");
+        "scheduling (warning or ''), error (or None), force_gain and force_gain_reason (the gain in\n"
+        "use and how it was chosen), and the passivity controller's state since its last reset:\n"
+        "passivity_energy (J, the observer: > 0 means the loop made net energy), passivity_delivered\n"
+        "(J, plain sum of the energy delivered to the hand, F . dx), passivity_dissipated (J, removed\n"
+        "by the damper), passivity_alpha (N s/m, the latest damping), passivity_active_ticks,\n"
+        "passivity_resets, passivity_max_damping (N s/m, its bound). Latency: device read -> the\n"
+        "first haptic period that uses the force computed from that pose.");
   c.def_property_readonly(
       "latest_force", [](const HapticSession& s) { return vec3Array(s.latest().commanded_n); },
       "The force commanded to the device in the latest haptic period (N, device frame).");
@@ -345,14 +393,17 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["sim_force"] = vec3Array(o.sim_force_n);
         d["predicted_force"] = vec3Array(o.predicted_n);
         d["filtered_force"] = vec3Array(o.filtered_n);
+        d["passive_force"] = vec3Array(o.passive_n);
+        d["damping"] = o.damping_n_s_m;
         d["commanded_force"] = vec3Array(o.commanded_n);
         d["cutoff_hz"] = o.cutoff_hz;
         d["force_age"] = o.force_age_s;
         d["position"] = vec3Array(s.latestState().position_m);
         return d;
       },
-      "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, commanded_force\n"
-      "(device N), cutoff_hz, force_age (s), position (m, device frame).");
+      "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, passive_force\n"
+      "(after the passivity controller), commanded_force (device N), damping (N s/m), cutoff_hz,\n"
+      "force_age (s), position (m, device frame).");
   c.def(
       "trace",
       [](HapticSession& s) {

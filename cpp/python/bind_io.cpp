@@ -7,6 +7,7 @@
 #include "io/vdb_writer.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/ensure_array.h"
 
 namespace py = pybind11;
 
@@ -24,13 +25,15 @@ io::Compression parseCompression(const std::string& s) {
 
 // A 3D float array as an x-fastest view; `keep` holds the (possibly converted) copy alive.
 io::DenseView denseView(const py::handle& obj, const char* what, std::vector<FArray>& keep) {
-  py::array raw = py::array::ensure(obj);
+  py::array raw = ensureArray<py::array>(obj);
   if (!raw || raw.ndim() != 3) throw InvalidArgument(std::string(what) + " must be a 3D numpy array of floats");
   if (raw.dtype().kind() != 'f') {
     throw InvalidArgument(std::string(what) + " must hold floating-point values, got dtype " +
                           std::string(py::str(raw.dtype())));
   }
-  keep.push_back(FArray::ensure(raw));
+  FArray copy = ensureArray<FArray>(raw);  // MemoryError propagates
+  if (!copy) throw InvalidArgument(std::string(what) + " cannot be converted to float32");
+  keep.push_back(std::move(copy));
   const FArray& a = keep.back();
   io::DenseView v;
   v.data = a.data();
@@ -74,6 +77,10 @@ void addIo(py::module_& m) {
       [](const std::string& path, const py::handle& density, float voxel_size, const std::array<float, 3>& origin,
          const py::object& velocity, const py::object& pressure, const std::string& compression, bool half_float,
          float tolerance, const py::dict& metadata) {
+        if (path.find('\0') != std::string::npos) {  // the file system would see it cut at the NUL
+          throw InvalidArgument("path holds a NUL character (" + std::to_string(path.find('\0')) +
+                                " bytes in); give the .vdb file's real path");
+        }
         std::vector<FArray> keep;
         keep.reserve(5);
         io::VdbFrame frame;

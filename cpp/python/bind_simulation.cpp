@@ -8,6 +8,7 @@
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/convert_mesh.h"
+#include "python/ensure_array.h"
 #include "session/simulation.h"
 
 namespace py = pybind11;
@@ -92,7 +93,7 @@ session::SimulationState stateFromDict(const Simulation& sim, const py::dict& d)
   for (int i = 0; i < 6; ++i) {
     const char* key = kStateArrays[i];
     if (!d.contains(key)) throw InvalidArgument(std::string("state is missing '") + key + "'");
-    py::array a = py::array::ensure(d[key]);
+    py::array a = ensureArray<py::array>(d[key]);
     if (!a) throw InvalidArgument(std::string("state['") + key + "'] must be a numpy array");
     if (!a.dtype().is(py::dtype::of<float>())) {
       throw InvalidArgument(std::string("state['") + key + "'] must be float32 (as state() returns), got " +
@@ -104,7 +105,9 @@ session::SimulationState stateFromDict(const Simulation& sim, const py::dict& d)
                             std::to_string(shape.y) + ", " + std::to_string(shape.z) + "), got " +
                             std::string(py::str(py::getattr(a, "shape"))));
     }
-    auto f = py::array_t<float, py::array::f_style | py::array::forcecast>::ensure(a);
+    // The Fortran-ordered copy (none for what state() returned) may not fit: MemoryError propagates.
+    auto f = ensureArray<py::array_t<float, py::array::f_style | py::array::forcecast>>(a);
+    if (!f) throw InvalidArgument(std::string("state['") + key + "'] cannot be converted to float32");
     stateArray(st, i).assign(f.data(), f.data() + f.size());
   }
   for (const char* key : {"time", "steps"}) {

@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "obstacle/triangle_mesh.h"
+#include "python/ensure_array.h"
 
 namespace hf::python {
 
@@ -41,8 +42,9 @@ inline obstacle::TriangleMesh toMesh(const py::array& vertices, const py::array&
                           " triangles; at most " + std::to_string(obstacle::kMaxMeshElements) +
                           " of each are supported: decimate it");
   }
-  const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
-  const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
+  // MemoryError (a copy that cannot be allocated) propagates; other failures give null arrays.
+  const auto v = ensureArray<py::array_t<float, py::array::c_style | py::array::forcecast>>(vertices);
+  const auto t = ensureArray<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>>(triangles);
   if (!v || !t) throw InvalidArgument("vertices and triangles must be numeric arrays");
   obstacle::TriangleMesh mesh;
   const auto vr = v.unchecked<2>();
@@ -67,11 +69,7 @@ inline obstacle::TriangleMesh toMesh(const py::array& vertices, const py::array&
 // translation in the last column) -> glm (column-major). None -> identity.
 inline glm::mat4 toTransform(const py::object& transform) {
   if (transform.is_none()) return glm::mat4(1.0f);
-  py::array_t<double, py::array::c_style | py::array::forcecast> a;
-  try {
-    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(transform);
-  } catch (const py::error_already_set&) {
-  }
+  const auto a = ensureArray<py::array_t<double, py::array::c_style | py::array::forcecast>>(transform);
   if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) {
     throw InvalidArgument("transform must be a 4x4 matrix (the object's matrix_world: rows of 4 numbers, "
                           "translation in the last column, metres) or None");

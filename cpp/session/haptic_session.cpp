@@ -8,14 +8,46 @@
 #include "common/format.h"
 #include "fluid/validate.h"
 #include "haptics/clock.h"
+#include "haptics/rendering_limits.h"
 #include "haptics/rate_estimator.h"
 #include "session/simulation.h"
+#include "session/simulation_claim.h"
 
 namespace hf::session {
 
 namespace {
 constexpr double kDtSmoothing = 0.25;  // real time: weight of the newest wall period in the step
 constexpr float kDefaultProbeRadiusM = 0.1f;  // the sphere made when there is no probe to keep
+constexpr double kPi = 3.14159265358979323846;
+
+// The settings with the force gain in use: derived from the device's rendering limits and the
+// probe's added mass (a sphere's volume, or a mesh probe's world box: an upper bound), or given.
+HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& sim, const haptics::DevicePtr& device) {
+  if (!device) throw InvalidArgument("haptic session: give a device (got None)");
+  float& gain = s.loop.pipeline.map.force_gain;
+  if (!s.derive_force_gain) {
+    s.force_gain_reason = "force gain " + num(gain) + ": given";
+    return s;
+  }
+  const std::optional<ProbeState> probe = sim.probe();
+  double volume_m3 = 0.0;
+  if (s.probe_radius_m || !probe || probe->kind == ProbeState::Kind::Sphere) {
+    const double r = s.probe_radius_m ? *s.probe_radius_m : probe ? probe->sphere.radius_m : kDefaultProbeRadiusM;
+    volume_m3 = 4.0 / 3.0 * kPi * r * r * r;
+  } else {
+    const obstacle::WorldBox box = obstacle::worldBox(probe->extent, probe->pose.transform);
+    const glm::dvec3 edge(box.hi - box.lo);
+    volume_m3 = edge.x * edge.y * edge.z;
+  }
+  const glm::vec3 scale = glm::abs(s.loop.pipeline.map.scale);
+  const double step_s = s.sim_dt_s > 0.0 ? s.sim_dt_s : s.min_sim_dt_s;
+  const haptics::GainChoice c = haptics::renderableForceGain(
+      device->info(), haptics::addedMassKg(sim.params().density_kg_m3, volume_m3),
+      std::max({scale.x, scale.y, scale.z}), step_s);
+  gain = c.gain;
+  s.force_gain_reason = c.reason;
+  return s;
+}
 }  // namespace
 
 const char* stateName(SessionState s) {
@@ -50,8 +82,10 @@ void HapticSessionSettings::validate() const {
 HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings)
     : sim_(sim),
       device_(std::move(device)),
-      s_((settings.validate(), settings)),
+      s_((settings.validate(), withForceGain(settings, sim, device_))),
       loop_(device_, poses_, forces_, s_.loop) {
+  // Not while another session drives this simulation: the probe set below would replace its probe.
+  { SimulationClaim free_now(sim_, "make a haptic session on it"); }
   const fluid::Grid& g = sim_.grid();
   const std::optional<ProbeState> current = sim_.probe();
   const float margin = g.cell_size_m * 1.001f;  // a hair more than the simulation's one cell
@@ -104,8 +138,13 @@ obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const
     // Held at a wall: the probe does not move along that axis.
     if (origin[a] != pose.position_m[a] || !std::isfinite(velocity[a])) velocity[a] = 0.0f;
   }
-  const float speed = glm::length(velocity);
-  if (speed > fluid::kMaxProbeSpeed) velocity *= fluid::kMaxProbeSpeed / speed;
+  // Scaled to a hair under the simulation's limit (in double: the length of a huge vector
+  // overflows in float), so the rounding of the scaled vector never lands above it: a pose
+  // stream the simulation would refuse must not end the session.
+  const glm::dvec3 v(velocity);
+  const double speed = glm::length(v);
+  const double max_speed = static_cast<double>(fluid::kMaxProbeSpeed) * (1.0 - 1e-4);
+  if (speed > max_speed) velocity = glm::vec3(v * (max_speed / speed));
   p.transform[3] = glm::vec4(origin, 1.0f);
   p.velocity_m_s = velocity;
   return p;
@@ -117,8 +156,10 @@ void HapticSession::start() {
     throw Error("haptic session: start() runs once per session (state '" + std::string(stateName(state_.load())) +
                 "'); make a new HapticSession");
   }
-  loop_.start();
+  auto claim = std::make_unique<SimulationClaim>(sim_, "start a haptic session on it");
+  loop_.start();  // throws if the device is held: the simulation's claim ends here too
   sim_thread_ = std::thread([this] { simLoop(); });
+  sim_claim_ = std::move(claim);
   state_.store(SessionState::Running, std::memory_order_release);
 }
 
@@ -171,7 +212,7 @@ void HapticSession::stop(double timeout_s) {
     stop_requested_ = true;
   }
   cv_.notify_all();
-  loop_.stop();  // slews down (at most 0.25 s), joins; the device got its last zero
+  loop_.stop();  // slews down (at most kMaxWindDownS), joins; the device got its last zero
   if (loop_.failed()) fail(loop_.error());
   std::unique_lock<std::mutex> lock(mutex_);
   // Force output has ended: say so now, even if the simulation's last step is still running.
@@ -186,6 +227,7 @@ void HapticSession::stop(double timeout_s) {
     sim_thread_.join();
     lock.lock();
   }
+  sim_claim_.reset();  // the simulation thread is down: another session may drive it
   if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
   if (!error_.empty() && !error_raised_) {
     error_raised_ = true;
@@ -202,6 +244,8 @@ void HapticSession::joinAll() {
   }
   cv_.notify_all();
   if (sim_thread_.joinable()) sim_thread_.join();
+  std::lock_guard<std::mutex> lock(mutex_);
+  sim_claim_.reset();
 }
 
 void HapticSession::simLoop() {
@@ -280,6 +324,8 @@ HapticSessionStats HapticSession::stats() const {
   st.sim_steps = sim_steps_.load(std::memory_order_relaxed);
   st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
   st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
+  st.force_gain = s_.loop.pipeline.map.force_gain;
+  st.force_gain_reason = s_.force_gain_reason;
   st.error = error();
   return st;
 }

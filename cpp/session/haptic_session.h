@@ -11,6 +11,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@
 namespace hf::session {
 
 class Simulation;
+class SimulationClaim;
 
 struct HapticSessionSettings {
   haptics::HapticLoopSettings loop;
@@ -37,6 +39,10 @@ struct HapticSessionSettings {
   // The floor matters: a voxelized probe gives force impulses ~ 1/dt when it crosses cells.
   double min_sim_dt_s = 0.01;
   double max_sim_dt_s = 0.05;
+  // True: loop.pipeline.map.force_gain is replaced by the gain the device can render for this
+  // probe, fluid and workspace scale (haptics/rendering_limits.h); false: the given gain is used.
+  bool derive_force_gain = true;
+  std::string force_gain_reason;   // set by the session: how the gain in use was chosen
   void validate() const;
 };
 
@@ -50,22 +56,27 @@ struct HapticSessionStats {
   std::uint64_t sim_steps = 0;     // steps taken by this session
   double sim_step_ms = 0.0;        // host time of the latest step, ms
   double sim_dt_s = 0.0;           // time step of the latest step, s
+  float force_gain = 0.0f;         // device N per fluid N in use
+  std::string force_gain_reason;   // how it was chosen
   std::string error;               // "" or the first error
 };
 
 class HapticSession {
  public:
   // The simulation must outlive the session (Python keeps it alive). Throws InvalidArgument
-  // for bad settings (probe radius against the grid included) before anything starts.
+  // for bad settings (probe radius against the grid included) before anything starts, and
+  // hf::Error while another session drives the simulation.
   HapticSession(Simulation& sim, haptics::DevicePtr device, const HapticSessionSettings& settings);
   ~HapticSession();  // stops and joins both threads; never throws
   HapticSession(const HapticSession&) = delete;
   HapticSession& operator=(const HapticSession&) = delete;
 
-  void start();   // starts both threads (once)
+  // Starts both threads (once). Throws hf::Error if another running session drives the same
+  // Simulation or device: the session holds both (SimulationClaim, DeviceClaim) until stop().
+  void start();
   void pause();   // force slews to zero (max_force / slew_rate), simulation holds after its current step
   void resume();  // simulation steps again, force ramps in again
-  // Force slewed to zero (at most 0.25 s) and the haptic thread joined; then waits up to timeout_s for the
+  // Force slewed to zero at the slew rate (at most haptics::kMaxWindDownS = 2 s) and the haptic thread joined; then waits up to timeout_s for the
   // simulation's current step. Throws hf::Error if that step is still running (call again),
   // or the error that ended the session (after the threads are down). Callable from any host
   // thread; concurrent calls take turns.
@@ -103,6 +114,7 @@ class HapticSession {
   glm::vec3 probe_lo_m_{0.0f}, probe_hi_m_{0.0f};  // where the probe's origin may go
 
   std::atomic<SessionState> state_{SessionState::Idle};
+  std::unique_ptr<SimulationClaim> sim_claim_;  // start() .. the simulation thread joined
   std::thread sim_thread_;
   std::mutex stop_mutex_;              // one stop()/joinAll() at a time (host threads, atexit)
   mutable std::mutex mutex_;           // guards the fields below (never taken by the haptic thread)

@@ -161,9 +161,9 @@ class DeviceInfo:
     @property
     def max_force(self) -> float: ...  # N
     @property
-    def max_stiffness(self) -> float: ...  # N/m
+    def max_stiffness(self) -> float: ...  # N/m; 0 = not reported
     @property
-    def max_damping(self) -> float: ...  # N s/m
+    def max_damping(self) -> float: ...  # N s/m; 0 = not reported
 
 class DeviceState:
     @property
@@ -190,19 +190,19 @@ class ScriptedDevice(Device):
     def duration(self) -> float: ...  # s
     @property
     def loops(self) -> bool: ...
-    def state_at(self, t: float) -> DeviceState: ...
+    def state_at(self, t: float) -> DeviceState: ...  # t finite (s)
     @property
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
 class HostDevice(Device):
-    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...
+    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...  # |coordinate| <= 1e6 m
     @property
     def pushes(self) -> int: ...
-    def state_after(self, elapsed: float) -> DeviceState: ...
+    def state_after(self, elapsed: float) -> DeviceState: ...  # elapsed not NaN (s)
     @property
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
-def null_device(max_force: float = 10.0) -> Device: ...
+def null_device(max_force: float = 10.0) -> Device: ...  # max_force in (0, 1000] N, as for every virtual device
 def scripted_device(
     times: Sequence[float], positions: Sequence[Vec3], loop: bool = False, max_force: float = 10.0
 ) -> ScriptedDevice: ...
@@ -216,16 +216,16 @@ class HapticSession:
         device: Device,
         workspace_scale: Union[float, Vec3] = 1.0,  # domain m per device m
         workspace_offset: Optional[Vec3] = None,  # m; None = workspace middle at domain centre
-        force_gain: float = 1.0,  # device N per fluid N
+        force_gain: Optional[float] = None,  # device N per fluid N; None = what the device can render
         probe_radius: Optional[float] = None,  # m; None = keep the simulation's probe
         filter: str = "lowpass",
         bandwidth_ratio: float = 0.5,
         prediction: bool = False,
         max_force: Optional[float] = None,  # N
-        slew_rate: float = 200.0,  # N/s
+        slew_rate: float = 200.0,  # N/s, >= max_force / 2 s (stop() winds down at it)
         ramp_time: float = 2.0,  # s
-        stale_after: float = 0.1,  # s
-        fade_time: float = 0.2,  # s
+        stale_after: float = 0.1,  # s, at most 10
+        fade_time: float = 0.2,  # s, at most 10
         rate: float = 1000.0,  # Hz
         sim_dt: float = 0.0,  # s; 0 = real time
         min_sim_dt: float = 0.01,  # s
@@ -233,6 +233,11 @@ class HapticSession:
         realtime: bool = True,
         trace: bool = False,
         trace_seconds: float = 600.0,  # s
+        passivity: bool = True,  # passivity observer + controller (False: observe only)
+        passivity_max_damping: Optional[float] = None,  # N s/m; None = the device's max_damping
+        passivity_deadband: float = 0.001,  # m/s
+        passivity_reserve: float = 0.01,  # J
+        passivity_memory: float = 0.5,  # s
     ) -> None: ...
     def start(self) -> None: ...
     def pause(self) -> None: ...

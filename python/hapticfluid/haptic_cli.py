@@ -3,7 +3,9 @@
 A simulation is touched through a device (by default a scripted handle sweeping a built-in path
 through the domain) for ``--seconds``; every haptic period is recorded and written to
 ``haptic_force.csv`` (time, device position, simulation force, filtered force, commanded force)
-with a plot ``haptic_force.png``, and the session's statistics are printed.
+with a plot ``haptic_force.png``, and the session's statistics are printed (the force gain in use
+and how it was chosen, the passivity controller's state) with what the device did to the hand
+(energy and mean power delivered to it, its swing).
 """
 
 from __future__ import annotations
@@ -65,6 +67,7 @@ class HapticRun:
     png_path: Optional[Path]
     stats: Dict[str, object]
     samples: int
+    motion: Dict[str, object]
 
 
 def open_device(kind: str, script: Optional[str] = None, loop: bool = True) -> hf.Device:
@@ -118,6 +121,7 @@ def run_haptic(
         session = hf.HapticSession(sim, device, trace=True, trace_seconds=seconds + 5.0, **session_args)
         log(f"haptic session: device {device.info().name!r}, {seconds:g} s, "
             f"grid {sim.resolution}, GL {sim.device['renderer']}")
+        log(session.stats()["force_gain_reason"])
         chunks = []
         with session:
             start = time.monotonic()
@@ -140,7 +144,7 @@ def run_haptic(
     if plot:
         png_path = out_dir / PNG_NAME
         _plot(png_path, trace, device.info().name)
-    return HapticRun(csv_path, png_path, stats, len(trace["time"]))
+    return HapticRun(csv_path, png_path, stats, len(trace["time"]), hand_motion(trace))
 
 
 def _write_csv(path: Path, trace: Dict[str, np.ndarray]) -> None:
@@ -182,12 +186,41 @@ def _plot(path: Path, trace: Dict[str, np.ndarray], device_name: str) -> None:
     atomic_write(path, lambda f: fig.savefig(f, format="png"), binary=True)
 
 
+def hand_motion(trace: Dict[str, np.ndarray], last_seconds: float = 1.0) -> Dict[str, object]:
+    """What the device did to the hand, from a session's trace (device frame).
+
+    delivered_j: energy the commanded force delivered to the hand, sum of F(k-1) . (x(k) - x(k-1))
+    (J; positive = into the hand: the force held over a period times the motion in it);
+    mean_power_w: that over the traced time (W); peak_to_peak_mm and last_peak_to_peak_mm: the
+    hand's swing per axis over the whole trace and over its last `last_seconds` (mm).
+    """
+    t = np.asarray(trace["time"], dtype=float)
+    x = np.asarray(trace["position"], dtype=float)
+    f = np.asarray(trace["commanded_force"], dtype=float)
+    if len(t) < 2:
+        raise hf.InvalidArgumentError("hand_motion needs a trace of at least two haptic periods")
+    delivered = float(np.sum(f[:-1] * np.diff(x, axis=0)))
+    duration = float(t[-1] - t[0])
+    last = x[t >= t[-1] - last_seconds]
+    return {
+        "delivered_j": delivered,
+        "mean_power_w": delivered / duration if duration > 0 else 0.0,
+        "peak_to_peak_mm": tuple(float(v) for v in 1e3 * np.ptp(x, axis=0)),
+        "last_peak_to_peak_mm": tuple(float(v) for v in 1e3 * np.ptp(last, axis=0)),
+    }
+
+
 def format_stats(stats: Dict[str, object]) -> str:
     """The statistics as aligned 'name  value' lines."""
     width = max(len(k) for k in stats)
     lines = []
     for key, value in stats.items():
-        text = f"{value:.4g}" if isinstance(value, float) else str(value)
+        if isinstance(value, float):
+            text = f"{value:.4g}"
+        elif isinstance(value, tuple):
+            text = "(" + ", ".join(f"{v:.4g}" for v in value) + ")"
+        else:
+            text = str(value)
         lines.append(f"  {key:<{width}}  {text}")
     return "\n".join(lines)
 
@@ -228,8 +261,12 @@ def _add_haptic(sub) -> None:
     p.add_argument("--probe-radius", type=_positive, default=0.1, help="m (default: %(default)s)")
     p.add_argument("--workspace-scale", type=_number, default=6.0,
                    help="domain m per device m (default: %(default)s)")
-    p.add_argument("--force-gain", type=_number, default=1.0,
-                   help="device N per fluid N (default: %(default)s)")
+    p.add_argument("--force-gain", type=_number, default=None,
+                   help="device N per fluid N (default: the gain the device can render for this "
+                        "probe, fluid and workspace scale, from its max damping and stiffness)")
+    p.add_argument("--no-passivity", action="store_true",
+                   help="observe the energy delivered to the hand but do not damp it (the passivity "
+                        "controller is on by default)")
     p.add_argument("--filter", choices=("lowpass", "none"), default="lowpass",
                    help="force smoothing (default: %(default)s)")
     p.add_argument("--bandwidth-ratio", type=_positive, default=0.5,
@@ -260,11 +297,14 @@ def cmd_haptic(args: argparse.Namespace) -> int:
             workspace_scale=args.workspace_scale, force_gain=args.force_gain,
             probe_radius=args.probe_radius, filter=args.filter,
             bandwidth_ratio=args.bandwidth_ratio, prediction=args.prediction,
-            max_force=args.max_force, ramp_time=args.ramp_time, realtime=not args.no_realtime)
+            max_force=args.max_force, ramp_time=args.ramp_time, realtime=not args.no_realtime,
+            passivity=not args.no_passivity)
     finally:
         device.close()
     print("statistics:")
     print(format_stats(result.stats))
+    print("the hand:")
+    print(format_stats(result.motion))
     print(f"wrote {result.csv_path} ({result.samples} haptic periods)")
     if result.png_path is not None:
         print(f"wrote {result.png_path}")

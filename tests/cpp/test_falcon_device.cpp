@@ -95,6 +95,9 @@ TEST(FalconDevice, PositionFollowsTheGripAfterHoming) {
   EXPECT_NEAR(s.velocity_m_s.x, 0.05, 0.01);
   EXPECT_NEAR(s.velocity_m_s.z, 0.0, 0.01);
   EXPECT_NEAR(s.time_s, truth.time_s, 1e-9);
+  // Independent of load: the simulated Falcon's reply is queued by the time read() looks, and
+  // FtdiSerial::read looks at least once even if this thread was preempted past its deadline
+  // (it used to count a missed reply then, under load average > 5).
   EXPECT_EQ(device->stats().forwardFailures, 0);
   EXPECT_EQ(device->stats().missedReplies, 0);
 }

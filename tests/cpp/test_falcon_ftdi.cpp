@@ -90,6 +90,19 @@ TEST(FtdiSerial, ReadReturnsWhatCameWhenTheTimeoutPasses) {
   EXPECT_EQ(out[0], 'x');
 }
 
+// A reader whose deadline passed before it first looked (preempted under load, or a zero
+// timeout) still takes a reply that is already waiting: it is not a missed reply. Under load
+// this made FalconDevice.PositionFollowsTheGripAfterHoming count one missed reply.
+TEST(FtdiSerial, ReadLooksOnceEvenWhenTheDeadlineHasPassed) {
+  ScriptedTransport usb;
+  FtdiSerial serial(usb);
+  usb.transfers.push_back({0x01, 0x60, 'r', 's'});
+  std::uint8_t out[2] = {};
+  EXPECT_EQ(serial.read(out, 2, std::chrono::milliseconds(0)), 2u);
+  EXPECT_EQ(std::string(out, out + 2), "rs");
+  EXPECT_EQ(usb.reads, 1);
+}
+
 TEST(FtdiSerial, PurgeDropsBufferedBytes) {
   ScriptedTransport usb;
   FtdiSerial serial(usb);

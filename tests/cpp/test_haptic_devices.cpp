@@ -1,9 +1,11 @@
 // Virtual devices (scripted, host-driven, null) and the workspace map.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "haptics/host_device.h"
@@ -53,6 +55,46 @@ TEST(HapticScriptedDevice, RejectsBadWaypoints) {
   EXPECT_THROW(ScriptedDevice({0.0}, {glm::vec3(0.0f)}, false, 0.0f), InvalidArgument);
 }
 
+// The numbers: the looped time rounds up onto the last waypoint. It used to read the
+// segment that starts there (one past the end: an out-of-bounds read, a garbage velocity); it is
+// the end of the last segment.
+TEST(HapticScriptedDevice, ALoopedTimeOnTheLastWaypointIsTheEndOfTheLastSegment) {
+  const std::vector<double> times = {63.19510386607734, 66.75379394278342, 70.31248401948949};
+  const std::vector<glm::vec3> points = {glm::vec3(0.0f), glm::vec3(0.01f, 0.0f, 0.0f), glm::vec3(0.01f, 0.02f, 0.0f)};
+  const ScriptedDevice d(times, points, true);
+  const double t = 14.234760306824295;
+  ASSERT_EQ(times.front() + std::fmod(times.front() + t - times.front(), d.durationS()), times.back());  // the case
+  const DeviceState s = d.stateAt(t);
+  const float segment_s = static_cast<float>(times[2] - times[1]);
+  expectVec(s.velocity_m_s, glm::vec3(0.0f, 0.02f / segment_s, 0.0f));
+  expectVec(s.position_m, points[2]);
+}
+
+TEST(HapticScriptedDevice, RefusesANonFiniteTime) {
+  for (bool loop : {false, true}) {
+    const ScriptedDevice d = square(loop);
+    EXPECT_THROW(d.stateAt(INFINITY), InvalidArgument) << loop;
+    EXPECT_THROW(d.stateAt(-INFINITY), InvalidArgument) << loop;
+    EXPECT_THROW(d.stateAt(NAN), InvalidArgument) << loop;
+  }
+}
+
+// Waypoints 1e-300 s apart: the velocity would be infinite. (It was computed over the float of
+// the span, 0: infinite, or NaN for equal positions; in double equal positions give 0.)
+TEST(HapticScriptedDevice, RefusesWaypointsTooCloseForAFiniteVelocity) {
+  try {
+    ScriptedDevice({0.0, 1e-300}, {glm::vec3(0.0f), glm::vec3(1.0f, 0.0f, 0.0f)}, false);
+    ADD_FAILURE() << "accepted waypoints 1 m and 1e-300 s apart";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("too close in time"), std::string::npos) << e.what();
+  }
+  const ScriptedDevice still({0.0, 1e-300, 1.0}, {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)}, false);
+  expectVec(still.stateAt(0.0).velocity_m_s, glm::vec3(0.0f));  // not NaN
+  // Close, but the velocity is an ordinary number: accepted.
+  const ScriptedDevice ok({0.0, 1e-6}, {glm::vec3(0.0f), glm::vec3(1e-6f, 0.0f, 0.0f)}, false);
+  EXPECT_NEAR(ok.stateAt(0.0).velocity_m_s.x, 1.0f, 1e-5f);
+}
+
 TEST(HapticScriptedDevice, ReadsACsvFile) {
   const std::string path = ::testing::TempDir() + "hf_script.csv";
   {
@@ -73,6 +115,27 @@ TEST(HapticScriptedDevice, ReadsACsvFile) {
   }
   std::remove(path.c_str());
   EXPECT_THROW(ScriptedDevice::fromCsv(path, false), InvalidArgument);  // missing file
+}
+
+// A folder or /dev/zero used to read as "holds no t,x,y,z rows" (/dev/zero until memory ran out).
+TEST(HapticScriptedDevice, ACsvThatIsAFolderADeviceOrOneHugeLineIsRefused) {
+  const auto messageOf = [](const std::string& path) {
+    try {
+      ScriptedDevice::fromCsv(path, false);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(messageOf(::testing::TempDir()).find("is a folder"), std::string::npos) << messageOf(::testing::TempDir());
+  EXPECT_NE(messageOf("/dev/zero").find("not a regular file"), std::string::npos) << messageOf("/dev/zero");
+  const std::string path = ::testing::TempDir() + "hf_long_line.csv";
+  {
+    std::ofstream out(path);
+    out << "t,x,y,z\n0,0,0,0\n" << std::string(100000, '1') << "\n";
+  }
+  EXPECT_NE(messageOf(path).find(":3 is longer than 4096 characters"), std::string::npos) << messageOf(path);
+  std::remove(path.c_str());
 }
 
 TEST(HapticScriptedDevice, ReadFollowsTheClockAndCloseEndsIt) {
@@ -116,6 +179,15 @@ TEST(HapticHostDevice, RejectsTimesThatDoNotIncreaseAndNonFinitePoses) {
   expectVec(d.stateAfter(0.0).velocity_m_s, glm::vec3(0.002f, 0.0f, 0.0f));
   d.close();
   EXPECT_THROW(d.read(), Error);
+}
+
+TEST(HapticHostDevice, StateAfterRefusesNaN) {
+  HostDevice d(5.0f);
+  d.pushPose(glm::vec3(0.0f), 1.0);
+  d.pushPose(glm::vec3(0.01f, 0.0f, 0.0f), 1.1);
+  EXPECT_THROW(d.stateAfter(NAN), InvalidArgument);
+  const DeviceState s = d.stateAfter(INFINITY);  // extrapolated for one push interval at most
+  EXPECT_NEAR(s.position_m.x, 0.02f, 1e-6f);
 }
 
 TEST(HapticNullDevice, RestsHomedAndDiscards) {

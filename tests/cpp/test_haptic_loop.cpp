@@ -221,6 +221,55 @@ TEST(HapticLoop, StopSlewsTheForceDownToZero) {
   EXPECT_GE(seen.size() - peak, 8u);  // the way down took several periods
 }
 
+// A slow slew (4 N at 8 N/s: 0.5 s) is wound down the whole way at the slew rate; stop() used
+// to give up after 0.25 s and drop the remaining 2 N at once. The trace keeps the way down.
+TEST(HapticLoop, StopWindsDownAtTheSlewRateAllTheWay) {
+  auto device = std::make_shared<FaultyDevice>(1 << 30);  // never fails; records every force
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  ForceFrame f;
+  f.force_n = glm::vec3(0.0f, 4.0f, 0.0f);
+  f.publish_time_s = 1e300;  // never stale
+  forces.write(f);
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.max_force_n = 4.0f;
+  s.pipeline.safety.slew_rate_n_s = 8.0f;
+  HapticLoop loop(device, poses, forces, s);
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return glm::length(loop.latest().commanded_n) > 3.99f; }, 20000ms));
+  loop.stop();
+  const auto seen = device->forces();
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back(), glm::vec3(0.0f));
+  const float max_step = 8.0f * 2e-3f * (1.0f + 1e-5f);  // slew * the loop's cap on dt
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    ASSERT_LE(glm::length(seen[i] - seen[i - 1]), max_step) << "command " << i << " of " << seen.size();
+  }
+  std::vector<TraceSample> trace;
+  loop.drainTrace(trace);
+  ASSERT_FALSE(trace.empty());
+  EXPECT_EQ(trace.back().commanded_n, glm::vec3(0.0f));  // the last traced period is the zero
+  std::size_t peak = 0;
+  for (std::size_t i = 0; i < trace.size(); ++i) {
+    if (glm::length(trace[i].commanded_n) > 3.99f) peak = i;
+  }
+  EXPECT_GE(trace.size() - peak, 250u);  // 4 N at <= 16 mN per period: at least 250 periods down
+}
+
+TEST(HapticLoop, RefusesASlewTooSlowToWindDownOnStop) {
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.max_force_n = 4.0f;
+  s.pipeline.safety.slew_rate_n_s = 4.0f / static_cast<float>(kMaxWindDownS) * 0.99f;
+  try {
+    s.validate();
+    ADD_FAILURE() << "a slew rate needing more than kMaxWindDownS to stop was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("slew_rate"), std::string::npos) << e.what();
+  }
+  s.pipeline.safety.slew_rate_n_s = 4.0f / static_cast<float>(kMaxWindDownS);
+  EXPECT_NO_THROW(s.validate());
+}
+
 // Two loops on one device would each command force past the other's safety stage; the second
 // start() must fail, and the device must be free again once the first has stopped.
 TEST(HapticLoop, OneLoopPerDevice) {

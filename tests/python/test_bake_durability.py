@@ -245,3 +245,30 @@ def test_a_second_bake_or_free_in_a_folder_being_baked_is_refused(tmp_path):
     finally:
         holder.communicate("\n", timeout=60)
     assert bake(scene).frames_written == 1  # the lock went with the holder
+
+
+def test_a_checkpoint_write_that_hits_the_file_size_limit_fails_cleanly(tmp_path):
+    """File too large (as disk full): one OSError, no temporary left, and no "seek of closed
+    file" from np.savez's zip finalised after atomic_write closed the file."""
+    import subprocess
+    import sys
+    import textwrap
+
+    (tmp_path / "checkpoint").mkdir()
+    script = textwrap.dedent("""
+        import resource, signal, sys
+        import numpy as np
+        from hapticfluid.bake import cache
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # write() then fails with EFBIG
+        state = {"density": np.ones((64, 64, 64), np.float32), "time": 1.0, "steps": 3}
+        resource.setrlimit(resource.RLIMIT_FSIZE, (200000, 200000))
+        try:
+            cache.save_checkpoint(sys.argv[1], 1, state, {"a": 1})
+        except OSError as exc:
+            print("OSError", exc.errno)
+    """)
+    proc = subprocess.run([sys.executable, "-c", script, str(tmp_path)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "OSError 27", proc.stdout  # EFBIG
+    assert proc.stderr == "", proc.stderr  # used to print "Exception ignored in ... seek of closed file"
+    assert list((tmp_path / "checkpoint").iterdir()) == []

@@ -23,6 +23,9 @@ def test_short_run_writes_csv_and_png(tmp_path, capsys):
     assert rc == 0
     out = capsys.readouterr().out
     assert "haptic_rate_hz" in out and "sim_rate_hz" in out
+    # The gain in use and why (the scripted handle reports no rendering limits: gain 1), the
+    # passivity controller's state and what the device did to the hand.
+    assert "reports no rendering limits" in out and "passivity_delivered" in out and "mean_power_w" in out
     header, values = read_csv(tmp_path / haptic_cli.CSV_NAME)
     assert header == haptic_cli.CSV_COLUMNS
     assert len(values) > 100  # about 1000 periods at 1 kHz; generous for a loaded machine

@@ -23,6 +23,9 @@ DeviceInfo falconInfo(const std::string& name, const std::string& kind, const st
   info.serial = serial;
   info.workspace_min_m = glm::vec3(static_cast<float>(-kWorkspaceHalfEdge));
   info.workspace_max_m = glm::vec3(static_cast<float>(kWorkspaceHalfEdge));
+  // Rendering limits as CHAI3D's Falcon device specification states them (CFalconDevice: max
+  // linear force 8 N, max linear stiffness 3000 N/m, max linear damping 20 N s/m): the default
+  // force gain and the passivity controller's damper are bounded by them.
   info.max_force_n = 8.0f;
   info.max_stiffness_n_m = 3000.0f;
   info.max_damping_n_s_m = 20.0f;

@@ -54,10 +54,13 @@ std::size_t FtdiSerial::read(std::uint8_t* out, std::size_t n, std::chrono::mill
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + timeout;
   std::size_t done = take(out, n);
-  while (done < n) {
+  // At least one look at the device, even if the deadline passed before it (this thread was
+  // preempted, or timeout is 0): a reply that is already waiting is not a missed reply.
+  for (bool looked = false; done < n; looked = true) {
     const auto now = Clock::now();
-    if (now >= deadline) break;
-    fill(static_cast<unsigned>(std::chrono::ceil<std::chrono::milliseconds>(deadline - now).count()));
+    if (looked && now >= deadline) break;
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - now).count();
+    fill(static_cast<unsigned>(std::max<long long>(1, left)));  // 1 ms at least (0 is "forever" to libusb)
     done += take(out + done, n - done);
   }
   return done;

@@ -7,6 +7,7 @@
 Modules: :mod:`~hapticfluid.bake.scene` (the scene description and its JSON form),
 :mod:`~hapticfluid.bake.trajectory` (keyed rigid transforms, interpolation, velocities),
 :mod:`~hapticfluid.bake.cache` (file naming, manifest, checkpoint, atomic writes),
+:mod:`~hapticfluid.bake.verify` (are the frame files what the bake wrote? used by resume and --verify),
 :mod:`~hapticfluid.bake.driver` (the loop), :mod:`~hapticfluid.bake.command` (the CLI).
 """
 

@@ -65,6 +65,8 @@ def list_frames(cache_dir: "str | os.PathLike") -> List[int]:
 def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
     """Make ``<cache>/data`` and ``<cache>/checkpoint`` and prove they are writable, before any
     simulation work. The cache folder itself may be created, its parent must exist."""
+    if "\0" in os.fspath(cache_dir):
+        raise BakeError(f"cache folder {os.fspath(cache_dir)!r} holds a NUL character; give a real folder path")
     cache = Path(cache_dir)
     parent = cache.absolute().parent
     if not cache.exists() and not parent.is_dir():
@@ -184,10 +186,15 @@ def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
     path = manifest_path(cache_dir)
     if not path.exists():
         return None
+    fix = ("resume the bake (--resume) to rewrite it: resume needs only the checkpoint and checks every frame "
+           "file; or free the cache and bake again")
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
-        raise BakeError(f"bake manifest '{path}' cannot be read ({exc}); free the cache and bake again") from None
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError) as exc:  # ValueError: bad JSON, not UTF-8, huge ints
+        raise BakeError(f"bake manifest '{path}' cannot be read ({type(exc).__name__}: {exc}); {fix}") from None
+    if not isinstance(manifest, dict):
+        raise BakeError(f"bake manifest '{path}' is not a JSON object (it holds a {type(manifest).__name__}); {fix}")
+    return manifest
 
 
 # ---- checkpoint ----------------------------------------------------------------------------
@@ -218,8 +225,18 @@ def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str,
     }
     meta_bytes = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     path = checkpoint_path(cache_dir)
-    atomic_write(path, lambda f: np.savez(f, meta=meta_bytes, **stored), binary=True)
+    atomic_write(path, lambda f: _write_npz(f, {"meta": meta_bytes, **stored}), binary=True)
     return path
+
+
+def _write_npz(f: Any, arrays: Dict[str, np.ndarray]) -> None:
+    """np.savez's format (uncompressed zip of .npy members, zip64), but the zip is closed on an
+    error too: np.savez leaves it open when a write fails (disk full, file too large), and its
+    finaliser later seeks the file atomic_write has closed ("seek of closed file")."""
+    with zipfile.ZipFile(f, mode="w", compression=zipfile.ZIP_STORED, allowZip64=True) as z:
+        for name, a in arrays.items():
+            with z.open(name + ".npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, np.asanyarray(a), allow_pickle=False)
 
 
 def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any]) -> Tuple[int, Dict[str, Any]]:

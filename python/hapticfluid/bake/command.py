@@ -14,6 +14,7 @@ import threading
 from pathlib import Path
 
 from hapticfluid.bake import cache as _cache
+from hapticfluid.bake import verify as _verify
 from hapticfluid.bake.driver import BakeProgress, bake
 from hapticfluid.bake.scene import load_scene
 
@@ -33,6 +34,10 @@ def add_parser(sub, resolution_type) -> None:
                    help="cells along the domain's longest edge (overrides the scene's 'resolution')")
     p.add_argument("--cache", default=None, metavar="DIR",
                    help="cache folder (overrides the scene's cache.directory)")
+    p.add_argument("--verify", action="store_true",
+                   help="bake nothing: check every frame file the cache's manifest claims (size and SHA-256 "
+                        "the bake recorded) and list the missing or damaged ones; exit 0 if all are sound, "
+                        "1 if not (--resume rebakes them)")
     p.add_argument("--quiet", action="store_true", help="print only errors and the summary")
     p.set_defaults(func=cmd_bake)
 
@@ -44,6 +49,8 @@ def cmd_bake(args: argparse.Namespace) -> int:
     if args.cache is not None:
         from dataclasses import replace
         scene = replace(scene, cache_dir=Path(args.cache))
+    if args.verify:
+        return verify_command(scene.cache_dir, args)
 
     cancel = threading.Event()
 
@@ -81,10 +88,30 @@ def cmd_bake(args: argparse.Namespace) -> int:
           + (f" ({result.seconds_per_frame:.2f} s/frame)" if result.frames_written else "")
           + f"; cache {result.cache_dir} holds {len(frames)} frame file(s)"
           + (f", last complete frame {result.last_frame}" if result.last_frame is not None else ""))
+    if result.damaged_frames:
+        print(f"rebaked missing or damaged frame(s) {', '.join(map(str, result.damaged_frames))}")
     if result.status == "cancelled":
         print(f"resume with: {resume_command(args)}")
         return 130
     return 0
+
+
+def verify_command(cache_dir: Path, args: argparse.Namespace) -> int:
+    """``bake --verify``: report the cache's damaged frames; 0 if none, 1 otherwise."""
+    if not Path(cache_dir).is_dir():
+        raise _cache.BakeError(f"cache folder '{cache_dir}' does not exist: there is no bake to verify")
+    with _cache.bake_lock(cache_dir):  # not while a bake rewrites the frames
+        report = _verify.verify_cache(cache_dir)
+    for line in report.lines():
+        print(line)
+    unrecorded = len(report.checked) - report.recorded
+    how = f" ({unrecorded} without a recorded digest: header checked only)" if unrecorded else ""
+    if report.ok:
+        print(f"verify: all {len(report.checked)} frame file(s) the manifest lists are sound{how}")
+        return 0
+    print(f"verify: {len(report.damaged)} of {len(report.checked)} frame file(s) are missing or damaged{how}; "
+          f"rebake them with: {resume_command(args)}")
+    return 1
 
 
 def resume_command(args: argparse.Namespace) -> str:

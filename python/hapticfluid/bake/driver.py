@@ -6,27 +6,36 @@ substep count) are functions of the scene and the state after the previous frame
 state is checkpointed exactly after each frame.
 
 Order of writes per frame f: the frame file (atomic), then the checkpoint for f (atomic), then
-the manifest. A kill between them loses at most frame f: resume restarts from the checkpoint
-and rewrites f identically.
+the manifest (with f's size and SHA-256). A kill between them loses at most frame f: resume
+restarts from the checkpoint and rewrites f identically.
+
+Resume first checks every frame up to the checkpoint's (verify.py). The checkpoint holds only
+the state after its frame, so when an earlier frame is missing or damaged, resume replays the
+simulation from the first frame without writing the frames before the damaged one (they are
+sound, and the replay reproduces them bit for bit) and rewrites every frame from it on.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Dict, Optional, Union
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
 import hapticfluid as hf
 from hapticfluid.bake import cache as _cache
+from hapticfluid.bake import verify as _verify
 from hapticfluid.bake.scene import BakeScene, ProbeSpec
 from hapticfluid.bake.trajectory import Motion
 
 CancelCheck = Union[threading.Event, Callable[[], bool], None]
+
+_log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -64,6 +73,7 @@ class BakeResult:
     resumed_from: Optional[int]  # checkpoint frame this session started after
     seconds: float  # wall time of this session
     seconds_per_frame: float  # mean over this session's frames (nan if none)
+    damaged_frames: Tuple[int, ...] = ()  # resume: frames found missing or damaged, and rebaked
 
 
 def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
@@ -202,7 +212,10 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     """Bake ``scene`` into its cache folder.
 
     resume: continue after the cache's checkpoint (BakeError if there is none or it does not
-        match the scene); otherwise the cache's previous bake files are deleted first.
+        match the scene); otherwise the cache's previous bake files are deleted first. Resume
+        checks every frame file up to the checkpoint first (size and SHA-256 from the manifest,
+        or the VDB header) and rebakes from the earliest missing or damaged one (replaying the
+        simulation from the first frame: see the module); BakeResult.damaged_frames lists them.
     progress: called after every substep and every written frame with a BakeProgress.
     cancel: a threading.Event or a callable; checked once per frame of the trajectory check and
         between substeps. A bake cancelled before its first step leaves the cache as it was (an
@@ -224,6 +237,8 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     fingerprint = scene.fingerprint()
     resumed_from = None
     state = None
+    old: Dict[str, Any] = {}
+    damaged: Tuple[int, ...] = ()
     if not resume:
         _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
     else:
@@ -232,6 +247,23 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
         if resumed_from < scene.frame_start - 1 or resumed_from > scene.frame_end:
             raise _cache.BakeError(f"checkpoint is for frame {resumed_from}, outside this bake's frames "
                                    f"{scene.frame_start}..{scene.frame_end}; bake from the start")
+        try:
+            old = _cache.read_manifest(cache_dir) or {}
+        except _cache.BakeError as exc:  # resume needs only the checkpoint; the manifest is rewritten
+            say(f"{exc}: resuming without it (every frame file is checked against its header)")
+            _log.warning("%s", exc)
+        report = _verify.verify_frames(cache_dir, range(scene.frame_start, resumed_from + 1), _verify.records_of(old))
+        if not report.ok:
+            damaged = tuple(sorted(report.damaged))
+            for line in report.lines():
+                say(f"damaged: {line}")
+            say(f"{len(damaged)} frame file(s) missing or damaged; the checkpoint holds the state after frame "
+                f"{resumed_from}, so the bake replays from frame {scene.frame_start} and rewrites frames "
+                f"{damaged[0]}..{scene.frame_end}")
+            resumed_from, state = None, None
+    # Frames before write_from are sound and kept; the simulation starts at `first` (after the
+    # checkpoint, or at frame_start to replay up to a damaged frame).
+    write_from = damaged[0] if damaged else None
 
     manifest: Dict[str, Any] = {
         "format": "hapticfluid-bake",
@@ -245,14 +277,20 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
         "sessions": [],
     }
     if resume:
-        old = _cache.read_manifest(cache_dir) or {}
-        manifest["sessions"] = list(old.get("sessions", []))
+        sessions = old.get("sessions", [])
+        manifest["sessions"] = list(sessions) if isinstance(sessions, list) else []
     first = scene.frame_start if resumed_from is None else resumed_from + 1
-    manifest["frames_done"] = list(range(scene.frame_start, first))
-    manifest["last_frame"] = first - 1 if first > scene.frame_start else None
-    manifest["complete"] = first > scene.frame_end  # resuming a finished bake: nothing left to do
+    if write_from is None:
+        write_from = first
+    manifest["frames_done"] = list(range(scene.frame_start, write_from))
+    manifest["frame_records"] = {str(f): r for f, r in _verify.records_of(old).items()
+                                 if scene.frame_start <= f < write_from}
+    manifest["last_frame"] = write_from - 1 if write_from > scene.frame_start else None
+    manifest["complete"] = write_from > scene.frame_end  # resuming a finished bake: nothing left to do
     session: Dict[str, Any] = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0,
                                "seconds": 0.0, "device": None}
+    if damaged:
+        session["rebaked_damaged_frames"] = list(damaged)
     manifest["sessions"].append(session)
 
     t0 = time.perf_counter()
@@ -265,14 +303,15 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
             say("cancelled before the first step; the cache is as it was")
             return BakeResult(status="cancelled", cache_dir=cache_dir, frames_written=0,
                               last_frame=resumed_from, resumed_from=resumed_from,
-                              seconds=time.perf_counter() - t0, seconds_per_frame=float("nan"))
+                              seconds=time.perf_counter() - t0, seconds_per_frame=float("nan"),
+                              damaged_frames=damaged)
         if state is not None:
             sim.set_state(state)
-        else:
+        elif not damaged:
             _cache.free_cache_locked(cache_dir)
             _cache.prepare_cache(cache_dir)
         _cache.write_manifest(cache_dir, manifest)
-        say(f"baking frames {first}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
+        say(f"baking frames {write_from}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
             f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "
             f"{session['device']} into {cache_dir}")
         for frame in range(first, scene.frame_end + 1):
@@ -287,11 +326,14 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                     _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
                 sim.step(dt)
                 if progress is not None:
-                    progress(_progress(scene, frame, first, written, s + 1, n, t0, False))
+                    progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
             if status == "cancelled":
                 break
+            if frame < write_from:  # replaying up to a damaged frame: this one's file is sound
+                continue
             frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
-            write_frame(scene, frame_state, frame, n)
+            path = write_frame(scene, frame_state, frame, n)
+            manifest["frame_records"][str(frame)] = _verify.frame_record(path)
             _cache.save_checkpoint(cache_dir, frame, frame_state, fingerprint)
             written += 1
             manifest["frames_done"].append(frame)
@@ -300,7 +342,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
             session["frames"] = written
             session["seconds"] = time.perf_counter() - t0
             _cache.write_manifest(cache_dir, manifest)
-            done = _progress(scene, frame, first, written, n, n, t0, True)
+            done = _progress(scene, frame, write_from, written, n, n, t0, True)
             say(f"frame {frame}: {n} substeps, {(time.perf_counter() - frame_t0):.2f} s; "
                 f"{done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
             if progress is not None:
@@ -311,7 +353,8 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
             f"{manifest['last_frame']}")
     return BakeResult(status=status, cache_dir=cache_dir, frames_written=written,
                       last_frame=manifest["last_frame"], resumed_from=resumed_from, seconds=seconds,
-                      seconds_per_frame=seconds / written if written else float("nan"))
+                      seconds_per_frame=seconds / written if written else float("nan"),
+                      damaged_frames=damaged)
 
 
 def _progress(scene: BakeScene, frame: int, first: int, written: int, substep: int, substeps: int,

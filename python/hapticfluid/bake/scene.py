@@ -106,6 +106,15 @@ def _integer(where: str, value: Any, minimum: Optional[int] = None) -> int:
     return int(value)
 
 
+def _resolution(where: str, value: Any) -> int:
+    """Cells along the longest edge: an integer >= 8 that the engine's 32-bit cell counts hold
+    (the engine itself refuses what a GPU cannot take, with its own message)."""
+    n = _integer(where, value, 8)
+    if n >= 2 ** 31:
+        raise _err(where, f"must be less than 2^31 (the engine counts cells in 32-bit integers), got {n}")
+    return n
+
+
 def _vec(where: str, value: Any, n: int = 3) -> Tuple[float, ...]:
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence) or len(value) != n:
         raise _err(where, f"expected {n} numbers, got {value!r}")
@@ -195,7 +204,7 @@ class BakeScene:
         return 1.0 / self.fps
 
     def with_resolution(self, resolution: int) -> "BakeScene":
-        scene = replace(self, resolution=_integer("resolution", resolution, 8))
+        scene = replace(self, resolution=_resolution("resolution", resolution))
         scene.check_probe_path()
         return scene
 
@@ -327,7 +336,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     size = _vec("domain.size", dom.get("size"))
     if min(size) <= 0:
         raise _err("domain.size", f"edges must be > 0 m, got {list(size)}")
-    resolution = _integer("resolution", top["resolution"], 8)
+    resolution = _resolution("resolution", top["resolution"])
 
     fluid = dict(FLUID_DEFAULTS)
     for k, v in _table("fluid", top.get("fluid", {}), tuple(FLUID_DEFAULTS)).items():
@@ -366,6 +375,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     if top.get("probe") is not None:
         p = _table("probe", top["probe"], ("shape", "radius", "keys", "vertices", "triangles"))
         shape = p.get("shape", "sphere")
+        if shape not in ("sphere", "mesh"):  # before any use: a list or an object is no shape name
+            raise _err("probe.shape", f"must be 'sphere' or 'mesh', got {shape!r}")
         vertices = triangles = None
         ignored = {"sphere": ("vertices", "triangles"), "mesh": ("radius",)}.get(shape, ())
         stray = sorted(k for k in ignored if k in p)
@@ -424,8 +435,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
 
     c = _table("cache", top["cache"], ("directory", "grids", "compression", "half_float", "tolerance"))
     directory = c.get("directory")
-    if not isinstance(directory, str) or not directory:
-        raise _err("cache.directory", f"must be a folder path, got {directory!r}")
+    if not isinstance(directory, str) or not directory or "\0" in directory:
+        raise _err("cache.directory", f"must be a folder path (no NUL character), got {directory!r}")
     cache_dir = Path(directory).expanduser()
     if not cache_dir.is_absolute():
         cache_dir = Path(base_dir) / cache_dir
@@ -455,12 +466,22 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
 def load_scene(path: "str | os.PathLike") -> BakeScene:
     """Read and validate a scene JSON file (relative cache paths are relative to its folder)."""
     p = Path(path)
+    if "\0" in os.fspath(path):
+        raise InvalidArgumentError(f"scene file path {os.fspath(path)!r} holds a NUL character; give a real path")
     try:
         text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise InvalidArgumentError(f"cannot read the scene file '{p}': {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise InvalidArgumentError(f"scene file '{p}' is not UTF-8 text (byte {exc.start}); save it as UTF-8 "
+                                   "JSON") from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidArgumentError(f"scene file '{p}' is not valid JSON: {exc}") from None
+    except RecursionError:
+        raise InvalidArgumentError(f"scene file '{p}' nests JSON too deeply to read; a scene is a few levels "
+                                   "deep") from None
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits
+        raise InvalidArgumentError(f"scene file '{p}' cannot be read as JSON: {exc}") from None
     return scene_from_dict(data, base_dir=p.resolve().parent)

@@ -26,6 +26,7 @@ Run alone: ``python3 -m hapticfluid.bench.mantaflow [--quick] [--json PATH]``.
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import tempfile
@@ -58,6 +59,17 @@ def find_blender() -> str:
                                   "(install Debian's blender package, or leave the section out "
                                   "with --sections)")
     return path
+
+
+def blender_env(blender: str) -> Dict[str, str]:
+    """The environment to run Blender in: its own folder first on PATH.
+
+    Debian's Blender finds its Python's home through the first python3 on PATH; a pyenv
+    interpreter folder in front (as pyenv's shims put it for the tools they run) would give it
+    another standard library without Debian's dist-packages."""
+    env = dict(os.environ)
+    env["PATH"] = os.pathsep.join([os.path.dirname(blender), env.get("PATH", "")])
+    return env
 
 
 def _grid_resolution(vdb_path: Path) -> Optional[Tuple[int, int, int]]:
@@ -95,7 +107,7 @@ def run_mantaflow(scene: BenchScene, resolution_max: int, frames: int, workdir: 
            "--python", str(SCENE_SCRIPT), "--", str(params_path), str(result_path)]
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=BLENDER_TIMEOUT_S,
-                              cwd=workdir)
+                              cwd=workdir, env=blender_env(blender))
     except subprocess.TimeoutExpired:
         raise hf.HapticFluidError(f"Blender's Mantaflow bake took longer than {BLENDER_TIMEOUT_S} s") from None
     if proc.returncode != 0 or not result_path.is_file():

@@ -1,0 +1,333 @@
+"""Live viewport drawing: the smoke raymarched inside the domain box, the force arrow at the
+probe with its magnitude in newtons, and the haptic device's workspace as a wire box.
+
+Draws with ``gpu``, ``gpu_extras`` and ``blf`` only (no ``bgl``), in Blender 3.4 and 4.x-5.x.
+The setters only store values and run on Blender's main thread (like the draw callbacks);
+the density upload to a 3D texture happens inside the draw callback, once per new array.
+In ``--background`` nothing here touches ``gpu``: ``add()`` adds no handler, so nothing draws.
+
+Units: positions in metres (world space), forces in newtons, ``density_scale`` in 1/m per unit
+density (the extinction coefficient of density 1.0; Beer-Lambert: transmittance
+exp(-density_scale * density * path_m)).
+"""
+
+import logging
+import math
+
+import bpy
+import numpy as np
+
+from . import live_draw_geometry as geometry
+from . import live_draw_gpu
+
+log = logging.getLogger(__name__)
+
+# Extinction of density 1.0 per metre: a 0.15 m wide plume of density 0.5 absorbs ~80% of the
+# light through it, so the engine's 0..1 plume reads plainly on the default grey background.
+DEFAULT_DENSITY_SCALE_PER_M = 20.0
+# Domain diagonal (m) used to size the arrow before set_domain() was called.
+FALLBACK_DIAGONAL_M = 1.0
+LABEL_SIZE_PX = 16
+
+_active = set()  # drawers whose handlers are added, for remove_all()
+
+
+def remove_all():
+    """Remove every live drawer's draw handlers and textures (the add-on's unregister)."""
+    for drawer in list(_active):
+        drawer.remove()
+
+
+# --------------------------------------------------------------------------------------------
+
+class LiveDrawer:
+    """Draws one live session in every 3D viewport. Main thread only."""
+
+    def __init__(self):
+        self._handles = None
+        self._lo = self._hi = None
+        self._density = self._temperature = None
+        self._dirty = False
+        self._force = None                      # (origin_m, force_n, max_force_n)
+        self._workspace = None                  # (lo_m, hi_m)
+        self.density_scale = DEFAULT_DENSITY_SCALE_PER_M
+        self.show_temperature = False
+        self._temperature_ref_k = 0.0
+        # GPU objects, made in the draw callback only
+        self._gpu = None
+        self._texture = None                    # RGBA32F 3D texture (pack_field)
+        self._texture_has_temperature = False
+        self._buffers = {}
+        self._failed = False
+        # counters (read by tests and stats): draw callbacks run, texture uploads done
+        self.frames_drawn = 0
+        self.uploads = 0
+        self.sampling = None                    # "texture" or "texelFetch" once the shader is made
+        self.smoke_pixel_scale = None           # fraction of the view's pixels (per axis) raymarched
+        self._offscreens = {}                   # (width, height) -> GPUOffScreen of the smoke at that scale
+
+    # ---- handlers
+
+    def add(self):
+        """Add the draw handlers to SpaceView3D (nothing in --background). Idempotent."""
+        if bpy.app.background or self._handles is not None:
+            return
+        space = bpy.types.SpaceView3D
+        self._handles = (space.draw_handler_add(self._draw_view, (), 'WINDOW', 'POST_VIEW'),
+                         space.draw_handler_add(self._draw_pixel, (), 'WINDOW', 'POST_PIXEL'))
+        _active.add(self)
+        self._redraw()
+
+    def remove(self):
+        """Remove the draw handlers and free the GPU textures. Idempotent."""
+        _active.discard(self)
+        if self._handles is not None:
+            space = bpy.types.SpaceView3D
+            for handle in self._handles:
+                space.draw_handler_remove(handle, 'WINDOW')
+            self._handles = None
+            self._redraw()
+        self._gpu = None
+        self._texture = None
+        self._offscreens = {}
+        self._buffers = {}
+        if self._density is not None:
+            self._dirty = True  # upload again if added again
+
+    @property
+    def is_added(self):
+        return self._handles is not None
+
+    # ---- setters (store only)
+
+    def set_domain(self, lo_m, hi_m):
+        """World box of the simulated domain: lo_m, hi_m are (x, y, z) in metres, hi above lo."""
+        self._lo, self._hi = geometry.box(lo_m, hi_m, "lo_m", "hi_m")
+        if self._density is not None:
+            self._dirty = True  # the shadow's optical depth depends on the cell height
+        self._redraw()
+
+    def set_density(self, array_xyz_float32, temperature=None):
+        """Newest density (numpy, indexed [x, y, z], any memory order, >= 0) and optionally the
+        temperature in K above ambient (same shape). Uploaded at the next redraw."""
+        density = np.asarray(array_xyz_float32, dtype=np.float32)
+        if density.ndim != 3 or min(density.shape) < 1:
+            raise ValueError(f"array_xyz_float32 must be a 3D array [x, y, z], got shape {density.shape}")
+        if not np.isfinite(density).all():
+            raise ValueError("array_xyz_float32 holds non-finite values")
+        if temperature is not None:
+            temperature = np.asarray(temperature, dtype=np.float32)
+            if temperature.shape != density.shape:
+                raise ValueError(f"temperature has shape {temperature.shape}, density {density.shape}")
+            if not np.isfinite(temperature).all():
+                raise ValueError("temperature holds non-finite values")
+            # Colour ramp reference: the hottest cell (an emitter holds its temperature, so it is steady).
+            self._temperature_ref_k = float(max(temperature.max(), 0.0))
+        self._density, self._temperature = density, temperature
+        self._dirty = True
+        self._redraw()
+
+    def set_force(self, origin_m, force_n, max_force_n):
+        """Arrow from origin_m (m, world) along force_n (N, world); max_force_n (N, > 0) sets the
+        scale (an arrow of max_force_n is a quarter of the domain diagonal) and the colour."""
+        origin, force = geometry.vec3(origin_m, "origin_m"), geometry.vec3(force_n, "force_n")
+        if not (math.isfinite(max_force_n) and max_force_n > 0.0):
+            raise ValueError(f"max_force_n must be a positive number of newtons, got {max_force_n!r}")
+        self._force = (origin, force, float(max_force_n))
+        self._redraw()
+
+    def set_workspace_box(self, lo_m, hi_m_or_None):
+        """The haptic device's workspace in the world (m) as a wire box; hi None hides it."""
+        if hi_m_or_None is None or lo_m is None:
+            self._workspace = None
+        else:
+            self._workspace = geometry.box(lo_m, hi_m_or_None, "lo_m", "hi_m_or_None")
+        self._redraw()
+
+    def set_display(self, density_scale, show_temperature):
+        """density_scale: extinction (1/m) of density 1.0, >= 0; show_temperature: colour by heat."""
+        if not (math.isfinite(density_scale) and density_scale >= 0.0):
+            raise ValueError(f"density_scale must be >= 0 (1/m per unit density), got {density_scale!r}")
+        self.density_scale = float(density_scale)
+        self.show_temperature = bool(show_temperature)
+        self._redraw()
+
+    # ---- drawing (main thread, inside Blender's draw loop)
+
+    def _redraw(self):
+        if self._handles is None:
+            return
+        for window in bpy.context.window_manager.windows:
+            for area in window.screen.areas:
+                if area.type == 'VIEW_3D':
+                    area.tag_redraw()
+
+    def _diagonal(self):
+        if self._lo is None:
+            return FALLBACK_DIAGONAL_M
+        return math.dist(self._lo, self._hi)
+
+    def _draw_view(self):
+        if self._failed:
+            return
+        saved = live_draw_gpu.SavedState()
+        try:
+            self.frames_drawn += 1
+            if self._gpu is None:
+                hardware_filter = live_draw_gpu.samples_linearly()
+                self.sampling = "texture" if hardware_filter else "texelFetch"
+                log.debug("smoke texture sampling: %s", self.sampling)
+                self.smoke_pixel_scale = live_draw_gpu.smoke_pixel_scale()
+                self._gpu = {
+                    "volume": live_draw_gpu.volume_shader(hardware_filter),
+                    "composite": live_draw_gpu.composite_shader(),
+                    "flat": live_draw_gpu.builtin_shader('UNIFORM_COLOR', '3D_UNIFORM_COLOR'),
+                    "smooth": live_draw_gpu.builtin_shader('SMOOTH_COLOR', '3D_SMOOTH_COLOR'),
+                }
+            self._upload()
+            self._draw_smoke()
+            self._draw_workspace()
+            self._draw_arrow()
+        except Exception:
+            # Drawing must not take Blender down or spam every redraw: log once, then stop drawing.
+            self._failed = True
+            log.exception("hapticfluid live drawing failed and is switched off for this session")
+        finally:
+            saved.restore()
+
+    def _upload(self):
+        if not self._dirty or self._density is None:
+            return
+        cell_height = (self._hi[2] - self._lo[2]) / self._density.shape[2] if self._lo else 1.0
+        packed = geometry.pack_field(self._density, self._temperature, cell_height)
+        self._texture = live_draw_gpu.texture_3d(packed, self._buffers)
+        self._texture_has_temperature = self._temperature is not None
+        self._dirty = False
+        self.uploads += 1
+
+    def _draw_smoke(self):
+        import gpu
+        from gpu_extras.batch import batch_for_shader
+
+        if self._texture is None or self._lo is None or self.density_scale <= 0.0:
+            return
+        rv3d = bpy.context.region_data
+        if rv3d is None:
+            return
+        view_inv = rv3d.view_matrix.inverted()
+        if rv3d.is_perspective:
+            eye = (*view_inv.translation, 1.0)
+        else:
+            forward = -view_inv.col[2].xyz
+            eye = (*forward, 0.0)
+        hot = self.show_temperature and self._texture_has_temperature
+        temp_ref = self._temperature_ref_k if hot else 0.0
+        shader = self._gpu["volume"]
+        corners = geometry.box_corners(self._lo, self._hi)
+        batch = batch_for_shader(shader, 'TRIS', {"pos": corners}, indices=geometry.BOX_TRIANGLES)
+
+        def march():
+            gpu.state.depth_test_set('NONE')
+            gpu.state.depth_mask_set(False)
+            gpu.state.face_culling_set('FRONT')  # back faces: where each ray leaves the box
+            shader.bind()
+            shader.uniform_float("ModelViewProjectionMatrix", rv3d.perspective_matrix)
+            shader.uniform_float("box_lo", (*self._lo, 0.0))
+            shader.uniform_float("box_hi", (*self._hi, 0.0))
+            shader.uniform_float("eye", eye)
+            shader.uniform_float("params", (self.density_scale, temp_ref, 0.0, 0.0))
+            shader.uniform_sampler("field_tex", self._texture)
+            batch.draw(shader)
+            gpu.state.face_culling_set('NONE')
+
+        region = bpy.context.region
+        if self.smoke_pixel_scale >= 1.0 or region is None:
+            gpu.state.blend_set('ALPHA_PREMULT')
+            march()
+            return
+        size = (max(1, math.ceil(region.width * self.smoke_pixel_scale)),
+                max(1, math.ceil(region.height * self.smoke_pixel_scale)))
+        offscreen = self._offscreens.get(size)  # one per view size: several viewports do not thrash
+        if offscreen is None:
+            if len(self._offscreens) >= 4:
+                self._offscreens.clear()
+            offscreen = self._offscreens[size] = gpu.types.GPUOffScreen(*size)
+        with offscreen.bind():
+            gpu.state.active_framebuffer_get().clear(color=(0.0, 0.0, 0.0, 0.0))
+            gpu.state.blend_set('NONE')  # one back face per pixel: premultiplied colour as is
+            march()
+        composite = self._gpu["composite"]
+        quad = batch_for_shader(composite, 'TRI_FAN', {"pos": ((-1, -1), (1, -1), (1, 1), (-1, 1))})
+        gpu.state.blend_set('ALPHA_PREMULT')
+        gpu.state.depth_test_set('NONE')
+        composite.bind()
+        composite.uniform_sampler("image", offscreen.texture_color)
+        quad.draw(composite)
+
+    def _draw_workspace(self):
+        import gpu
+        from gpu_extras.batch import batch_for_shader
+
+        if self._workspace is None:
+            return
+        shader = self._gpu["flat"]
+        corners = geometry.box_corners(*self._workspace)
+        batch = batch_for_shader(shader, 'LINES', {"pos": corners}, indices=geometry.BOX_EDGES)
+        gpu.state.blend_set('ALPHA')
+        gpu.state.depth_test_set('NONE')
+        gpu.state.line_width_set(2.0)
+        shader.bind()
+        shader.uniform_float("color", (0.35, 0.75, 1.0, 0.9))
+        batch.draw(shader)
+
+    def _draw_arrow(self):
+        import gpu
+        from gpu_extras.batch import batch_for_shader
+
+        if self._force is None:
+            return
+        origin, force, max_force = self._force
+        mesh = geometry.arrow_mesh(origin, force, max_force, self._diagonal())
+        if mesh is None:
+            return
+        positions, colours, _ = mesh
+        shader = self._gpu["smooth"]
+        batch = batch_for_shader(shader, 'TRIS', {"pos": positions, "color": colours})
+        gpu.state.blend_set('NONE')
+        gpu.state.depth_test_set('NONE')   # always on top: the probe is inside the smoke
+        gpu.state.face_culling_set('BACK')
+        shader.bind()
+        batch.draw(shader)
+        gpu.state.face_culling_set('NONE')
+
+    def _draw_pixel(self):
+        if self._failed or self._force is None:
+            return
+        import blf
+        from bpy_extras.view3d_utils import location_3d_to_region_2d
+
+        region, rv3d = bpy.context.region, bpy.context.region_data
+        if region is None or rv3d is None:
+            return
+        origin, force, max_force = self._force
+        magnitude = math.sqrt(sum(c * c for c in force))
+        mesh = geometry.arrow_mesh(origin, force, max_force, self._diagonal())
+        anchor = mesh[2] if mesh is not None else origin
+        xy = location_3d_to_region_2d(region, rv3d, anchor)
+        if xy is None:
+            return
+        saved = live_draw_gpu.SavedState()
+        try:
+            font = 0
+            scale = bpy.context.preferences.system.ui_scale
+            blf.size(font, LABEL_SIZE_PX * scale)
+            blf.enable(font, blf.SHADOW)
+            blf.shadow(font, 3, 0.0, 0.0, 0.0, 0.9)
+            blf.shadow_offset(font, 1, -1)
+            r, g, b, _ = geometry.force_color(magnitude, max_force)
+            blf.color(font, r, g, b, 1.0)
+            blf.position(font, xy.x + 8.0 * scale, xy.y + 6.0 * scale, 0.0)
+            blf.draw(font, geometry.label_text(magnitude))
+            blf.disable(font, blf.SHADOW)
+        finally:
+            saved.restore()

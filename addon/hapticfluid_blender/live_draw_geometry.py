@@ -1,0 +1,141 @@
+"""Pure geometry and colour of the live viewport drawing (no gpu, no bpy: tested headless):
+the domain box, the force arrow mesh, its colour and label, the light's optical depth and the
+smoke texture's texel layout. Positions in metres, forces in newtons."""
+
+import math
+
+import numpy as np
+
+# The arrow for max_force_n is this fraction of the domain's diagonal long.
+ARROW_FRACTION_OF_DIAGONAL = 0.25
+# Arrows for forces above max_force_n grow up to this multiple of max_force_n, then stop growing
+# (the label still shows the true magnitude).
+ARROW_MAX_OVERSHOOT = 2.0
+# Arrow proportions, as fractions of the max_force_n arrow's length: shaft and head radius, head length
+# (the head is at most half of a short arrow, which then thins in proportion).
+ARROW_SHAFT_RADIUS = 0.04
+ARROW_HEAD_RADIUS = 0.1
+ARROW_HEAD_LENGTH = 0.3
+
+
+def vec3(value, name):
+    try:
+        out = tuple(float(v) for v in value)
+    except TypeError:
+        raise ValueError(f"{name} must be 3 numbers (m), got {value!r}") from None
+    if len(out) != 3 or not all(math.isfinite(v) for v in out):
+        raise ValueError(f"{name} must be 3 finite numbers, got {value!r}")
+    return out
+
+
+def box(lo_m, hi_m, lo_name, hi_name):
+    lo, hi = vec3(lo_m, lo_name), vec3(hi_m, hi_name)
+    if not all(h > l for l, h in zip(lo, hi)):
+        raise ValueError(f"{hi_name} {hi} must be above {lo_name} {lo} on every axis")
+    return lo, hi
+
+
+def box_corners(lo, hi):
+    """The 8 corners of an axis-aligned box, corner i taking hi on axis a when bit a of i is set."""
+    return [tuple(hi[a] if (i >> a) & 1 else lo[a] for a in range(3)) for i in range(8)]
+
+
+# Triangles of the box's 6 faces, counter-clockwise seen from outside (corner indices as above).
+BOX_TRIANGLES = (
+    (0, 4, 6), (0, 6, 2),  # x = lo
+    (1, 3, 7), (1, 7, 5),  # x = hi
+    (0, 1, 5), (0, 5, 4),  # y = lo
+    (2, 6, 7), (2, 7, 3),  # y = hi
+    (0, 2, 3), (0, 3, 1),  # z = lo
+    (4, 5, 7), (4, 7, 6),  # z = hi
+)
+BOX_EDGES = tuple((i, i | (1 << a)) for i in range(8) for a in range(3) if not (i >> a) & 1)
+
+
+def force_color(magnitude_n, max_force_n):
+    """Green at zero, yellow at half of max_force_n, red from max_force_n up (RGBA)."""
+    x = min(max(magnitude_n / max_force_n, 0.0), 1.0)
+    if x < 0.5:
+        return (0.25 + 1.5 * x, 0.9, 0.2, 1.0)
+    return (1.0, 0.9 - 1.6 * (x - 0.5), 0.2 - 0.3 * (x - 0.5), 1.0)
+
+
+def arrow_length_m(magnitude_n, max_force_n, diagonal_m):
+    """Arrow length: max_force_n is ARROW_FRACTION_OF_DIAGONAL of the diagonal, linear below, capped."""
+    scale = ARROW_FRACTION_OF_DIAGONAL * diagonal_m / max_force_n
+    return scale * min(magnitude_n, ARROW_MAX_OVERSHOOT * max_force_n)
+
+
+def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
+    """Triangles of a shaded 3D arrow from origin along force: (positions, colours, head point).
+
+    None when the force is too small to draw. Arrows longer than twice the head keep the thickness
+    of the max_force_n arrow; shorter ones are scaled-down copies of that shape (a cone on a stub).
+    Triangles are counter-clockwise from outside.
+    """
+    from mathutils import Vector
+
+    f = Vector(force)
+    magnitude = f.length
+    length = arrow_length_m(magnitude, max_force_n, diagonal_m)
+    ref = ARROW_FRACTION_OF_DIAGONAL * diagonal_m
+    if length < 1e-4 * ref:
+        return None
+    axis = f / magnitude
+    head_len = min(ARROW_HEAD_LENGTH * ref, 0.5 * length)
+    thickness = ref * head_len / (ARROW_HEAD_LENGTH * ref)  # a short arrow is a scaled-down one, not a disc
+    head_r, shaft_r = ARROW_HEAD_RADIUS * thickness, ARROW_SHAFT_RADIUS * thickness
+    o = Vector(origin)
+    tip = o + axis * length
+    neck = tip - axis * head_len
+    u = axis.orthogonal().normalized()
+    v = axis.cross(u)
+    ring = [u * math.cos(2 * math.pi * k / sides) + v * math.sin(2 * math.pi * k / sides) for k in range(sides)]
+    base = force_color(magnitude, max_force_n)
+    light = Vector((0.35, -0.45, 0.82)).normalized()
+
+    positions, colours = [], []
+
+    def tri(a, b, c, normal):
+        shade = 0.45 + 0.55 * max(normal.dot(light), 0.0)
+        rgba = (base[0] * shade, base[1] * shade, base[2] * shade, 1.0)
+        positions.extend((tuple(a), tuple(b), tuple(c)))
+        colours.extend((rgba, rgba, rgba))
+
+    for k in range(sides):
+        r0, r1 = ring[k], ring[(k + 1) % sides]
+        mid = (r0 + r1).normalized()
+        a0, a1 = o + r0 * shaft_r, o + r1 * shaft_r
+        b0, b1 = neck + r0 * shaft_r, neck + r1 * shaft_r
+        tri(a0, a1, b1, mid)                                     # shaft side
+        tri(a0, b1, b0, mid)
+        tri(o, a1, a0, -axis)                                    # shaft cap
+        c0, c1 = neck + r0 * head_r, neck + r1 * head_r
+        slant = (mid * head_len + axis * head_r).normalized()
+        tri(c0, c1, tip, slant)                                  # cone
+        tri(neck, c1, c0, -axis)                                 # cone base
+    return positions, colours, tuple(tip)
+
+
+def label_text(magnitude_n):
+    """The force label: '3.2 N'; two decimals below 1 N ('0.45 N')."""
+    return f"{magnitude_n:.2f} N" if magnitude_n < 1.0 else f"{magnitude_n:.1f} N"
+
+
+def optical_depth_above(density, cell_height_m):
+    """Density integrated from each cell's centre up to the domain's top (density * m), [x, y, z]:
+    the light from straight above reaches cell k through half of it and all cells above."""
+    above = np.cumsum(density[:, :, ::-1], axis=2, dtype=np.float64)[:, :, ::-1]
+    return ((above - 0.5 * density) * cell_height_m).astype(np.float32)
+
+
+def pack_field(density, temperature, cell_height_m):
+    """The smoke texture's texels, (z, y, x, 4) C order = x fastest, RGBA per texel: density,
+    optical depth above, temperature (0 when None), 0."""
+    nx, ny, nz = density.shape
+    packed = np.zeros((nz, ny, nx, 4), dtype=np.float32)
+    packed[..., 0] = density.transpose(2, 1, 0)
+    packed[..., 1] = optical_depth_above(density, cell_height_m).transpose(2, 1, 0)
+    if temperature is not None:
+        packed[..., 2] = temperature.transpose(2, 1, 0)
+    return packed

@@ -1,0 +1,265 @@
+"""The gpu side of the live viewport drawing: GLSL, shader builders, capability probes, the
+smoke texture upload and gpu.state save/restore. Only called from draw callbacks in a windowed
+Blender (never in --background: GPUTexture raises there and renderer_get() crashes)."""
+
+import numpy as np
+
+# Raymarch step as a fraction of the smallest cell edge, and the most steps per ray.
+STEP_FRACTION_OF_CELL = 0.75
+MAX_STEPS = 384
+# On a software renderer the smoke is raymarched at this fraction of the view's pixels (per axis)
+# and scaled up (bilinear): a quarter of the rays; smoke is soft, the arrow and box stay sharp.
+SOFTWARE_SMOKE_PIXEL_SCALE = 0.5
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swiftshader", "software rasterizer")
+# Smoke colour lit from straight above and in its own shadow (linear RGB).
+SMOKE_LIT_RGB = (0.97, 0.96, 0.93)
+SMOKE_SHADOW_RGB = (0.42, 0.44, 0.50)
+
+# GLSL (Blender's create-info dialect: interface, push constants and samplers are declared in Python)
+
+_VOLUME_VERT = """
+void main()
+{
+  world_pos = pos;
+  gl_Position = ModelViewProjectionMatrix * vec4(pos, 1.0);
+}
+"""
+
+# Drawn on the box's back faces: each fragment is where its eye ray leaves the box. The ray is
+# marched from where it enters (or from the eye, inside the box) with jittered steps; the field is
+# interpolated trilinearly by texture() where this Blender's sampler filters linearly (probed once,
+# 2.3x faster on llvmpipe), by hand from 8 texelFetch otherwise (HARDWARE_FILTER undefined). Light
+# comes from straight above: the optical depth above each cell is summed on the CPU at upload (one
+# fetch per step gives the self-shadowing); temperature (optional) tints with a black-body-like ramp.
+_VOLUME_FRAG = """
+vec4 fetch_trilinear(vec3 uvw)
+{
+#ifdef HARDWARE_FILTER
+  return texture(field_tex, uvw);
+#endif
+  ivec3 n = textureSize(field_tex, 0);
+  vec3 g = clamp(uvw, 0.0, 1.0) * vec3(n) - 0.5;
+  vec3 f = fract(g);
+  ivec3 a = clamp(ivec3(floor(g)), ivec3(0), n - 1);
+  ivec3 b = min(a + 1, n - 1);
+  vec4 x00 = mix(texelFetch(field_tex, a, 0), texelFetch(field_tex, ivec3(b.x, a.y, a.z), 0), f.x);
+  vec4 x10 = mix(texelFetch(field_tex, ivec3(a.x, b.y, a.z), 0), texelFetch(field_tex, ivec3(b.x, b.y, a.z), 0), f.x);
+  vec4 x01 = mix(texelFetch(field_tex, ivec3(a.x, a.y, b.z), 0), texelFetch(field_tex, ivec3(b.x, a.y, b.z), 0), f.x);
+  vec4 x11 = mix(texelFetch(field_tex, ivec3(a.x, b.y, b.z), 0), texelFetch(field_tex, b, 0), f.x);
+  return mix(mix(x00, x10, f.y), mix(x01, x11, f.y), f.z);
+}
+
+vec3 heat_ramp(float t)
+{
+  t = clamp(t, 0.0, 1.0);
+  return vec3(smoothstep(0.0, 0.35, t), smoothstep(0.25, 0.75, t), smoothstep(0.6, 1.0, t)) * 1.6;
+}
+
+void main()
+{
+  vec3 lo = box_lo.xyz, hi = box_hi.xyz, size = hi - lo;
+  vec3 dir, origin;
+  if (eye.w > 0.5) {
+    origin = eye.xyz;
+    dir = normalize(world_pos - eye.xyz);
+  }
+  else {
+    dir = normalize(eye.xyz);
+    origin = world_pos - dir * (2.0 * length(size));
+  }
+  vec3 inv = 1.0 / dir;
+  vec3 t0 = (lo - origin) * inv, t1 = (hi - origin) * inv;
+  vec3 tmin3 = min(t0, t1), tmax3 = max(t0, t1);
+  float t_in = max(max(max(tmin3.x, tmin3.y), tmin3.z), 0.0);
+  float t_out = min(min(tmax3.x, tmax3.y), tmax3.z);
+
+  vec3 cell = size / vec3(textureSize(field_tex, 0));
+  float dt = STEP_FRACTION * min(min(cell.x, cell.y), cell.z);
+  float jitter = fract(sin(dot(gl_FragCoord.xy, vec2(12.9898, 78.233))) * 43758.5453);
+  float t = t_in + jitter * dt;
+  float sigma = params.x;
+  float temp_ref = params.y;
+
+  float trans = 1.0;
+  vec3 color = vec3(0.0);
+  for (int i = 0; i < MAX_STEPS && t < t_out; i++, t += dt) {
+    vec3 p = origin + dir * t;
+    /* x: density, y: optical depth above (density * m), z: temperature (K above ambient) */
+    vec4 s = fetch_trilinear((p - lo) / size);
+    if (s.x <= 1e-4) {
+      continue;
+    }
+    float alpha = 1.0 - exp(-sigma * s.x * dt);
+    float lit = exp(-sigma * s.y);
+    vec3 c = mix(SHADOW_COLOR, LIT_COLOR, lit);
+    if (temp_ref > 0.0) {
+      float heat = s.z / temp_ref;
+      c = mix(c, heat_ramp(heat), clamp(heat * 1.5, 0.0, 1.0));
+    }
+    color += trans * alpha * c;
+    trans *= 1.0 - alpha;
+    if (trans < 0.01) {
+      break;
+    }
+  }
+  FragColor = vec4(color, 1.0 - trans);
+}
+"""
+
+
+
+def builtin_shader(*names):
+    """The first built-in shader that exists: names lost their '3D_' prefix in Blender 4.0."""
+    import gpu
+
+    for name in names:
+        try:
+            return gpu.shader.from_builtin(name)
+        except (ValueError, TypeError):
+            continue
+    raise RuntimeError(f"none of the built-in shaders {names} exists in this Blender")
+
+
+def volume_shader(hardware_filter=False):
+    import gpu
+
+    iface = gpu.types.GPUStageInterfaceInfo("hapticfluid_smoke_iface")
+    iface.smooth('VEC3', "world_pos")
+    info = gpu.types.GPUShaderCreateInfo()
+    info.push_constant('MAT4', "ModelViewProjectionMatrix")
+    info.push_constant('VEC4', "box_lo")
+    info.push_constant('VEC4', "box_hi")
+    info.push_constant('VEC4', "eye")      # xyz: eye (w = 1, perspective) or view direction (w = 0)
+    info.push_constant('VEC4', "params")   # x: extinction 1/m per unit density, y: temperature ref K
+    info.sampler(0, 'FLOAT_3D', "field_tex")  # RGBA: density, optical depth above, temperature, 0
+    info.vertex_in(0, 'VEC3', "pos")
+    info.vertex_out(iface)
+    info.fragment_out(0, 'VEC4', "FragColor")
+    info.define("MAX_STEPS", str(MAX_STEPS))
+    info.define("LIT_COLOR", "vec3(%.3f, %.3f, %.3f)" % SMOKE_LIT_RGB)
+    info.define("SHADOW_COLOR", "vec3(%.3f, %.3f, %.3f)" % SMOKE_SHADOW_RGB)
+    info.define("STEP_FRACTION", f"{STEP_FRACTION_OF_CELL:.6f}")
+    if hardware_filter:
+        info.define("HARDWARE_FILTER", "1")
+    info.vertex_source(_VOLUME_VERT)
+    info.fragment_source(_VOLUME_FRAG)
+    return gpu.shader.create_from_info(info)
+
+
+_COMPOSITE_VERT = """
+void main()
+{
+  uv = pos * 0.5 + 0.5;
+  gl_Position = vec4(pos, 0.0, 1.0);
+}
+"""
+
+# Bilinear by hand (texelFetch): the offscreen texture's sampler state is not ours to set either.
+_COMPOSITE_FRAG = """
+void main()
+{
+  ivec2 n = textureSize(image, 0);
+  vec2 g = uv * vec2(n) - 0.5;
+  vec2 f = fract(g);
+  ivec2 a = clamp(ivec2(floor(g)), ivec2(0), n - 1);
+  ivec2 b = min(a + 1, n - 1);
+  vec4 bottom = mix(texelFetch(image, a, 0), texelFetch(image, ivec2(b.x, a.y), 0), f.x);
+  vec4 top = mix(texelFetch(image, ivec2(a.x, b.y), 0), texelFetch(image, b, 0), f.x);
+  FragColor = mix(bottom, top, f.y);
+}
+"""
+
+
+def composite_shader():
+    import gpu
+
+    iface = gpu.types.GPUStageInterfaceInfo("hapticfluid_composite_iface")
+    iface.smooth('VEC2', "uv")
+    info = gpu.types.GPUShaderCreateInfo()
+    info.sampler(0, 'FLOAT_2D', "image")
+    info.vertex_in(0, 'VEC2', "pos")
+    info.vertex_out(iface)
+    info.fragment_out(0, 'VEC4', "FragColor")
+    info.vertex_source(_COMPOSITE_VERT)
+    info.fragment_source(_COMPOSITE_FRAG)
+    return gpu.shader.create_from_info(info)
+
+
+def smoke_pixel_scale():
+    """SOFTWARE_SMOKE_PIXEL_SCALE on a software renderer, else 1 (windowed Blender only: the
+    renderer query crashes Blender 3.4 in --background)."""
+    import gpu
+
+    renderer = gpu.platform.renderer_get().lower()
+    return SOFTWARE_SMOKE_PIXEL_SCALE if any(name in renderer for name in SOFTWARE_RENDERERS) else 1.0
+
+
+def samples_linearly():
+    """Whether texture() on a Python-made 3D texture filters linearly here (it does in Blender 3.4;
+    the sampler state of such textures is not settable from Python and has changed between
+    versions): one texel drawn into a 1x1 offscreen between a 0 and a 1 texel reads 0.5 if so."""
+    import gpu
+    from gpu_extras.batch import batch_for_shader
+
+    tex = gpu.types.GPUTexture((2, 1, 1), format='RGBA32F',
+                               data=gpu.types.Buffer('FLOAT', 8, [0.0] * 4 + [1.0] * 4))
+    info = gpu.types.GPUShaderCreateInfo()
+    info.sampler(0, 'FLOAT_3D', "field_tex")
+    info.vertex_in(0, 'VEC2', "pos")
+    info.fragment_out(0, 'VEC4', "FragColor")
+    info.vertex_source("void main() { gl_Position = vec4(pos, 0.0, 1.0); }")
+    info.fragment_source("void main() { FragColor = texture(field_tex, vec3(0.5)); }")
+    shader = gpu.shader.create_from_info(info)
+    batch = batch_for_shader(shader, 'TRI_FAN', {"pos": [(-1, -1), (1, -1), (1, 1), (-1, 1)]})
+    offscreen = gpu.types.GPUOffScreen(1, 1)
+    try:
+        with offscreen.bind():
+            fb = gpu.state.active_framebuffer_get()
+            fb.clear(color=(0.0, 0.0, 0.0, 0.0))
+            gpu.state.blend_set('NONE')
+            shader.bind()
+            shader.uniform_sampler("field_tex", tex)
+            batch.draw(shader)
+            value = fb.read_color(0, 0, 1, 1, 4, 0, 'FLOAT')[0][0][0]
+    finally:
+        offscreen.free()
+    return 0.25 < value < 0.75
+
+
+def texture_3d(packed, staging):
+    """A new RGBA32F 3D texture from pack_field()'s array; the staging Buffer is reused."""
+    import gpu
+
+    nz, ny, nx, _ = packed.shape
+    flat = packed.reshape(-1)
+    buf = staging.get("buffer")
+    if buf is None or len(buf) != flat.size:
+        buf = gpu.types.Buffer('FLOAT', flat.size)
+        staging["buffer"] = buf
+    try:
+        np.frombuffer(buf, dtype=np.float32)[:] = flat
+    except (TypeError, ValueError, BufferError):  # a Buffer without the buffer protocol
+        buf = gpu.types.Buffer('FLOAT', flat.size, flat)
+        staging["buffer"] = buf
+    return gpu.types.GPUTexture((nx, ny, nz), format='RGBA32F', data=buf)
+
+
+class SavedState:
+    """gpu.state as a draw callback found it; restore() puts it back."""
+
+    def __init__(self):
+        import gpu
+
+        self.blend = gpu.state.blend_get()
+        self.depth_test = gpu.state.depth_test_get()
+        self.depth_mask = gpu.state.depth_mask_get()
+        self.line_width = gpu.state.line_width_get()
+
+    def restore(self):
+        import gpu
+
+        gpu.state.blend_set(self.blend)
+        gpu.state.depth_test_set(self.depth_test)
+        gpu.state.depth_mask_set(self.depth_mask)
+        gpu.state.line_width_set(self.line_width)
+        gpu.state.face_culling_set('NONE')  # no getter; 'NONE' is what draw callbacks get

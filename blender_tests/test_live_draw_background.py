@@ -1,0 +1,147 @@
+"""Runs inside `blender --background --factory-startup --python-exit-code 1`: the live viewport
+drawing (live_draw) never touches gpu in background mode (add/remove are no-ops, twice is fine,
+the setters store and validate without raising), bad values raise ValueError naming the
+argument, and the pure geometry it draws has the known answers: box faces wound outwards, the
+arrow's length, cap, tip and winding, the colour ramp, the light's optical depth and the texel
+layout of the uploaded field."""
+
+import math
+import os
+import sys
+
+import bpy
+import numpy as np
+from mathutils import Vector
+
+sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
+
+from hapticfluid_blender import live_draw, live_draw_geometry as geometry  # noqa: E402
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def raises(call, word):
+    try:
+        call()
+    except ValueError as error:
+        return word in str(error)
+    return False
+
+
+def background_no_ops():
+    check(bpy.app.background, "running in --background")
+    drawer = live_draw.LiveDrawer()
+    for _ in range(2):
+        drawer.add()
+    check(not drawer.is_added and not live_draw._active, "add() twice adds no handler in background")
+    drawer.set_domain((0.0, 0.0, 0.0), (1.0, 2.0, 0.5))
+    density = np.random.default_rng(1).random((8, 16, 4), dtype=np.float32)
+    drawer.set_density(np.asfortranarray(density), temperature=8.0 * density)
+    drawer.set_density(density)
+    drawer.set_force((0.5, 0.5, 0.25), (1.0, 0.0, 0.0), 3.0)
+    drawer.set_workspace_box((0.1, 0.1, 0.1), (0.9, 1.9, 0.4))
+    drawer.set_workspace_box((0.1, 0.1, 0.1), None)
+    drawer.set_display(35.0, True)
+    check(drawer.density_scale == 35.0 and drawer.show_temperature, "set_display stores its values")
+    check(drawer.frames_drawn == 0 and drawer.uploads == 0 and drawer.sampling is None,
+          "nothing was drawn, uploaded or compiled")
+    for _ in range(2):
+        drawer.remove()
+    live_draw.remove_all()
+    check(not drawer.is_added, "remove() twice and remove_all() are fine")
+
+
+def bad_values():
+    drawer = live_draw.LiveDrawer()
+    check(raises(lambda: drawer.set_domain((0, 0, 0), (1, 0, 1)), "hi_m"), "a flat domain names hi_m")
+    check(raises(lambda: drawer.set_domain((0, 0), (1, 1, 1)), "lo_m"), "a 2-number corner names lo_m")
+    check(raises(lambda: drawer.set_density(np.zeros((4, 4), np.float32)), "array_xyz_float32"),
+          "a 2D array names array_xyz_float32")
+    check(raises(lambda: drawer.set_density(np.full((2, 2, 2), np.nan, np.float32)), "non-finite"),
+          "NaN density is refused")
+    check(raises(lambda: drawer.set_density(np.zeros((2, 2, 2)), np.zeros((2, 2, 3))), "temperature"),
+          "a temperature of another shape names temperature")
+    check(raises(lambda: drawer.set_force((0, 0, 0), (1, 0, 0), 0.0), "max_force_n"), "max_force_n 0 is refused")
+    check(raises(lambda: drawer.set_force((0, 0, 0), (1, 0, math.inf), 1.0), "force_n"), "an infinite force is refused")
+    check(raises(lambda: drawer.set_display(-1.0, False), "density_scale"), "a negative density_scale is refused")
+    check(raises(lambda: drawer.set_workspace_box((0, 0, 0), (1, 1, -1)), "hi_m_or_None"),
+          "an inverted workspace box names hi_m_or_None")
+
+
+def box_geometry():
+    lo, hi = (0.0, -1.0, 2.0), (1.0, 1.0, 3.0)
+    corners = [Vector(c) for c in geometry.box_corners(lo, hi)]
+    check(tuple(corners[0]) == lo and tuple(corners[7]) == hi and tuple(corners[5]) == (1.0, -1.0, 3.0),
+          "corner i takes hi on axis a when bit a is set")
+    centre = (corners[0] + corners[7]) / 2
+    outward = all(((corners[b] - corners[a]).cross(corners[c] - corners[a])).dot(
+        (corners[a] + corners[b] + corners[c]) / 3 - centre) > 0 for a, b, c in geometry.BOX_TRIANGLES)
+    check(len(geometry.BOX_TRIANGLES) == 12 and outward, "the box's 12 triangles wind outwards")
+    lengths = sorted(round((corners[b] - corners[a]).length, 6) for a, b in geometry.BOX_EDGES)
+    check(lengths == [1.0] * 8 + [2.0] * 4, f"12 edges, 4 along each axis: {lengths}")
+
+
+def arrow_geometry():
+    diagonal = math.sqrt(3.0)
+    check(math.isclose(geometry.arrow_length_m(3.0, 3.0, diagonal), 0.25 * diagonal),
+          "max_force_n gives a quarter of the diagonal")
+    check(math.isclose(geometry.arrow_length_m(1.5, 3.0, diagonal), 0.125 * diagonal), "the length is linear")
+    check(math.isclose(geometry.arrow_length_m(30.0, 3.0, diagonal), 0.5 * diagonal),
+          "a force far above max stops growing at twice max's length")
+    origin, force = Vector((0.2, 0.3, 0.4)), Vector((0.0, 1.2, -1.6))
+    positions, colours, tip = geometry.arrow_mesh(origin, force, 3.0, diagonal)
+    length = geometry.arrow_length_m(2.0, 3.0, diagonal)
+    check((Vector(tip) - (origin + force.normalized() * length)).length < 1e-9, "the tip lies along the force")
+    check(len(positions) == len(colours) and len(positions) % 3 == 0, "one colour per vertex of whole triangles")
+    axis = force.normalized()
+    ref = geometry.ARROW_FRACTION_OF_DIAGONAL * diagonal
+    shaft_r = geometry.ARROW_SHAFT_RADIUS * ref
+    neck = origin + axis * (length - min(geometry.ARROW_HEAD_LENGTH * ref, 0.5 * length))
+    shaft_centre, cone_centre = (origin + neck) / 2, neck + axis * (Vector(tip) - neck).length / 4
+    wrong = 0
+    for i in range(0, len(positions), 3):
+        a, b, c = (Vector(p) for p in positions[i:i + 3])
+        radial = max(((p - origin) - axis * (p - origin).dot(axis)).length for p in (a, b, c))
+        centre = shaft_centre if radial <= shaft_r * 1.0001 else cone_centre
+        wrong += (b - a).cross(c - a).dot((a + b + c) / 3 - centre) <= 0
+    check(wrong == 0, f"every arrow triangle winds outwards ({len(positions) // 3} triangles)")
+    check(geometry.arrow_mesh(origin, (0.0, 0.0, 0.0), 3.0, diagonal) is None, "no arrow for a zero force")
+    small = geometry.arrow_mesh(origin, force * 0.01, 3.0, diagonal)[0]
+    width = max(((Vector(p) - origin) - axis * (Vector(p) - origin).dot(axis)).length for p in small)
+    small_length = geometry.arrow_length_m(0.02, 3.0, diagonal)
+    check(math.isclose(width, geometry.ARROW_HEAD_RADIUS / geometry.ARROW_HEAD_LENGTH * small_length / 2,
+                       rel_tol=1e-4), f"a weak force's arrow is a scaled-down arrow, not a disc ({width:.6f} m wide "
+                                   f"over {small_length:.5f} m)")
+    check(geometry.force_color(0.0, 3.0)[:3] == (0.25, 0.9, 0.2) and geometry.force_color(9.0, 3.0)[:3] ==
+          geometry.force_color(3.0, 3.0)[:3] and geometry.force_color(3.0, 3.0)[0] == 1.0,
+          "green at zero, red from max_force_n up")
+    check(geometry.label_text(3.2) == "3.2 N" and geometry.label_text(0.456) == "0.46 N"
+          and geometry.label_text(12.34) == "12.3 N", "labels read '3.2 N', '0.46 N', '12.3 N'")
+
+
+def field_layout():
+    density = np.zeros((3, 2, 4), np.float32)
+    density[1, 0, :] = 1.0
+    depth = geometry.optical_depth_above(density, 0.25)
+    check(np.allclose(depth[1, 0], [0.875, 0.625, 0.375, 0.125]) and not depth[0].any(),
+          "optical depth above: half the own cell plus every cell above, times the cell height")
+    rng = np.random.default_rng(2)
+    density, temperature = rng.random((3, 2, 4), np.float32), rng.random((3, 2, 4), np.float32)
+    packed = geometry.pack_field(density, temperature, 0.1)
+    flat = packed.reshape(-1)
+    i, j, k = 2, 1, 3
+    texel = 4 * (i + 3 * (j + 2 * k))  # x fastest, as GPUTexture((nx, ny, nz)) reads its data
+    check(flat[texel] == density[i, j, k] and flat[texel + 2] == temperature[i, j, k] and flat[texel + 3] == 0.0,
+          "texel (i, j, k) holds density, optical depth, temperature, 0 at 4 * (i + nx * (j + ny * k))")
+
+
+background_no_ops()
+bad_values()
+box_geometry()
+arrow_geometry()
+field_layout()
+print("blender live draw background test passed")

@@ -1,0 +1,86 @@
+#pragma once
+// PassivityController: a time-domain passivity observer and controller (Hannaford and Ryu 2002)
+// on the haptic loop, one call per period, free of threads and clocks (tested sample by sample).
+//
+// Sign convention: energy is counted positive when it flows from the device INTO THE HAND. A
+// passive rendering can only give back what the hand put in, so the sum over a session stays
+// <= 0 (up to what the fluid still stores); a positive sum means the loop (delay, sampling) has
+// made energy.
+//   observer   E(n) = E(n-1) + F(n-1) . (x(n) - x(n-1))
+//              F(n-1) is the force the device held since the previous reading (after safety),
+//              x the device position: the exact work of a held force, no velocity estimate.
+//   memory     stored dissipation (E < 0) decays towards 0 with time constant reserve_decay_s
+//              and is never more than max_reserve_j, so dissipation from long ago cannot
+//              license a later burst of energy.
+//   controller this period's wanted force F adds E_p = E(n) + F . v dt to the observer; if
+//              E_p > 0 a damper removes it:  F' = F - alpha v,  alpha = E_p / (|v|^2 dt),
+//              bounded by max_damping_n_s_m (the device's maximum stable damping). If the
+//              bounded damper cannot remove all of it, the force's push along the motion is
+//              cut back, to zero at most (F' -= c v/|v|, 0 <= c <= F' . v/|v|): that removes
+//              energy without rendering a stiffer damper (it never pushes against the motion
+//              beyond the bounded damper). Below the velocity dead-band nothing is applied
+//              (alpha would be huge on noise); the excess stays observed and is removed once
+//              the hand moves. A device that reports no maximum damping is observed only.
+// It sits before the safety stage: clamp and slew limit stay the last word on |F|. The pipeline
+// hands it the wanted force already clamped to max_force (the force the device can deliver), and
+// the final clamp only scales the result, which keeps the sign of its power. Whatever safety
+// does to it (ramp, stale fade, slew) is seen by the observer next period, because it observes
+// the force the device actually held.
+// Reset (observer, damper, memory): at (re)start, while the device is not homed, and when the
+// output is off (paused, stopping or failed with the force slewed to zero).
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace hf::haptics {
+
+struct PassivitySettings {
+  bool enabled = true;                    // false: observe only (no damping)
+  // Largest damping the controller adds, N s/m (>= 0). 0: the device's maximum stable damping
+  // (DeviceInfo::max_damping_n_s_m), filled in by the haptic loop; a device that reports none
+  // (virtual devices) is then observed only.
+  float max_damping_n_s_m = 0.0f;
+  // Below this speed nothing is applied, m/s (>= 0). What the loop can still put in is at most
+  // |F| x this (8 mW at 8 N); the Falcon's encoder (about 0.04 mm per count) read through the
+  // driver's 15 ms velocity filter jitters up to ~2.5 mm/s, so below that noise may trigger small
+  // corrections while the loop owes energy (only then does the controller act at all).
+  float velocity_deadband_m_s = 0.001f;
+  double max_reserve_j = 0.01;            // most stored dissipation kept, J (>= 0)
+  double reserve_decay_s = 0.5;           // stored dissipation decays with this time constant, s (> 0)
+  void validate() const;                  // throws InvalidArgument naming the bad value
+};
+
+struct PassivityState {                   // published to the host (trivially copyable)
+  double energy_j = 0.0;                  // observer E(n): > 0 means net energy made by the loop
+  double delivered_j = 0.0;               // plain sum of F . dx into the hand since the last reset, J
+  double dissipated_j = 0.0;              // energy removed (damper and cut) since the last reset, J
+  double alpha_n_s_m = 0.0;               // this period's damping, N s/m
+  double cut_n = 0.0;                     // this period's cut of the push along the motion, N
+  std::uint64_t active = 0;               // periods with damping or a cut since the last reset
+  std::uint64_t resets = 0;               // resets after something was observed
+};
+
+class PassivityController {
+ public:
+  explicit PassivityController(const PassivitySettings& s);
+
+  // One haptic period. wanted_n: the force this period wants (device frame, N, before safety);
+  // position_m, velocity_m_s: this period's device reading; held_n: the force the device held
+  // since the previous reading (the safety stage's last output, N); dt_s: the period (s).
+  // Returns the force to hand to the safety stage: wanted_n itself when the controller does not
+  // act. A non-finite input is passed through unchanged (safety zeroes it) and not observed.
+  glm::vec3 apply(const glm::vec3& wanted_n, const glm::vec3& position_m, const glm::vec3& velocity_m_s,
+                  const glm::vec3& held_n, double dt_s);
+  void reset();
+  const PassivityState& state() const { return st_; }
+  bool acted() const { return st_.alpha_n_s_m > 0.0 || st_.cut_n > 0.0; }  // this period
+  const PassivitySettings& settings() const { return s_; }
+
+ private:
+  PassivitySettings s_;
+  PassivityState st_;
+  bool have_position_ = false;
+  glm::dvec3 last_position_m_{0.0};
+};
+
+}  // namespace hf::haptics

@@ -1,0 +1,36 @@
+#pragma once
+// The force gain a device can render for a fluid probe: the default of HapticSession.
+//
+// Seen from the device, the fluid acts on the probe mostly as its added mass m_a: a device
+// velocity v moves the probe at scale * v, so per unit force gain the device renders a mass
+//   M = |scale| * m_a                               (kg; scale: domain m per device m)
+// A simulation that updates the force once per step T turns a velocity change within a step
+// into the force M dv / T and a displacement dx into M dx / T^2: per unit gain it renders a
+//   damping   B = M / T    (N s/m)      and a stiffness   K = M / T^2   (N/m).
+// The device stays stable up to its maximum damping and stiffness (DeviceInfo), so
+//   gain = min(1, max_damping * T / M, max_stiffness * T^2 / M).
+// A device that reports neither limit (virtual devices) gets gain 1.
+#include <string>
+
+#include "haptics/device.h"
+
+namespace hf::haptics {
+
+struct GainChoice {
+  float gain = 1.0f;          // device N per fluid N
+  double mass_kg = 0.0;       // M per unit gain, kg
+  double damping_n_s_m = 0.0; // B per unit gain, N s/m
+  double stiffness_n_m = 0.0; // K per unit gain, N/m
+  std::string reason;         // one line: what bounded the gain, with the numbers
+};
+
+// added_mass_kg: the probe's added mass in the fluid (> 0); scale: domain m per device m (the
+// largest |scale| over the axes); step_s: the shortest simulation step the session takes (> 0).
+// Throws InvalidArgument for a non-finite or non-positive input.
+GainChoice renderableForceGain(const DeviceInfo& device, double added_mass_kg, double scale, double step_s);
+
+// Added mass of a body of volume_m3 in a fluid of density_kg_m3: C_m rho V, C_m = 1/2 (a
+// sphere in unbounded potential flow; the same coefficient is used for other shapes).
+double addedMassKg(double density_kg_m3, double volume_m3);
+
+}  // namespace hf::haptics
