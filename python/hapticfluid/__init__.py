@@ -48,6 +48,8 @@ from hapticfluid._core import (
     write_vdb,
 )
 
+# The project's one version is project(VERSION) in CMakeLists.txt; the wheel build and the
+# package_versions test refuse a different one here.
 __version__ = "0.1.0"
 
 __all__ = [

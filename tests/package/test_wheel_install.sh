@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# ctest package_wheel_install: the wheel that package_build put in PACKAGE_DIR/dist goes into a
+# new virtual environment (numpy from PyPI), then a process whose environment hides the build
+# tree (env -i, python -I, run from an empty folder) imports it, steps a 16^3 simulation,
+# writes a VDB and checks that OpenVDB, TBB, blosc, boost and Imath come from the wheel's own
+# hapticfluid.libs/, not from the system.
+#   bash test_wheel_install.sh PACKAGE_DIR
+# Exit 77 (ctest SKIP): no wheel could be built here, or numpy cannot be fetched; reason printed.
+set -euo pipefail
+PKG="$(cd "$1" && pwd)"
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+skip() { echo "SKIP: $*"; exit 77; }
+source "$HERE/../../scripts/package_common.sh"
+
+wheels=("$PKG"/dist/hapticfluid-*.whl)
+[ -f "${wheels[0]}" ] || skip "no wheel in $PKG/dist: package_build could not build one on this machine (its output says why)"
+wheel="${wheels[0]}"
+PY="$(hf_python311)" || skip "no CPython 3.11 with venv and ensurepip"
+
+VENV="$PKG/clean-venv"
+rm -rf "$VENV"
+t0=$(date +%s%N)
+"$PY" -m venv "$VENV"
+"$VENV/bin/python" -m pip install -q numpy 2>&1 | hf_pip_quiet || true
+"$VENV/bin/python" -c "import numpy" 2>/dev/null || skip "numpy cannot be installed from PyPI here"
+"$VENV/bin/python" -m pip install -q --no-index "$wheel" 2>&1 | hf_pip_quiet
+t1=$(date +%s%N)
+run_dir="$(mktemp -d)"
+cd "$run_dir"
+env -i HOME="$run_dir" PATH=/usr/bin:/bin HF_VENV="$VENV" HF_RUN_DIR="$run_dir" \
+  "$VENV/bin/python" -I "$HERE/wheel_check.py"
+t2=$(date +%s%N)
+echo "wheel $(basename "$wheel") ($(du -h "$wheel" | cut -f1)): venv + install $(( (t1 - t0) / 1000000 )) ms," \
+     "import + 3 steps of 16^3 + VDB $(( (t2 - t1) / 1000000 )) ms"
+cd / && rm -rf "$run_dir"
