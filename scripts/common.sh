@@ -7,7 +7,7 @@ HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 HF_BUILD="${HF_BUILD:-$HF_ROOT/build}"
 
 HF_PACKAGES=(
-  cmake g++ make
+  cmake g++ make ccache
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib python3-yaml
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
@@ -41,6 +41,13 @@ hf_install_missing() {
 
 hf_build() {
   echo "== build: $HF_BUILD"
+  # ccache (a Debian package) keeps compiled objects between builds: a warm machine, a fresh
+  # clone in another folder (CCACHE_BASEDIR makes paths relative to the clone) and the wheel's
+  # second compile of the engine (CMake reads the launcher from the environment) reuse them.
+  if command -v ccache >/dev/null 2>&1; then
+    export CMAKE_CXX_COMPILER_LAUNCHER="${CMAKE_CXX_COMPILER_LAUNCHER:-ccache}"
+    export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$HF_ROOT}"
+  fi
   cmake -S "$HF_ROOT" -B "$HF_BUILD" -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3 >/dev/null
   cmake --build "$HF_BUILD" -j "$(nproc)" "$@"
 }
