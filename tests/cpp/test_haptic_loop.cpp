@@ -17,7 +17,7 @@
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
 #include "haptics/scripted_device.h"
-#include "test_util.h"
+#include "test_common.h"
 
 namespace hf::haptics {
 namespace {
