@@ -13,6 +13,8 @@ from .prefs import package_problem
 # Average width of a sidebar character in pixels at UI scale 1 (Blender's default font at 11 pt):
 # wraps long text to the region's width.
 CHAR_WIDTH_PX = 6.5
+# Fraction of the width for the labels of the Live Session's object and device rows.
+LABEL_FACTOR = 0.3
 
 
 def wrapped_label(layout, context, text, icon="NONE"):
@@ -24,6 +26,18 @@ def wrapped_label(layout, context, text, icon="NONE"):
     col = layout.column(align=True)
     for i, line in enumerate(textwrap.wrap(text, width=chars) or [""]):
         col.label(text=line, icon=icon if i == 0 else "NONE")
+
+
+def narrow_label_row(layout, owner, name, text):
+    """A property with its label in a narrow right-aligned column (a quarter of the width, where
+    use_property_split gives 40%): object names and 'Simulated Falcon' fit in the field."""
+    split = layout.split(factor=LABEL_FACTOR)
+    split.use_property_split = False
+    split.use_property_decorate = False  # no keyframe dot: its width goes to the field
+    label = split.column()
+    label.alignment = "RIGHT"
+    label.label(text=text)
+    split.prop(owner, name, text="")
 
 
 def ms_text(value_ms):
@@ -59,14 +73,11 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
             wrapped_label(layout, context, problem, icon="ERROR")
             return
         col = layout.column()
-        col.prop(bake, "domain")
-        col.prop(bake, "probe")
-        col.prop(bake, "probe_shape", text="Shape")
-        col.prop(bake, "source", text="Source")
-        col.separator()
-        col.prop(live, "device", text="Device")
+        for owner, name, text in ((bake, "domain", "Domain"), (bake, "probe", "Probe"), (bake, "probe_shape", "Shape"),
+                                  (bake, "source", "Source"), (live, "device", "Device")):
+            narrow_label_row(col, owner, name, text)
         if live.device == "FALCON":
-            col.prop(live, "firmware_path", text="Firmware")
+            narrow_label_row(col, live, "firmware_path", "Firmware")
         if live.device in ("MOUSE", "TIMELINE") and bake.probe_shape == "MESH":
             wrapped_label(layout, context, "The probe follows the object's location; its rotation stays as at "
                                            "Start (see the Device tooltip)", icon="INFO")
