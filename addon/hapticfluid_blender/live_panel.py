@@ -106,22 +106,23 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         live = context.scene.hapticfluid_live
         layout = self.layout
         layout.use_property_split = True
+        layout.use_property_decorate = False  # no keyframe dots: their width goes to the fields
         col = layout.column(heading="Resolution")
         col.enabled = not live.is_running
         col.prop(live, "auto_resolution", text="Auto")
         sub = col.column()
         sub.enabled = not live.auto_resolution
         sub.prop(live, "resolution", text="Cells")
-        col = layout.column(heading="Workspace")
+        col = layout.column()
         col.enabled = not live.is_running
-        col.prop(live, "auto_workspace", text="Fit Domain")
+        col.prop(live, "auto_workspace", text="Fit Workspace")
         sub = col.column()
         sub.enabled = not live.auto_workspace
         sub.prop(live, "workspace_scale", text="Scale")
         sub.prop(live, "workspace_offset", text="Offset")
-        col = layout.column(heading="Force Gain")
+        col = layout.column()
         col.enabled = not live.is_running
-        col.prop(live, "auto_force_gain", text="Derive")
+        col.prop(live, "auto_force_gain", text="Derive Gain")
         sub = col.column()
         sub.enabled = not live.auto_force_gain
         sub.prop(live, "force_gain", text="Gain")
