@@ -89,9 +89,17 @@ def arrow_geometry():
     diagonal = math.sqrt(3.0)
     check(math.isclose(geometry.arrow_length_m(3.0, 3.0, diagonal), 0.25 * diagonal),
           "max_force_n gives a quarter of the diagonal")
-    check(math.isclose(geometry.arrow_length_m(1.5, 3.0, diagonal), 0.125 * diagonal), "the length is linear")
-    check(math.isclose(geometry.arrow_length_m(30.0, 3.0, diagonal), 0.5 * diagonal),
-          "a force far above max stops growing at twice max's length")
+    full = 0.25 * diagonal
+    decade = [geometry.arrow_length_m(3.0 * 10.0 ** -k, 3.0, diagonal) / full for k in range(4)]
+    check(math.isclose(decade[1], math.log10(101.0) / math.log10(1001.0))
+          and math.isclose(decade[3], math.log10(2.0) / math.log10(1001.0)),
+          f"the length grows with the log of the force over 3 decades: max, /10, /100, /1000 -> "
+          f"{[round(d, 3) for d in decade]} of max's length")
+    check(geometry.arrow_length_m(0.036, 4.0, diagonal) > 0.3 * full,
+          "a gentle 0.036 N hand force against a 4 N device is over a third of the full arrow (readable)")
+    check(math.isclose(geometry.arrow_length_m(30.0, 3.0, diagonal), geometry.arrow_length_m(6.0, 3.0, diagonal))
+          and geometry.arrow_length_m(6.0, 3.0, diagonal) > full,
+          "a force far above max stops growing at twice max")
     origin, force = Vector((0.2, 0.3, 0.4)), Vector((0.0, 1.2, -1.6))
     positions, colours, tip = geometry.arrow_mesh(origin, force, 3.0, diagonal)
     length = geometry.arrow_length_m(2.0, 3.0, diagonal)
@@ -119,8 +127,9 @@ def arrow_geometry():
     check(geometry.force_color(0.0, 3.0)[:3] == (0.25, 0.9, 0.2) and geometry.force_color(9.0, 3.0)[:3] ==
           geometry.force_color(3.0, 3.0)[:3] and geometry.force_color(3.0, 3.0)[0] == 1.0,
           "green at zero, red from max_force_n up")
-    check(geometry.label_text(3.2) == "3.2 N" and geometry.label_text(0.456) == "0.46 N"
-          and geometry.label_text(12.34) == "12.3 N", "labels read '3.2 N', '0.46 N', '12.3 N'")
+    labels = [geometry.label_text(f) for f in (3.2, 0.456, 12.34, 0.0359)]
+    check(labels == ["3.2 N on the hand", "0.46 N on the hand", "12.3 N on the hand", "0.036 N on the hand"],
+          f"labels read {labels}")
 
 
 def field_layout():

@@ -140,6 +140,19 @@ def the_drawer_gets_what_it_draws():
     origin, force, max_force = c["set_force"][-1]
     check(all(abs(origin[i] - probe.matrix_world.translation[i]) < 1e-6 for i in range(3)) and len(force) == 3
           and max_force == scene.hapticfluid_live.max_force, "the force arrow at the probe, scaled by Max Force")
+    # The arrow is the force the hand feels (device N after the gain) in world axes, the same
+    # newtons as Max Force: its length is the commanded force's, its axes the world's.
+    controller.tick()
+    _o, drawn, _m = c["set_force"][-1]
+    latest = controller.session.latest()
+    scale = controller.session.workspace_scale
+    world = [math.copysign(1.0, scale[i]) * latest["commanded_force"][i] for i in range(3)]
+    check(math.isclose(math.hypot(*drawn), scene.hapticfluid_live.device_force_n, rel_tol=1e-5, abs_tol=1e-9),
+          f"the arrow's newtons are the device force shown in Stats ({math.hypot(*drawn):.4g} N = "
+          f"{scene.hapticfluid_live.device_force_n:.4g} N), not the fluid force ({scene.hapticfluid_live.force_n:.4g} N "
+          f"at gain {scene.hapticfluid_live.force_gain_used:.3g})")
+    check(len(world) == 3 and controller.hand_force_world(latest) == tuple(world),
+          "hand_force_world maps the commanded force to world axes by sign(workspace scale)")
     check(c["set_display"] == [(scene.hapticfluid_live.density_scale, False)], "the display settings")
     scene.hapticfluid_live.density_scale = 5.0
     controller.tick()

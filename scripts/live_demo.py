@@ -3,11 +3,14 @@ sphere probe, the add-on registered from this source tree, and the live session 
 3D view (smoke drawn in the viewport, force arrow at the probe, stats in the sidebar).
 
     blender --factory-startup --python scripts/live_demo.py -- [--device SIMULATED_FALCON]
+    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --enable-event-simulate \
+        --python scripts/live_demo.py -- --screenshot out/live_session.png --seconds 20
 
 The hapticfluid package must be importable (scripts/demo.sh puts build/python on PYTHONPATH).
 Devices: SIMULATED_FALCON (default: the Falcon driver on a simulated Falcon with a scripted hand),
 MOUSE (grab the probe with G), TIMELINE (the probe's keyed sweep plays), FALCON (a real one).
-Stop with Esc or right-click in the viewport, or Stop in the sidebar.
+Stop with Esc or right-click in the viewport, or Stop in the sidebar. --screenshot PATH saves the
+window to PATH after --seconds of running and quits (the README's picture, under xvfb-run).
 """
 
 import argparse
@@ -15,6 +18,7 @@ import logging
 import math
 import os
 import sys
+import time
 
 import bpy
 from mathutils import Euler
@@ -22,6 +26,7 @@ from mathutils import Euler
 log = logging.getLogger("hapticfluid.live_demo")
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEVICES = ("SIMULATED_FALCON", "MOUSE", "TIMELINE", "FALCON")
+state = {}
 
 
 def parse_args():
@@ -30,7 +35,35 @@ def parse_args():
                                      description="Open the hapticfluid live demo scene and start the session.")
     parser.add_argument("--device", choices=DEVICES, default="SIMULATED_FALCON",
                         help="what moves the probe (default: SIMULATED_FALCON)")
-    return parser.parse_args(argv)
+    parser.add_argument("--screenshot", metavar="PATH",
+                        help="save a screenshot of the window to PATH (.png) after --seconds, then quit")
+    parser.add_argument("--seconds", type=float, default=20.0,
+                        help="seconds the session runs before --screenshot (s, default 20)")
+    args = parser.parse_args(argv)
+    if not args.seconds > 0.0:
+        parser.error(f"--seconds must be a positive number of seconds, got {args.seconds}")
+    return args
+
+
+def screenshot_and_quit(path, t_end):
+    """A bpy.app.timers callback: once t_end (time.monotonic) has passed, the window to path, then quit."""
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    if time.monotonic() < t_end:
+        if not state.get("tab") and time.monotonic() > t_end - 3.0:
+            state["tab"] = True
+            show_hapticfluid_tab(window, area)
+        return 0.5
+    path = os.path.abspath(path)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with bpy.context.temp_override(window=window, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    live = bpy.context.scene.hapticfluid_live
+    log.info("screenshot %s (sim %.1f Hz, haptic %.0f Hz, hand force %.3f N, fluid force %.4f N, gain %.3g, %s, "
+             "%s)", path, live.sim_rate_hz, live.haptic_rate_hz, live.device_force_n, live.force_n,
+             live.force_gain_used, live.device_state, live.status)
+    bpy.ops.wm.quit_blender()
+    return None
 
 
 def build_scene():
@@ -75,6 +108,20 @@ def frame_view():
     return window, area
 
 
+def show_hapticfluid_tab(window, area):
+    """Brings the sidebar's hapticfluid tab to the front (Python cannot set a region's active tab):
+    Ctrl+wheel over the sidebar steps through its tabs (Item, Tool, View, hapticfluid in a factory
+    setup). Needs --enable-event-simulate; without it the user clicks the tab."""
+    if not bpy.app.use_event_simulate:
+        log.info("open the sidebar's hapticfluid tab to see the session (N, then the tab at the right)")
+        return
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    x, y = sidebar.x + sidebar.width // 2, sidebar.y + sidebar.height // 2
+    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    for _ in range(3):
+        window.event_simulate(type="WHEELDOWNMOUSE", value="PRESS", x=x, y=y, ctrl=True)
+
+
 def start(device):
     scene = bpy.context.scene
     if not hasattr(bpy.ops.hapticfluid, "live_start") or not hasattr(scene, "hapticfluid_live"):
@@ -105,6 +152,9 @@ def main():
     build_scene()
     # The window and its 3D view exist once the event loop runs: start from a timer.
     bpy.app.timers.register(lambda: start(args.device), first_interval=0.5)
+    if args.screenshot:
+        t_end = time.monotonic() + 0.5 + args.seconds
+        bpy.app.timers.register(lambda: screenshot_and_quit(args.screenshot, t_end), first_interval=1.0)
 
 
 main()

@@ -128,8 +128,10 @@ class LiveDrawer:
         self._redraw()
 
     def set_force(self, origin_m, force_n, max_force_n):
-        """Arrow from origin_m (m, world) along force_n (N, world); max_force_n (N, > 0) sets the
-        scale (an arrow of max_force_n is a quarter of the domain diagonal) and the colour."""
+        """Arrow from origin_m (m, world) along force_n (N, world: the force the hand feels, device
+        newtons after the force gain, in world axes); max_force_n (N, > 0, the device's limit) sets
+        the scale (an arrow of max_force_n is a quarter of the domain diagonal, weaker ones shorter
+        on a log scale: live_draw_geometry.arrow_length_m) and the colour."""
         origin, force = geometry.vec3(origin_m, "origin_m"), geometry.vec3(force_n, "force_n")
         if not (math.isfinite(max_force_n) and max_force_n > 0.0):
             raise ValueError(f"max_force_n must be a positive number of newtons, got {max_force_n!r}")

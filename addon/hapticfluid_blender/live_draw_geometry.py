@@ -8,6 +8,10 @@ import numpy as np
 
 # The arrow for max_force_n is this fraction of the domain's diagonal long.
 ARROW_FRACTION_OF_DIAGONAL = 0.25
+# The arrow's length grows with the log of the force over this many decades below max_force_n, so a
+# hand force of 1% of the device's limit (typical of a gentle stir) is a third of the full arrow,
+# not an invisible 1% of it; the label gives the exact newtons.
+ARROW_DECADES = 3.0
 # Arrows for forces above max_force_n grow up to this multiple of max_force_n, then stop growing
 # (the label still shows the true magnitude).
 ARROW_MAX_OVERSHOOT = 2.0
@@ -61,9 +65,13 @@ def force_color(magnitude_n, max_force_n):
 
 
 def arrow_length_m(magnitude_n, max_force_n, diagonal_m):
-    """Arrow length: max_force_n is ARROW_FRACTION_OF_DIAGONAL of the diagonal, linear below, capped."""
-    scale = ARROW_FRACTION_OF_DIAGONAL * diagonal_m / max_force_n
-    return scale * min(magnitude_n, ARROW_MAX_OVERSHOOT * max_force_n)
+    """Arrow length (m): max_force_n is ARROW_FRACTION_OF_DIAGONAL of the diagonal; below, the length
+    is log10(1 + F/F0) / log10(1 + max/F0) of that with F0 = max_force_n / 10**ARROW_DECADES (zero at
+    zero force, about linear below F0); above max it grows the same way up to ARROW_MAX_OVERSHOOT * max."""
+    f0 = max_force_n * 10.0 ** -ARROW_DECADES
+    ref = ARROW_FRACTION_OF_DIAGONAL * diagonal_m
+    m = min(max(magnitude_n, 0.0), ARROW_MAX_OVERSHOOT * max_force_n)
+    return ref * math.log10(1.0 + m / f0) / math.log10(1.0 + max_force_n / f0)
 
 
 def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
@@ -118,8 +126,10 @@ def arrow_mesh(origin, force, max_force_n, diagonal_m, sides=12):
 
 
 def label_text(magnitude_n):
-    """The force label: '3.2 N'; two decimals below 1 N ('0.45 N')."""
-    return f"{magnitude_n:.2f} N" if magnitude_n < 1.0 else f"{magnitude_n:.1f} N"
+    """The force label, the force the hand feels: '3.2 N on the hand'; two decimals below 1 N
+    ('0.45 N ...'), three below 0.1 N ('0.036 N ...')."""
+    digits = 3 if magnitude_n < 0.1 else 2 if magnitude_n < 1.0 else 1
+    return f"{magnitude_n:.{digits}f} N on the hand"
 
 
 def optical_depth_above(density, cell_height_m):

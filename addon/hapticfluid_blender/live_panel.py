@@ -1,8 +1,55 @@
-"""The live session's panel (3D View > Sidebar > hapticfluid)."""
+"""The live session's panel (3D View > Sidebar > hapticfluid).
+
+Laid out to read whole at the sidebar's default width (about 200 px of text in Blender 3.4 to
+5.x): short property labels, one stat per row as a name / value pair, and long text (status,
+reports, gain reason, scheduling) wrapped to the region's width."""
+
+import textwrap
 
 import bpy
 
 from .prefs import package_problem
+
+# Average width of a sidebar character in pixels at UI scale 1 (Blender's default font at 11 pt):
+# wraps long text to the region's width.
+CHAR_WIDTH_PX = 6.5
+# Fraction of the width for the labels of the Live Session's object and device rows.
+LABEL_FACTOR = 0.3
+
+
+def wrapped_label(layout, context, text, icon="NONE"):
+    """Text wrapped to the region's width, one label per line (the icon on the first)."""
+    region = getattr(context, "region", None)
+    scale = context.preferences.system.ui_scale if context.preferences else 1.0
+    width_px = region.width if region is not None else 240
+    chars = max(16, int((width_px - 30 * scale) / (CHAR_WIDTH_PX * scale)))
+    col = layout.column(align=True)
+    for i, line in enumerate(textwrap.wrap(text, width=chars) or [""]):
+        col.label(text=line, icon=icon if i == 0 else "NONE")
+
+
+def narrow_label_row(layout, owner, name, text):
+    """A property with its label in a narrow right-aligned column (a quarter of the width, where
+    use_property_split gives 40%): object names and 'Simulated Falcon' fit in the field."""
+    split = layout.split(factor=LABEL_FACTOR)
+    split.use_property_split = False
+    split.use_property_decorate = False  # no keyframe dot: its width goes to the field
+    label = split.column()
+    label.alignment = "RIGHT"
+    label.label(text=text)
+    split.prop(owner, name, text="")
+
+
+def ms_text(value_ms):
+    """'1146 ms', '12.3 ms', '0.412 ms': three significant digits up to 1 s."""
+    return f"{value_ms:.0f} ms" if value_ms >= 100.0 else f"{value_ms:.3g} ms"
+
+
+def stat_row(layout, name, value):
+    """One stat as 'name   value': the name in the left half, the value in the right."""
+    split = layout.split(factor=0.5)
+    split.label(text=name)
+    split.label(text=value)
 
 
 class HAPTICFLUID_PT_live(bpy.types.Panel):
@@ -23,17 +70,17 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
         layout.use_property_split = True
         problem = package_problem()
         if problem:
-            layout.label(text=problem, icon="ERROR")
+            wrapped_label(layout, context, problem, icon="ERROR")
             return
         col = layout.column()
-        col.prop(bake, "domain")
-        col.prop(bake, "probe")
-        col.prop(bake, "probe_shape")
-        col.prop(bake, "source")
-        col.separator()
-        col.prop(live, "device")
+        for owner, name, text in ((bake, "domain", "Domain"), (bake, "probe", "Probe"), (bake, "probe_shape", "Shape"),
+                                  (bake, "source", "Source"), (live, "device", "Device")):
+            narrow_label_row(col, owner, name, text)
         if live.device == "FALCON":
-            col.prop(live, "firmware_path")
+            narrow_label_row(col, live, "firmware_path", "Firmware")
+        if live.device in ("MOUSE", "TIMELINE") and bake.probe_shape == "MESH":
+            wrapped_label(layout, context, "The probe follows the object's location; its rotation stays as at "
+                                           "Start (see the Device tooltip)", icon="INFO")
         row = layout.row(align=True)
         row.scale_y = 1.3
         if live.is_running:
@@ -43,7 +90,7 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
         else:
             row.operator("hapticfluid.live_start", icon="PLAY")
         if live.status:
-            layout.label(text=live.status)
+            wrapped_label(layout, context, live.status)
 
 
 class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
@@ -59,27 +106,33 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         live = context.scene.hapticfluid_live
         layout = self.layout
         layout.use_property_split = True
-        col = layout.column()
+        layout.use_property_decorate = False  # no keyframe dots: their width goes to the fields
+        col = layout.column(heading="Resolution")
         col.enabled = not live.is_running
-        col.prop(live, "auto_resolution")
+        col.prop(live, "auto_resolution", text="Auto")
         sub = col.column()
         sub.enabled = not live.auto_resolution
-        sub.prop(live, "resolution")
-        col.prop(live, "auto_workspace")
+        sub.prop(live, "resolution", text="Cells")
+        col = layout.column()
+        col.enabled = not live.is_running
+        col.prop(live, "auto_workspace", text="Fit Workspace")
         sub = col.column()
         sub.enabled = not live.auto_workspace
-        sub.prop(live, "workspace_scale")
-        sub.prop(live, "workspace_offset")
-        col.prop(live, "auto_force_gain")
+        sub.prop(live, "workspace_scale", text="Scale")
+        sub.prop(live, "workspace_offset", text="Offset")
+        col = layout.column()
+        col.enabled = not live.is_running
+        col.prop(live, "auto_force_gain", text="Derive Gain")
         sub = col.column()
         sub.enabled = not live.auto_force_gain
-        sub.prop(live, "force_gain")
-        col.prop(live, "max_force")
-        col.prop(live, "bandwidth_ratio")
+        sub.prop(live, "force_gain", text="Gain")
+        col.prop(live, "max_force", text="Max Force")
+        col.prop(live, "bandwidth_ratio", text="Filter")
         col.prop(live, "prediction")
-        layout.prop(live, "record_rate")
-        layout.prop(live, "density_scale")
-        layout.prop(live, "show_temperature")
+        col = layout.column()
+        col.prop(live, "record_rate", text="Key Rate")
+        col.prop(live, "density_scale", text="Density")
+        col.prop(live, "show_temperature", text="Temperature")
 
 
 class HAPTICFLUID_PT_live_stats(bpy.types.Panel):
@@ -93,19 +146,28 @@ class HAPTICFLUID_PT_live_stats(bpy.types.Panel):
     def draw(self, context):
         live = context.scene.hapticfluid_live
         col = self.layout.column(align=True)
-        col.label(text=f"Resolution: {live.resolution_used}")
-        col.label(text=f"Simulation: {live.sim_rate_hz:.1f} Hz")
-        col.label(text=f"Haptic: {live.haptic_rate_hz:.0f} Hz, jitter p99 {live.jitter_p99_ms:.3f} ms")
-        col.label(text=f"Latency: p50 {live.latency_p50_ms:.1f} ms, p99 {live.latency_p99_ms:.1f} ms")
-        col.label(text=f"Force: {live.force_n:.4f} N (device {live.device_force_n:.3f} N)")
-        col.label(text=f"Gain: {live.force_gain_used:.3g} device N per fluid N")
+        stat_row(col, "Resolution", f"{live.resolution_used} cells")
+        stat_row(col, "Simulation", f"{live.sim_rate_hz:.1f} Hz")
+        stat_row(col, "Haptic", f"{live.haptic_rate_hz:.0f} Hz")
+        stat_row(col, "Jitter p99", ms_text(live.jitter_p99_ms))
+        stat_row(col, "Latency p50", ms_text(live.latency_p50_ms))
+        stat_row(col, "Latency p99", ms_text(live.latency_p99_ms))
+        stat_row(col, "Hand force", f"{live.device_force_n:.3f} N")
+        stat_row(col, "Fluid force", f"{live.force_n:.4f} N")
+        stat_row(col, "Gain", f"{live.force_gain_used:.3g} N/N")
+        stat_row(col, "Real-time", "granted" if live.realtime else "not granted")
         if live.force_gain_reason:
-            col.label(text=live.force_gain_reason)
+            col.separator()
+            wrapped_label(col, context, "Gain: " + live.force_gain_reason)
         if live.device_state:
-            col.label(text=live.device_state)
-        col.label(text="Real-time priority: " + ("granted" if live.realtime else "not granted"))
+            col.separator()
+            name, _, state = live.device_state.partition(": ")
+            col.label(text=name)
+            if state:
+                col.label(text=state)
         if live.scheduling and not live.realtime:
-            col.label(text=live.scheduling)
+            col.separator()
+            wrapped_label(col, context, live.scheduling)
 
 
 classes = (HAPTICFLUID_PT_live, HAPTICFLUID_PT_live_settings, HAPTICFLUID_PT_live_stats)

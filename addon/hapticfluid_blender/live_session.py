@@ -404,7 +404,15 @@ class LiveController:
                 self._display = display
                 self.drawer.set_display(*display)
             self.force_origin = tuple(self.probe.matrix_world.translation)
-            self.drawer.set_force(self.force_origin, tuple(latest["sim_force"]), self.plan.max_force)
+            self.drawer.set_force(self.force_origin, self.hand_force_world(latest), self.plan.max_force)
+
+    def hand_force_world(self, latest) -> Tuple[float, float, float]:
+        """The force the hand feels (N): the device's commanded force (after the force gain, the
+        filter and the safety stage) in world axes. The session maps a world force f to the device
+        as gain * sign(workspace_scale) * f per axis, so sign(scale) * commanded is its world
+        direction. Drawn against Max Force, the device's limit, in the same newtons."""
+        scale = self.session.workspace_scale
+        return tuple(math.copysign(1.0, float(scale[i])) * float(latest["commanded_force"][i]) for i in range(3))
 
     def _update_stats(self, latest):
         s = self.session.stats()
