@@ -266,6 +266,10 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
                        [](const fluid::FluidParams& p) { return p.temperature_dissipation_1_s; },
                        [](fluid::FluidParams& p, float v) { p.temperature_dissipation_1_s = v; },
                        "Heat fade rate (1/s).");
+  paramProperty<bool>(c, "conserve_smoke", [](const fluid::FluidParams& p) { return p.conserve_smoke; },
+                      [](fluid::FluidParams& p, bool v) { p.conserve_smoke = v; },
+                      "Advection keeps the totals of smoke and heat (less the outflow through an open top),\n"
+                      "without new extrema; off: the raw transport, which loses some.");
   paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
                      [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; },
                      "Jacobi sweeps or multigrid CG iterations per step (the most, with a pressure_tolerance).");

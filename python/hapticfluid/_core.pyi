@@ -103,6 +103,7 @@ class Simulation:
     heat_buoyancy: float
     smoke_dissipation: float
     heat_dissipation: float
+    conserve_smoke: bool
     pressure_iterations: int
     compute_residual: bool
     pressure_solver: str
