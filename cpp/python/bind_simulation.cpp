@@ -144,6 +144,11 @@ void addSimulation(py::module_& m) {
       .def_readonly("initial_relative_residual", &session::StepReport::initial_relative_residual,
                     "||rhs - A p|| / ||rhs|| of the warm start before the pressure solve (dimensionless), measured\n"
                     "in tolerance mode (pressure_tolerance > 0); -1 otherwise.")
+      .def_readonly("converged", &session::StepReport::converged,
+                    "Tolerance mode: the pressure solve reached pressure_tolerance within pressure_iterations;\n"
+                    "always True in fixed-count mode.")
+      .def_readonly("warning", &session::StepReport::warning,
+                    "Set on the first step of the simulation whose solve did not converge, else ''.")
       .def_readonly("wall_ms", &session::StepReport::wall_ms, "Host time of the step (ms).")
       .def_property_readonly(
           "gpu_ms",
@@ -401,9 +406,22 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
       "Emit smoke in a sphere: centre (m), radius (m); its cells are held at least at `density`\n"
       "(concentration) and `temperature` (K above ambient).");
   c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); }, "Stop emitting smoke.");
-  c.def("step", &Simulation::step, py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
-        "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
-        "force reduction. Returns a StepReport; blocks until its force is read back.");
+  c.def(
+      "step",
+      [](Simulation& s, double dt) {
+        session::StepReport r;
+        {
+          py::gil_scoped_release release;
+          r = s.step(dt);
+        }
+        // The simulation's once-only warning goes to Python logging (logger "hapticfluid").
+        if (!r.warning.empty()) py::module_::import("logging").attr("getLogger")("hapticfluid").attr("warning")(r.warning);
+        return r;
+      },
+      py::arg("dt"),
+      "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
+      "force reduction. Returns a StepReport; blocks until its force is read back. The first step whose\n"
+      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid' (once per simulation).");
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
   c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
         "Fluid at rest, no smoke, time 0; probe and settings kept.");

@@ -167,6 +167,13 @@ StepReport Simulation::step(double dt_in_s) {
   });
   r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!r.converged && !warned_unconverged_) {
+    warned_unconverged_ = true;
+    r.warning = "raise pressure_iterations (or pressure_tolerance): the pressure solve stopped at " +
+                std::to_string(r.pressure_iterations) + " iterations with relative residual " +
+                num(r.relative_residual) + ", above the tolerance " + num(in.params.pressure_tolerance) +
+                " (said once per simulation; StepReport.converged tells every step)";
+  }
   last_ = r;
   last_rho_g_ = in.rho_g;
   last_reference_m_ = in.reference_m;
