@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/grid_checks.h"
 #include "fluid/validate.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -235,6 +236,9 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
     return py::make_tuple(r.x, r.y, r.z);
   }, "Cells per axis (nx, ny, nz).");
   c.def_property_readonly("cell_size", [](const Simulation& s) { return s.grid().cell_size_m; }, "Cell edge (m).");
+  c.def_property_readonly(
+      "pressure_tolerance_floor", [](const Simulation& s) { return fluid::pressureToleranceFloor(s.grid()); },
+      "The smallest pressure_tolerance this grid accepts (dimensionless): float32 pressure cannot reach less.");
   c.def_property_readonly("domain_size", [](const Simulation& s) { return vec3Array(s.grid().sizeM()); },
                           "Box edges (m).");
   c.def_property_readonly("origin", [](const Simulation& s) { return vec3Array(s.grid().origin_m); },

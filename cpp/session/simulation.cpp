@@ -22,6 +22,7 @@ std::size_t Simulation::stepReadbackBytes() { return StepPipeline::kResultSlots 
 Simulation::Simulation(const SimulationConfig& config)
     : grid_(fluid::makeGrid(config.resolution, config.domain_size_m, config.origin_m)), params_(config.params) {
   fluid::validate(params_);
+  fluid::checkPressureTolerance(params_, grid_);
   worker_ = std::make_unique<gl::GlWorker>(config.device);
   info_ = worker_->info();
   fluid::checkFits(grid_, info_);
@@ -61,6 +62,7 @@ fluid::FluidParams Simulation::params() const {
 
 void Simulation::setParams(const fluid::FluidParams& params) {
   fluid::validate(params);
+  fluid::checkPressureTolerance(params, grid_);
   std::lock_guard<std::mutex> lock(state_mutex_);
   params_ = params;
 }
@@ -76,6 +78,7 @@ void Simulation::updateParams(const std::function<void(fluid::FluidParams&)>& ed
   fluid::FluidParams p = params_;
   edit(p);
   fluid::validate(p);
+  fluid::checkPressureTolerance(p, grid_);
   params_ = p;
 }
 

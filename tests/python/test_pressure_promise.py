@@ -4,6 +4,7 @@ tests do not use (28^3, 20^3)."""
 
 import logging
 
+import numpy as np
 import pytest
 
 import hapticfluid as hf
@@ -52,3 +53,18 @@ def test_a_solve_that_stops_at_the_cap_says_so_once(caplog):
     assert reports[0].warning == warnings[0].getMessage() and reports[1].warning == ""
     sim.pressure_tolerance = 0.0
     assert sim.step(0.01).converged
+
+
+def test_a_tolerance_below_the_float32_floor_is_refused_naming_the_floor():
+    """FLT_EPSILON * n / 16 (n: the most cells on an axis) is the lowest residual float32 pressure
+    reached on 16^3-64^3; a tolerance under it is refused at construction and when set, and the
+    message names the floor; the floor itself is accepted."""
+    sim = hf.Simulation(resolution=(40, 20, 20), domain_size=(1.0, 0.5, 0.5))
+    floor = sim.pressure_tolerance_floor
+    assert floor == pytest.approx(np.finfo(np.float32).eps * 40 / 16, rel=1e-6)
+    with pytest.raises(hf.InvalidArgumentError, match=r"below what float32 can reach .*floor 2\.98023\d*e-07\); use at least 3e-07"):
+        sim.pressure_tolerance = 2.0e-7
+    assert sim.pressure_tolerance == 0.0  # nothing changed
+    sim.pressure_tolerance = 3.0e-7
+    with pytest.raises(hf.InvalidArgumentError, match="pressure tolerance 2e-07 is below"):
+        hf.Simulation(resolution=(40, 20, 20), domain_size=(1.0, 0.5, 0.5), pressure_tolerance=2.0e-7)
