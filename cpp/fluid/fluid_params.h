@@ -17,6 +17,9 @@ struct FluidParams {
   float heat_buoyancy_m_s2_k = 0.0f;           // upward acceleration per kelvin above ambient
   float density_dissipation_1_s = 0.0f;        // smoke fades as exp(-rate t)
   float temperature_dissipation_1_s = 0.0f;    // heat fades as exp(-rate t)
+  // Advection keeps the totals of smoke and heat (fluid/scalar_conservation.h); off: the raw
+  // semi-Lagrangian / MacCormack result, which loses some.
+  bool conserve_smoke = true;
   PressureSolverKind pressure_solver = PressureSolverKind::Jacobi;
   // Jacobi: sweeps per step; multigrid: CG iterations (one V-cycle each). With a tolerance,
   // the most the solve may run.

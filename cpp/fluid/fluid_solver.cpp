@@ -40,6 +40,7 @@ FluidSolver::FluidSolver(const Grid& grid)
       boundaries_("enforce_boundaries.comp", gl::cellGroupDefines()),
       divergence_("divergence.comp", gl::cellGroupDefines()),
       residual_(grid),
+      conservation_(grid),
       project_("project.comp", gl::cellGroupDefines()),
       pressure_sum_("pressure_sum.comp", rowGroupDefines()),
       pressure_shift_("pressure_shift.comp", gl::cellGroupDefines()),
@@ -114,12 +115,14 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
 }
 
 void FluidSolver::advect(float dt_s, const FluidParams& p) {
+  const float smoke_decay = std::exp(-p.density_dissipation_1_s * dt_s);
+  const float heat_decay = std::exp(-p.temperature_dissipation_1_s * dt_s);
+  // Before the velocity is advected: the outflow is carried by the velocity that moves the smoke.
+  if (p.conserve_smoke) conservation_.measureBefore(fields_, dt_s, p.open_top);
   for (int a = 0; a < 3; ++a) {
     auto& v = fields_.vel[static_cast<std::size_t>(a)];
     advectField(v.cur(), v.next(), a, grid_.faceSize(a), Grid::faceOffset(a), dt_s, 1.0f, false, p);
   }
-  const float smoke_decay = std::exp(-p.density_dissipation_1_s * dt_s);
-  const float heat_decay = std::exp(-p.temperature_dissipation_1_s * dt_s);
   if (p.advection == Advection::SemiLagrangian) {
     advectScalarPair(dt_s, smoke_decay, heat_decay);
   } else {
@@ -129,8 +132,12 @@ void FluidSolver::advect(float dt_s, const FluidParams& p) {
                 glm::vec3(0.5f), dt_s, heat_decay, true, p);
   }
   for (auto& v : fields_.vel) v.swap();
-  fields_.density.swap();
-  fields_.temperature.swap();
+  if (p.conserve_smoke) {
+    conservation_.correct(fields_, smoke_decay, heat_decay);  // next() -> cur(): no swap
+  } else {
+    fields_.density.swap();
+    fields_.temperature.swap();
+  }
 }
 
 void FluidSolver::advectScalarPair(float dt_s, float smoke_decay, float heat_decay) {

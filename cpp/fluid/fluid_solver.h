@@ -12,6 +12,7 @@
 #include "fluid/grid.h"
 #include "fluid/pressure_solver.h"
 #include "fluid/residual_meter.h"
+#include "fluid/scalar_conservation.h"
 #include "gl/compute_program.h"
 #include "gl/group_reducer.h"
 
@@ -68,6 +69,7 @@ class FluidSolver {
   gl::ComputeProgram boundaries_;
   gl::ComputeProgram divergence_;
   ResidualMeter residual_;
+  ScalarConservation conservation_;
   gl::ComputeProgram project_;
   gl::ComputeProgram pressure_sum_;
   gl::ComputeProgram pressure_shift_;

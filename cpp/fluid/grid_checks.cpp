@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "common/error.h"
@@ -74,7 +75,26 @@ void checkFits(const Grid& g, const gl::ContextInfo& info) {
   }
 }
 
+float pressureToleranceFloor(const Grid& g) {
+  const int n = std::max(g.res.x, std::max(g.res.y, g.res.z));
+  return std::numeric_limits<float>::epsilon() * static_cast<float>(n) / 16.0f;
+}
+
+void checkPressureTolerance(const FluidParams& p, const Grid& g) {
+  const float floor = pressureToleranceFloor(g);
+  if (p.pressure_tolerance != 0.0f && p.pressure_tolerance < floor) {
+    // The floor rounded up to two significant digits: a value the user can type that passes.
+    const double step = std::pow(10.0, std::floor(std::log10(static_cast<double>(floor))) - 1.0);
+    const double suggest = std::ceil(static_cast<double>(floor) / step) * step;
+    throw InvalidArgument("pressure tolerance " + num(p.pressure_tolerance) + " is below what float32 can reach on a " +
+                          std::to_string(g.res.x) + "x" + std::to_string(g.res.y) + "x" + std::to_string(g.res.z) +
+                          " grid (relative residual floor " + num(floor) + "); use at least " + num(suggest) +
+                          ", or 0 for a fixed number of iterations");
+  }
+}
+
 void validateStep(double dt_s, const FluidParams& p, const Grid& g) {
+  checkPressureTolerance(p, g);
   if (!std::isfinite(dt_s) || dt_s < kMinTimeStep || dt_s > kMaxTimeStep) {
     throw InvalidArgument("time step must be between " + num(kMinTimeStep) + " and " + num(kMaxTimeStep) +
                           " s, got " + num(dt_s) + " s");

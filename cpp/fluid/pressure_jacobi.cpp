@@ -39,6 +39,7 @@ SolveStats PressureJacobi::solve(FluidFields& f, const FluidParams& params) {
     stats.iterations += n;
     stats.relative_residual = meter_->measure(f);
   }
+  stats.converged = stats.relative_residual <= params.pressure_tolerance;
   return stats;
 }
 

@@ -2,6 +2,7 @@
 
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -35,8 +36,9 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
       update_("pcg_update.comp", rowGroupDefines()),
       direction_("pcg_direction.comp", gl::cellGroupDefines()),
       shift_("pressure_shift.comp", gl::cellGroupDefines()),
+      cold_start_("pcg_cold_start.comp", gl::cellGroupDefines()),
       reducer_(rowCount(grid.res), kSlots) {
-  for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_}) p->set("u_res", grid.res);
+  for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &cold_start_}) p->set("u_res", grid.res);
 }
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
@@ -82,13 +84,15 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const bool closed = !params.open_top;
   vcycle_.buildMasks(f.nbmask);
   startResidual(f, closed);
+  coldStartIfWorse(f);
 
   SolveStats stats;
   float bb = 0.0f;
   if (tolerance > 0.0f) {
     const glm::vec4 start = reducer_.readResults()[kInitSlot];
     bb = start.w;
-    stats.relative_residual = relativeResidual(start.z, bb);
+    // What the solve starts from: the warm start, or p = 0 (relative residual 1) if that was worse.
+    stats.relative_residual = std::min(relativeResidual(start.z, bb), bb > 0.0f ? 1.0f : 0.0f);
     stats.initial_relative_residual = stats.relative_residual;
     if (stats.relative_residual <= tolerance) return stats;  // the warm start is good enough
   }
@@ -133,7 +137,18 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     std::swap(rz_new, rz_old);
     nextDirection(f, rz_new, rz_old, restart);
   }
+  stats.converged = tolerance <= 0.0f || stats.relative_residual <= tolerance;
   return stats;
+}
+
+void PressureMultigrid::coldStartIfWorse(FluidFields& f) {
+  f.pressure.cur().bindImage(0, GL_WRITE_ONLY);
+  r_.bindImage(1, GL_WRITE_ONLY);
+  f.rhs.bindImage(2, GL_READ_ONLY);
+  f.nbmask.bindImage(3, GL_READ_ONLY);
+  reducer_.bindResults(1);
+  cold_start_.set("u_slot", static_cast<unsigned>(kInitSlot));
+  cold_start_.dispatch(grid_.res);
 }
 
 }  // namespace hf::fluid

@@ -28,6 +28,9 @@ class PressureMultigrid : public PressureSolver {
  private:
   // r = -rhs - A p, its sums into the init slot; in a closed box r's mean is then removed.
   void startResidual(FluidFields& f, bool closed);
+  // After startResidual(): p = 0 and r = rhs's b if the warm start's residual exceeds ||b||
+  // (pcg_cold_start.comp, decided on the GPU).
+  void coldStartIfWorse(FluidFields& f);
   // r -= its mean over fluid cells (sum and count in results[slot].xy). In a closed box A is
   // singular (constants); a residual with a constant part, which float rounding leaves, would
   // make the V-cycle return a huge constant and CG's step sizes meaningless.
@@ -38,7 +41,7 @@ class PressureMultigrid : public PressureSolver {
   Grid grid_;
   MultigridVCycle vcycle_;
   gl::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
-  gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_;
+  gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, cold_start_;
   gl::GroupReducer reducer_;
 };
 

@@ -12,6 +12,9 @@ struct SolveStats {
   float relative_residual = -1.0f;  // ||r|| / ||rhs||, filled in after the step's read-back; -1 = not measured
   // Tolerance mode: ||r|| / ||rhs|| of the warm start, before the first iteration; -1 = not measured.
   float initial_relative_residual = -1.0f;
+  // Tolerance mode: false when the solve stopped at the iteration cap above the tolerance.
+  // Always true in fixed-count mode (it promises no residual).
+  bool converged = true;
 };
 
 class PressureSolver {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/grid_checks.h"
 #include "fluid/validate.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -147,6 +148,11 @@ void addSimulation(py::module_& m) {
       .def_readonly("initial_relative_residual", &session::StepReport::initial_relative_residual,
                     "||rhs - A p|| / ||rhs|| of the warm start before the pressure solve (dimensionless), measured\n"
                     "in tolerance mode (pressure_tolerance > 0); -1 otherwise.")
+      .def_readonly("converged", &session::StepReport::converged,
+                    "Tolerance mode: the pressure solve reached pressure_tolerance within pressure_iterations;\n"
+                    "always True in fixed-count mode.")
+      .def_readonly("warning", &session::StepReport::warning,
+                    "Set on the first step of the simulation whose solve did not converge, else ''.")
       .def_readonly("wall_ms", &session::StepReport::wall_ms, "Host time of the step (ms).")
       .def_property_readonly(
           "gpu_ms",
@@ -233,6 +239,9 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
     return py::make_tuple(r.x, r.y, r.z);
   }, "Cells per axis (nx, ny, nz).");
   c.def_property_readonly("cell_size", [](const Simulation& s) { return s.grid().cell_size_m; }, "Cell edge (m).");
+  c.def_property_readonly(
+      "pressure_tolerance_floor", [](const Simulation& s) { return fluid::pressureToleranceFloor(s.grid()); },
+      "The smallest pressure_tolerance this grid accepts (dimensionless): float32 pressure cannot reach less.");
   c.def_property_readonly("domain_size", [](const Simulation& s) { return vec3Array(s.grid().sizeM()); },
                           "Box edges (m).");
   c.def_property_readonly("origin", [](const Simulation& s) { return vec3Array(s.grid().origin_m); },
@@ -269,6 +278,10 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
                        [](const fluid::FluidParams& p) { return p.temperature_dissipation_1_s; },
                        [](fluid::FluidParams& p, float v) { p.temperature_dissipation_1_s = v; },
                        "Heat fade rate (1/s).");
+  paramProperty<bool>(c, "conserve_smoke", [](const fluid::FluidParams& p) { return p.conserve_smoke; },
+                      [](fluid::FluidParams& p, bool v) { p.conserve_smoke = v; },
+                      "Advection keeps the totals of smoke and heat (less the outflow through an open top),\n"
+                      "without new extrema; off: the raw transport, which loses some.");
   paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
                      [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; },
                      "Jacobi sweeps or multigrid CG iterations per step (the most, with a pressure_tolerance).");
@@ -400,9 +413,22 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
       "Emit smoke in a sphere: centre (m), radius (m); its cells are held at least at `density`\n"
       "(concentration) and `temperature` (K above ambient).");
   c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); }, "Stop emitting smoke.");
-  c.def("step", &Simulation::step, py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
-        "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
-        "force reduction. Returns a StepReport; blocks until its force is read back.");
+  c.def(
+      "step",
+      [](Simulation& s, double dt) {
+        session::StepReport r;
+        {
+          py::gil_scoped_release release;
+          r = s.step(dt);
+        }
+        // The simulation's once-only warning goes to Python logging (logger "hapticfluid").
+        if (!r.warning.empty()) py::module_::import("logging").attr("getLogger")("hapticfluid").attr("warning")(r.warning);
+        return r;
+      },
+      py::arg("dt"),
+      "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
+      "force reduction. Returns a StepReport; blocks until its force is read back. The first step whose\n"
+      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid' (once per simulation).");
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
   c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
         "Fluid at rest, no smoke, time 0; probe and settings kept.");

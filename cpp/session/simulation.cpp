@@ -22,6 +22,7 @@ std::size_t Simulation::stepReadbackBytes() { return StepPipeline::kResultSlots 
 Simulation::Simulation(const SimulationConfig& config)
     : grid_(fluid::makeGrid(config.resolution, config.domain_size_m, config.origin_m)), params_(config.params) {
   fluid::validate(params_);
+  fluid::checkPressureTolerance(params_, grid_);
   worker_ = std::make_unique<gl::GlWorker>(config.device);
   info_ = worker_->info();
   fluid::checkFits(grid_, info_);
@@ -61,6 +62,7 @@ fluid::FluidParams Simulation::params() const {
 
 void Simulation::setParams(const fluid::FluidParams& params) {
   fluid::validate(params);
+  fluid::checkPressureTolerance(params, grid_);
   std::lock_guard<std::mutex> lock(state_mutex_);
   params_ = params;
 }
@@ -76,6 +78,7 @@ void Simulation::updateParams(const std::function<void(fluid::FluidParams&)>& ed
   fluid::FluidParams p = params_;
   edit(p);
   fluid::validate(p);
+  fluid::checkPressureTolerance(p, grid_);
   params_ = p;
 }
 
@@ -167,6 +170,13 @@ StepReport Simulation::step(double dt_in_s) {
   });
   r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!r.converged && !warned_unconverged_) {
+    warned_unconverged_ = true;
+    r.warning = "raise pressure_iterations (or pressure_tolerance): the pressure solve stopped at " +
+                std::to_string(r.pressure_iterations) + " iterations with relative residual " +
+                num(r.relative_residual) + ", above the tolerance " + num(in.params.pressure_tolerance) +
+                " (said once per simulation; StepReport.converged tells every step)";
+  }
   last_ = r;
   last_rho_g_ = in.rho_g;
   last_reference_m_ = in.reference_m;

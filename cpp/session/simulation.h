@@ -44,6 +44,12 @@ struct StepReport {
   int pressure_iterations = 0;
   float relative_residual = -1.0f;     // ||rhs - A p|| / ||rhs|| after the solve; -1 = not measured
   float initial_relative_residual = -1.0f;  // the same before the solve (tolerance mode only, else -1)
+  // Tolerance mode: the pressure solve reached pressure_tolerance within pressure_iterations
+  // (always true in fixed-count mode).
+  bool converged = true;
+  // Set on the first step of this simulation whose solve did not converge (once per simulation),
+  // else empty.
+  std::string warning;
   double wall_ms = 0.0;                // host time of the whole step, ms
   std::vector<std::pair<std::string, double>> gpu_ms;  // GPU time per stage, ms
 };
@@ -150,6 +156,7 @@ class Simulation {
   fluid::SmokeSource source_;
   std::optional<ProbeState> probe_;
   StepReport last_;
+  bool warned_unconverged_ = false;  // StepReport::warning given once per simulation
   double time_s_ = 0.0;
   std::int64_t steps_ = 0;
   glm::vec3 last_rho_g_{0.0f};       // rho g of the last step (N/m^3), for pressure read-back

@@ -130,6 +130,7 @@ StepReport StepPipeline::report(const Pass& pass, const std::vector<glm::vec4>& 
   r.solid_cells = bf.solid_cells;
   r.pressure_iterations = pass.stats.iterations;
   r.initial_relative_residual = pass.stats.initial_relative_residual;
+  r.converged = pass.stats.converged;
   if (p.compute_residual) {
     const glm::vec4 res = results[kResidualSlot];
     r.relative_residual = fluid::relativeResidual(res.x, res.y);

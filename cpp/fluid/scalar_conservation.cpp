@@ -1,0 +1,56 @@
+#include "fluid/scalar_conservation.h"
+
+#include <GL/gl.h>
+
+#include "fluid/row_reduction.h"
+#include "gl/workgroup.h"
+
+namespace hf::fluid {
+namespace {
+constexpr std::size_t kBeforeSlot = 0;
+constexpr std::size_t kSmokeSlot = 1;
+constexpr std::size_t kHeatSlot = 2;
+constexpr std::size_t kSlots = 3;
+}  // namespace
+
+ScalarConservation::ScalarConservation(const Grid& grid)
+    : grid_(grid),
+      reducer_(2 * rowCount(grid.res), kSlots),
+      total_("scalar_total.comp", rowGroupDefines()),
+      headroom_("scalar_headroom.comp", rowGroupDefines()),
+      correct_("scalar_correct.comp", gl::cellGroupDefines()) {
+  for (gl::ComputeProgram* p : {&total_, &headroom_, &correct_}) p->set("u_res", grid.res);
+}
+
+void ScalarConservation::measureBefore(FluidFields& f, float dt_s, bool open_top) {
+  f.density.cur().bindImage(1, GL_READ_ONLY);
+  f.temperature.cur().bindImage(2, GL_READ_ONLY);
+  f.vel[2].cur().bindImage(3, GL_READ_ONLY);
+  reducer_.bindPartials(0);
+  total_.set("u_open_top", open_top ? 1 : 0);
+  total_.set("u_dt_over_h", dt_s / grid_.cell_size_m);
+  total_.dispatch(rowInvocations(grid_.res));
+  reducer_.reduce(rowCount(grid_.res), kBeforeSlot);
+}
+
+void ScalarConservation::correct(FluidFields& f, float smoke_decay, float heat_decay) {
+  const std::size_t rows = rowCount(grid_.res);
+  f.density.next().bindImage(1, GL_READ_ONLY);
+  f.temperature.next().bindImage(2, GL_READ_ONLY);
+  f.nbmask.bindImage(3, GL_READ_ONLY);
+  reducer_.bindPartials(0);
+  headroom_.dispatch(rowInvocations(grid_.res));
+  reducer_.reduce(rows, kSmokeSlot, 0);
+  reducer_.reduce(rows, kHeatSlot, rows);
+  f.density.next().bindImage(1, GL_READ_ONLY);
+  f.temperature.next().bindImage(2, GL_READ_ONLY);
+  f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.density.cur().bindImage(4, GL_WRITE_ONLY);
+  f.temperature.cur().bindImage(5, GL_WRITE_ONLY);
+  reducer_.bindResults(1);
+  correct_.set("u_decay", smoke_decay);
+  correct_.set("u_decay2", heat_decay);
+  correct_.dispatch(grid_.res);
+}
+
+}  // namespace hf::fluid
