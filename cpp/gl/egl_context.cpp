@@ -6,8 +6,6 @@
 #include <GL/glext.h>
 #include <unistd.h>
 
-#include <atomic>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -122,13 +120,6 @@ std::size_t queryMemoryBytes(bool software) {
   return availableMemoryBytes(r);
 }
 
-// The warning of `auto` ending on software goes to stderr once per process.
-void warnOnce(const std::string& warning) {
-  static std::atomic<bool> warned{false};
-  if (warning.empty() || warned.exchange(true)) return;
-  std::fprintf(stderr, "hapticfluid: warning: %s\n", warning.c_str());
-}
-
 }  // namespace
 
 std::string listDevices() {
@@ -231,7 +222,6 @@ EglContext::EglContext(const std::string& request_arg) {
   info_.max_storage_block_bytes = static_cast<std::size_t>(ssbo_block > 0 ? ssbo_block : 0);
   glGetError();
   if (debugMode()) installDebugOutput();
-  warnOnce(info_.warning);
 }
 
 EglContext::~EglContext() {

@@ -27,7 +27,7 @@ struct ContextInfo {
 // Device choice (`request`, or the environment variable HAPTICFLUID_EGL_DEVICE when
 // `request` is empty):
 //   ""/"auto"  first hardware EGL device whose renderer is a GPU, else software (with a
-//              warning on stderr, once per process, also in info().warning)
+//              warning in info().warning, which Python callers log; nothing is printed)
 //   "hardware" a hardware GPU or an hf::GlError
 //   "software" Mesa's software rasterizer (llvmpipe)
 //   "<N>"      EGL device number N (as listed by listDevices())

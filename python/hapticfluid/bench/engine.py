@@ -182,6 +182,8 @@ def run(quick: bool = False, sizes: Optional[Sequence[Size]] = None,
         "mean over the timed steps (the scene's probe pose upload and result read-back included)",
         f"device: {device.get('renderer')} ({device.get('version')})",
     ]
+    if device.get("warning"):
+        notes.append(f"device warning: {device['warning']}")
     if device.get("software"):
         notes.append("software rasterizer (llvmpipe): 'GPU' times are CPU times of the shader threads")
     return {"title": "Engine: full simulation step", "columns": columns, "rows": rows, "notes": notes}
