@@ -27,38 +27,11 @@ uniform float u_dt_over_h;    // time step / cell size (s/m); negative traces fo
 uniform float u_decay;        // multiplier applied to the result (dissipation), 1 for none
 uniform int u_zero_in_solid;  // 1: cells covered by the solid get 0 (scalars only)
 
-// Trilinear interpolation of image IMG (SIZE texels) at texel-space position t (texel centres
-// at integer t), clamped to the edge: the value texture() gives with GL_LINEAR and
-// GL_CLAMP_TO_EDGE. A macro, because an image passed as a function argument loses its format.
-#define DEFINE_TRILINEAR(NAME, IMG)                                                        \
-  float NAME(ivec3 size, vec3 t) {                                                         \
-    t = clamp(t, vec3(0.0), vec3(size - 1));                                               \
-    ivec3 i0 = ivec3(t);                                                                   \
-    vec3 f = t - vec3(i0);                                                                 \
-    ivec3 i1 = min(i0 + 1, size - 1);                                                      \
-    float c00 = mix(imageLoad(IMG, i0).r, imageLoad(IMG, ivec3(i1.x, i0.y, i0.z)).r, f.x); \
-    float c10 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i0.z)).r,                             \
-                    imageLoad(IMG, ivec3(i1.x, i1.y, i0.z)).r, f.x);                       \
-    float c01 = mix(imageLoad(IMG, ivec3(i0.x, i0.y, i1.z)).r,                             \
-                    imageLoad(IMG, ivec3(i1.x, i0.y, i1.z)).r, f.x);                       \
-    float c11 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i1.z)).r, imageLoad(IMG, i1).r, f.x); \
-    return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);                               \
-  }
-
-DEFINE_TRILINEAR(sampleVx, u_vel_x)
-DEFINE_TRILINEAR(sampleVy, u_vel_y)
-DEFINE_TRILINEAR(sampleVz, u_vel_z)
+DEFINE_VELOCITY_AT(u_vel_x, u_vel_y, u_vel_z)  // velocityAt(X), common.glsl
 DEFINE_TRILINEAR(sampleSrc, u_src)
 #ifdef PAIR
 DEFINE_TRILINEAR(sampleSrc2, u_src2)
 #endif
-
-// Velocity (m/s) at grid-unit position X; face fields sit at offsets (0,.5,.5), (.5,0,.5), (.5,.5,0).
-vec3 velocityAt(vec3 X) {
-  return vec3(sampleVx(u_res + ivec3(1, 0, 0), X - vec3(0.0, 0.5, 0.5)),
-              sampleVy(u_res + ivec3(0, 1, 0), X - vec3(0.5, 0.0, 0.5)),
-              sampleVz(u_res + ivec3(0, 0, 1), X - vec3(0.5, 0.5, 0.0)));
-}
 
 #if FIELD_AT == 3
 // Velocity at the centre of cell idx: each component is the mean of the cell's two faces.

@@ -25,16 +25,37 @@ bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan
 
 ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
 
-// Texture coordinate of a grid-unit position X in a field of `size` texels at `offset`.
-vec3 fieldCoord(vec3 X, vec3 size, vec3 offset) { return (X - offset + 0.5) / size; }
+// Trilinear interpolation of image IMG (SIZE texels) at texel-space position t (texel centres
+// at integer t), clamped to the edge: the value texture() gives with GL_LINEAR and
+// GL_CLAMP_TO_EDGE, but with full-precision weights (hardware filtering uses 8-bit ones), so
+// every back-trace (advect.comp, maccormack.comp) gives the same point on every device.
+// A macro, because an image passed as a function argument loses its format.
+#define DEFINE_TRILINEAR(NAME, IMG)                                                        \
+  float NAME(ivec3 size, vec3 t) {                                                         \
+    t = clamp(t, vec3(0.0), vec3(size - 1));                                               \
+    ivec3 i0 = ivec3(t);                                                                   \
+    vec3 f = t - vec3(i0);                                                                 \
+    ivec3 i1 = min(i0 + 1, size - 1);                                                      \
+    float c00 = mix(imageLoad(IMG, i0).r, imageLoad(IMG, ivec3(i1.x, i0.y, i0.z)).r, f.x); \
+    float c10 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i0.z)).r,                             \
+                    imageLoad(IMG, ivec3(i1.x, i1.y, i0.z)).r, f.x);                       \
+    float c01 = mix(imageLoad(IMG, ivec3(i0.x, i0.y, i1.z)).r,                             \
+                    imageLoad(IMG, ivec3(i1.x, i0.y, i1.z)).r, f.x);                       \
+    float c11 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i1.z)).r, imageLoad(IMG, i1).r, f.x); \
+    return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);                               \
+  }
 
-// Trilinear velocity (grid units per second times h, i.e. m/s) at grid-unit position X.
-vec3 sampleVelocity(sampler3D vx, sampler3D vy, sampler3D vz, vec3 X) {
-  vec3 r = vec3(u_res);
-  return vec3(texture(vx, fieldCoord(X, r + vec3(1, 0, 0), vec3(0.0, 0.5, 0.5))).r,
-              texture(vy, fieldCoord(X, r + vec3(0, 1, 0), vec3(0.5, 0.0, 0.5))).r,
-              texture(vz, fieldCoord(X, r + vec3(0, 0, 1), vec3(0.5, 0.5, 0.0))).r);
-}
+// Defines velocityAt(vec3 X): the trilinear velocity (m/s) at grid-unit position X from the
+// staggered images VX, VY, VZ (face fields at offsets (0,.5,.5), (.5,0,.5), (.5,.5,0)).
+#define DEFINE_VELOCITY_AT(VX, VY, VZ)                                     \
+  DEFINE_TRILINEAR(sampleVx, VX)                                          \
+  DEFINE_TRILINEAR(sampleVy, VY)                                          \
+  DEFINE_TRILINEAR(sampleVz, VZ)                                          \
+  vec3 velocityAt(vec3 X) {                                               \
+    return vec3(sampleVx(u_res + ivec3(1, 0, 0), X - vec3(0.0, 0.5, 0.5)), \
+                sampleVy(u_res + ivec3(0, 1, 0), X - vec3(0.5, 0.0, 0.5)), \
+                sampleVz(u_res + ivec3(0, 0, 1), X - vec3(0.5, 0.5, 0.0))); \
+  }
 
 // Texel offset of face component `axis` (0=u, 1=v, 2=w).
 vec3 faceOffset(int axis) {

@@ -62,10 +62,6 @@ void FluidSolver::reset() {
   }
 }
 
-void FluidSolver::bindVelocitySamplers() {
-  for (int a = 0; a < 3; ++a) fields_.vel[static_cast<std::size_t>(a)].cur().bindSampler(static_cast<unsigned>(a));
-}
-
 void FluidSolver::bindVelocityImages(unsigned first) {
   for (unsigned a = 0; a < 3; ++a) fields_.vel[a].cur().bindImage(first + a, GL_READ_ONLY);
 }
@@ -101,7 +97,7 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
   bwd.bindImage(0, GL_WRITE_ONLY);
   advect.set("u_dt_over_h", -dt_over_h);
   advect.dispatch(size);
-  bindVelocitySamplers();  // maccormack.comp traces with texture()
+  bindVelocityImages(5);  // maccormack.comp traces like advect.comp, from images (units 5-7)
   src.bindImage(4, GL_READ_ONLY);
   fwd.bindImage(2, GL_READ_ONLY);
   bwd.bindImage(3, GL_READ_ONLY);

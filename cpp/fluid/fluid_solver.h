@@ -51,7 +51,6 @@ class FluidSolver {
                    const FluidParams& p);
   // Smoke and heat in one semi-Lagrangian pass (advect_pair_).
   void advectScalarPair(float dt_s, float smoke_decay, float heat_decay);
-  void bindVelocitySamplers();           // texture units 0-2, for trilinear sampling
   void bindVelocityImages(unsigned first);  // read-only image units first..first+2
   void removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, std::size_t slot);
 

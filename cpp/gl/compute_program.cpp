@@ -3,8 +3,10 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
 #include <regex>
 #include <sstream>
+#include <vector>
 
 #include "common/error.h"
 #include "gl/gl_check.h"
@@ -28,6 +30,43 @@ std::string infoLog(GLuint id, GetIv get_iv, GetLog get_log) {
   std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
   get_log(id, len, nullptr, log.data());
   return log.c_str();
+}
+
+// GL_IMAGE_1D .. GL_UNSIGNED_INT_IMAGE_2D_MULTISAMPLE_ARRAY: the image uniform types (GL 4.2),
+// one contiguous range of enums.
+bool isImageType(GLenum type) { return type >= 0x904C && type <= 0x906C; }
+
+// Distinct image units the program's active image uniforms are bound to.
+int countImageUnits(GLuint program) {
+  GLint count = 0;
+  glGetProgramInterfaceiv(program, GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
+  std::vector<GLint> units;
+  for (GLint i = 0; i < count; ++i) {
+    const GLenum props[] = {GL_TYPE, GL_LOCATION};
+    GLint values[2] = {0, -1};
+    glGetProgramResourceiv(program, GL_UNIFORM, static_cast<GLuint>(i), 2, props, 2, nullptr, values);
+    if (!isImageType(static_cast<GLenum>(values[0])) || values[1] < 0) continue;
+    GLint unit = -1;
+    glGetUniformiv(program, values[1], &unit);
+    if (std::find(units.begin(), units.end(), unit) == units.end()) units.push_back(unit);
+  }
+  return static_cast<int>(units.size());
+}
+
+// The barrier after a dispatch of `program`: what it may have written (images, storage
+// buffers) made visible to the ways the engine reads them next: image loads/stores and
+// texture fetches, storage-buffer access, and read-backs/clears (glGetTextureSubImage,
+// glClearTexImage: TEXTURE_UPDATE; glGetNamedBufferSubData, glClearNamedBufferData:
+// BUFFER_UPDATE). Nothing here feeds vertex, index, uniform, indirect or pixel-buffer reads.
+GLbitfield barrierBitsFor(GLuint program, int image_units) {
+  GLbitfield bits = 0;
+  if (image_units > 0) {
+    bits |= GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
+  }
+  GLint blocks = 0;
+  glGetProgramInterfaceiv(program, GL_SHADER_STORAGE_BLOCK, GL_ACTIVE_RESOURCES, &blocks);
+  if (blocks > 0) bits |= GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
+  return bits;
 }
 
 }  // namespace
@@ -94,8 +133,15 @@ ComputeProgram::ComputeProgram(const std::string& file, const std::string& sourc
   GLint size[3] = {1, 1, 1};
   glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, size);
   local_size_ = glm::ivec3(size[0], size[1], size[2]);
+  image_units_ = countImageUnits(id_);
+  barrier_bits_ = barrierBitsFor(id_, image_units_);
   try {
     checkGl("building " + file);
+    if (image_units_ > kGuaranteedImageUnits) {
+      throw GlError(file + " uses " + std::to_string(image_units_) + " image units, but GL 4.5 guarantees only " +
+                    std::to_string(kGuaranteedImageUnits) +
+                    " (GL_MAX_IMAGE_UNITS, GL_MAX_COMPUTE_IMAGE_UNIFORMS): split the stage or use a sampler");
+    }
   } catch (...) {
     glDeleteProgram(id_);  // the destructor does not run for a constructor that throws
     throw;
@@ -133,8 +179,9 @@ void ComputeProgram::dispatch(const glm::ivec3& invocations) const {
   const glm::ivec3 groups = (invocations + local_size_ - 1) / local_size_;
   glUseProgram(id_);
   glDispatchCompute(static_cast<GLuint>(groups.x), static_cast<GLuint>(groups.y), static_cast<GLuint>(groups.z));
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  checkGl("dispatching " + name_);
+  if (barrier_bits_ != 0) glMemoryBarrier(barrier_bits_);
+  countDispatch();
+  checkDebug("dispatching " + name_);
 }
 
 }  // namespace hf::gl

@@ -12,6 +12,10 @@ namespace hf::gl {
 
 using Defines = std::vector<std::pair<std::string, std::string>>;
 
+// GL 4.5's guaranteed minimum of GL_MAX_IMAGE_UNITS and GL_MAX_COMPUTE_IMAGE_UNIFORMS: a
+// program binding more image units is refused at link time, whatever this device allows.
+inline constexpr int kGuaranteedImageUnits = 8;
+
 class ComputeProgram {
  public:
   // `file` names a shader in shaders/ (e.g. "jacobi.comp"); `defines` become #define lines.
@@ -24,6 +28,8 @@ class ComputeProgram {
 
   const std::string& name() const { return name_; }
   glm::ivec3 localSize() const { return local_size_; }
+  int imageUnits() const { return image_units_; }  // distinct image units its active images use
+  unsigned barrierBits() const { return barrier_bits_; }  // glMemoryBarrier bits after a dispatch
 
   // Binds the program; the setters below act on the bound program.
   void use() const;
@@ -34,8 +40,9 @@ class ComputeProgram {
   void set(const char* uniform, const glm::vec3& v);
   void set(const char* uniform, const glm::mat4& v);
 
-  // Dispatches enough workgroups to cover `invocations` threads, then a memory barrier so the
-  // next stage sees the writes; checks GL errors naming this program.
+  // Dispatches enough workgroups to cover `invocations` threads, then a memory barrier with the
+  // bits this program's writes need (images and/or storage buffers, see barrierBits()) so the
+  // next stage and read-backs see them; in debug mode (gl_check.h) checks GL errors naming it.
   void dispatch(const glm::ivec3& invocations) const;
 
  private:
@@ -44,6 +51,8 @@ class ComputeProgram {
   std::string name_;
   unsigned int id_ = 0;
   glm::ivec3 local_size_{1};
+  int image_units_ = 0;
+  unsigned barrier_bits_ = 0;
   std::unordered_map<std::string, int> locations_;
 };
 

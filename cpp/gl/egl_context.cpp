@@ -8,15 +8,16 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "common/error.h"
+#include "gl/device_choice.h"
+#include "gl/gl_check.h"
 
 namespace hf::gl {
 namespace {
-
-constexpr const char* kEnvDevice = "HAPTICFLUID_EGL_DEVICE";
 
 struct Candidate {
   EGLDeviceEXT device = EGL_NO_DEVICE_EXT;  // EGL_NO_DEVICE_EXT = surfaceless platform
@@ -72,35 +73,6 @@ std::vector<Candidate> enumerateDevices() {
   return out;
 }
 
-// Orders the devices to try for a request; throws InvalidArgument for a malformed request.
-std::vector<Candidate> candidatesFor(const std::string& request, const std::vector<Candidate>& devices) {
-  std::vector<Candidate> order;
-  if (request.empty() || request == "auto") {
-    for (const auto& d : devices) if (!d.software) order.push_back(d);
-    for (const auto& d : devices) if (d.software) order.push_back(d);
-    order.push_back(Candidate{});  // surfaceless Mesa as the last resort
-    return order;
-  }
-  if (request == "software") {
-    for (const auto& d : devices) if (d.software) order.push_back(d);
-    order.push_back(Candidate{EGL_NO_DEVICE_EXT, -1, true});
-    return order;
-  }
-  char* end = nullptr;
-  const long index = std::strtol(request.c_str(), &end, 10);
-  if (end == request.c_str() || *end != '\0' || index < 0) {
-    throw InvalidArgument("EGL device request '" + request + "' (from " + kEnvDevice +
-                          " or the device argument) is not 'auto', 'software' or a device number; "
-                          "devices found:\n" + listDevices());
-  }
-  if (index >= static_cast<long>(devices.size())) {
-    throw InvalidArgument("EGL device " + request + " does not exist (from " + kEnvDevice +
-                          " or the device argument); devices found:\n" + listDevices());
-  }
-  order.push_back(devices[static_cast<std::size_t>(index)]);
-  return order;
-}
-
 std::string glString(GLenum name) {
   const auto* s = reinterpret_cast<const char*>(glGetString(name));
   return s != nullptr ? s : "";
@@ -116,26 +88,36 @@ bool hasGlExtension(const char* name) {
   return false;
 }
 
+// /proc/meminfo's MemAvailable in KiB; 0 if unreadable.
+long long hostAvailableKb() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  long long kb = 0;
+  while (in >> key >> kb) {
+    if (key == "MemAvailable:") return kb;
+    in.ignore(256, '\n');
+  }
+  return 0;
+}
+
 std::size_t queryMemoryBytes(bool software) {
-  constexpr GLenum kNvxTotalAvailableKb = 0x9048;  // GL_GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
-  constexpr GLenum kAtiTextureFreeKb = 0x87FC;     // GL_TEXTURE_FREE_MEMORY_ATI
+  constexpr GLenum kNvxCurrentAvailableKb = 0x9049;  // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
+  constexpr GLenum kAtiTextureFreeKb = 0x87FC;       // GL_TEXTURE_FREE_MEMORY_ATI
+  MemoryReport r;
+  r.software = software;
   if (hasGlExtension("GL_NVX_gpu_memory_info")) {
     GLint kb = 0;
-    glGetIntegerv(kNvxTotalAvailableKb, &kb);
-    return static_cast<std::size_t>(kb) * 1024u;
+    glGetIntegerv(kNvxCurrentAvailableKb, &kb);
+    r.nvx_current_available_kb = kb;
   }
   if (hasGlExtension("GL_ATI_meminfo")) {
     GLint kb[4] = {0, 0, 0, 0};
     glGetIntegerv(kAtiTextureFreeKb, kb);
-    return static_cast<std::size_t>(kb[0]) * 1024u;
+    r.ati_texture_free_kb = kb[0];
   }
-  if (software) {
-    const long pages = sysconf(_SC_PHYS_PAGES);
-    const long page = sysconf(_SC_PAGE_SIZE);
-    if (pages > 0 && page > 0) return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page);
-  }
+  if (software) r.host_available_kb = hostAvailableKb();
   glGetError();  // an unsupported query above must not leak into the caller's first check
-  return 0;
+  return availableMemoryBytes(r);
 }
 
 }  // namespace
@@ -159,81 +141,87 @@ std::string listDevices() {
 EglContext::EglContext(const std::string& request_arg) {
   std::string request = request_arg;
   if (request.empty()) {
-    const char* env = std::getenv(kEnvDevice);
+    const char* env = std::getenv(kEglDeviceEnv);
     if (env != nullptr) request = env;
   }
-  const auto devices = enumerateDevices();
-  const auto order = candidatesFor(request, devices);
-
-  std::string failures;
-  for (const auto& cand : order) {
-    const std::string label = cand.index >= 0 ? "EGL device " + std::to_string(cand.index) : "surfaceless platform";
-    EGLDisplay dpy = cand.index >= 0
-        ? eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, cand.device, nullptr)
+  const auto found = enumerateDevices();
+  std::vector<DeviceDesc> devices;
+  for (const auto& c : found) devices.push_back({c.index, c.software});
+  EGLDisplay dpy = EGL_NO_DISPLAY;
+  EGLContext ctx = EGL_NO_CONTEXT;
+  auto attempt = [&](const DeviceDesc& d) -> DeviceAttempt {
+    dpy = d.index >= 0
+        ? eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, found[static_cast<std::size_t>(d.index)].device, nullptr)
         : eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    auto fail = [&](const std::string& what) {
-      failures += "  " + label + ": " + what + " (" + eglErrorText(eglGetError()) + ")\n";
+    auto fail = [](const std::string& what) {
+      return DeviceAttempt{false, "", what + " (" + eglErrorText(eglGetError()) + ")"};
     };
     // Displays are never eglTerminate()d, on failure either: EGL shares one per device in the
     // process, and another simulation (or Blender) may be using it.
-    if (dpy == EGL_NO_DISPLAY) { fail("eglGetPlatformDisplay failed"); continue; }
+    if (dpy == EGL_NO_DISPLAY) return fail("eglGetPlatformDisplay failed");
     EGLint major = 0, minor = 0;
-    if (!eglInitialize(dpy, &major, &minor)) { fail("eglInitialize failed"); continue; }
+    if (!eglInitialize(dpy, &major, &minor)) return fail("eglInitialize failed");
     const char* dpy_ext = eglQueryString(dpy, EGL_EXTENSIONS);
-    if (!hasToken(dpy_ext, "EGL_KHR_surfaceless_context")) {
-      failures += "  " + label + ": no EGL_KHR_surfaceless_context\n";
-      continue;
-    }
-    if (!eglBindAPI(EGL_OPENGL_API)) { fail("eglBindAPI(OpenGL) failed"); continue; }
+    if (!hasToken(dpy_ext, "EGL_KHR_surfaceless_context")) return {false, "", "no EGL_KHR_surfaceless_context"};
+    if (!eglBindAPI(EGL_OPENGL_API)) return fail("eglBindAPI(OpenGL) failed");
     EGLConfig config = EGL_NO_CONFIG_KHR;
     if (!hasToken(dpy_ext, "EGL_KHR_no_config_context")) {
-      const EGLint cfg_attr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+      // Without EGL_SURFACE_TYPE the default (EGL_WINDOW_BIT) matches no config of the device
+      // platform, which has no windows; the context is used surfaceless anyway.
+      const EGLint cfg_attr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_DONT_CARE, EGL_NONE};
       EGLint n = 0;
-      if (!eglChooseConfig(dpy, cfg_attr, &config, 1, &n) || n < 1) {
-        fail("no OpenGL EGL config"); continue;
-      }
+      if (!eglChooseConfig(dpy, cfg_attr, &config, 1, &n) || n < 1) return fail("no OpenGL EGL config");
     }
-    EGLContext ctx = EGL_NO_CONTEXT;
+    ctx = EGL_NO_CONTEXT;
+    // The debug attribute (EGL 1.5) only in the debug mode: an EGL 1.4 driver rejects it.
+    const EGLint debug_name = debugMode() ? EGL_CONTEXT_OPENGL_DEBUG : EGL_NONE;
     for (int want_minor : {6, 5}) {
       const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, want_minor,
                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                 EGL_NONE};
+                                 debug_name, EGL_TRUE, EGL_NONE};
       ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attr);
       if (ctx != EGL_NO_CONTEXT) break;
     }
-    if (ctx == EGL_NO_CONTEXT) { fail("no OpenGL 4.5 core context"); continue; }
+    if (ctx == EGL_NO_CONTEXT) return fail("no OpenGL 4.5 core context");
     if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-      fail("eglMakeCurrent failed"); eglDestroyContext(dpy, ctx); continue;
+      DeviceAttempt a = fail("eglMakeCurrent failed");
+      eglDestroyContext(dpy, ctx);
+      return a;
     }
     GLint gl_major = 0, gl_minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &gl_major);
     glGetIntegerv(GL_MINOR_VERSION, &gl_minor);
     if (gl_major < 4 || (gl_major == 4 && gl_minor < 5)) {
-      failures += "  " + label + ": OpenGL " + std::to_string(gl_major) + "." + std::to_string(gl_minor) +
-                  " only; the engine needs 4.5\n";
       eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       eglDestroyContext(dpy, ctx);
-      continue;
+      return {false, "", "OpenGL " + std::to_string(gl_major) + "." + std::to_string(gl_minor) +
+                             " only; the engine needs 4.5"};
     }
-    display_ = dpy;
-    context_ = ctx;
-    info_.renderer = glString(GL_RENDERER);
-    info_.vendor = glString(GL_VENDOR);
-    info_.version = glString(GL_VERSION);
-    const char* egl_vendor = eglQueryString(dpy, EGL_VENDOR);
-    info_.egl_vendor = egl_vendor != nullptr ? egl_vendor : "";
-    info_.platform = cand.index >= 0 ? "device" : "surfaceless";
-    info_.device_index = cand.index;
-    info_.software = cand.software || info_.renderer.find("llvmpipe") != std::string::npos ||
-                     info_.renderer.find("softpipe") != std::string::npos;
-    info_.memory_bytes = queryMemoryBytes(info_.software);
-    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info_.max_3d_texture_size);
-    glGetError();
-    return;
-  }
-  throw GlError("EGL context: no device gave an OpenGL 4.5 core context (request '" +
-                (request.empty() ? std::string("auto") : request) + "'):\n" + failures +
-                "Install Mesa's EGL and llvmpipe (packages libegl-mesa0 libgl1-mesa-dri) or a GPU driver.");
+    return {true, glString(GL_RENDERER), ""};
+  };
+  auto discard = [&](const DeviceDesc&) {
+    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(dpy, ctx);
+  };
+  const DeviceChoice choice = chooseDevice(request, devices, listDevices(), attempt, discard);
+  display_ = dpy;
+  context_ = ctx;
+  info_.renderer = choice.renderer;
+  info_.vendor = glString(GL_VENDOR);
+  info_.version = glString(GL_VERSION);
+  const char* egl_vendor = eglQueryString(dpy, EGL_VENDOR);
+  info_.egl_vendor = egl_vendor != nullptr ? egl_vendor : "";
+  info_.platform = choice.device.index >= 0 ? "device" : "surfaceless";
+  info_.device_index = choice.device.index;
+  info_.software = choice.software;
+  info_.warning = choice.warning;
+  info_.memory_bytes = queryMemoryBytes(info_.software);
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info_.max_3d_texture_size);
+  GLint ssbo_block = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo_block);
+  info_.max_storage_block_bytes = static_cast<std::size_t>(ssbo_block > 0 ? ssbo_block : 0);
+  glGetError();
+  if (debugMode()) installDebugOutput();
 }
 
 EglContext::~EglContext() {

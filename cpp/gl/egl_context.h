@@ -14,8 +14,11 @@ struct ContextInfo {
   std::string platform;      // "device" (EGL_EXT_platform_device) or "surfaceless"
   int device_index = -1;     // index in eglQueryDevicesEXT's list; -1 for the surfaceless platform
   bool software = false;     // true for Mesa llvmpipe / softpipe
-  std::size_t memory_bytes = 0;  // GPU memory (system memory for a software device); 0 = unknown
+  std::size_t memory_bytes = 0;  // GPU memory free when the context was made (the host's
+                                 // MemAvailable for a software device); 0 = unknown
   int max_3d_texture_size = 0;   // GL_MAX_3D_TEXTURE_SIZE, cells per axis
+  std::size_t max_storage_block_bytes = 0;  // GL_MAX_SHADER_STORAGE_BLOCK_SIZE (>= 128 MiB by GL 4.3)
+  std::string warning;           // "" or why this device may not be what the user wants
 };
 
 // Owns an EGLDisplay + EGLContext and makes it current on the constructing thread. Not
@@ -23,9 +26,12 @@ struct ContextInfo {
 //
 // Device choice (`request`, or the environment variable HAPTICFLUID_EGL_DEVICE when
 // `request` is empty):
-//   ""/"auto"  first hardware EGL device that gives a 4.5 core context, else software
+//   ""/"auto"  first hardware EGL device whose renderer is a GPU, else software (with a
+//              warning in info().warning, which Python callers log; nothing is printed)
+//   "hardware" a hardware GPU or an hf::GlError
 //   "software" Mesa's software rasterizer (llvmpipe)
 //   "<N>"      EGL device number N (as listed by listDevices())
+// The choice itself is gl/device_choice.h's chooseDevice().
 class EglContext {
  public:
   explicit EglContext(const std::string& request = "");

@@ -5,8 +5,13 @@
 
 namespace hf::gl {
 
+// GL_MAX_SHADER_STORAGE_BLOCK_SIZE of the current context (GL guarantees 128 MiB).
+std::size_t maxStorageBlockBytes();
+
 class StorageBuffer {
  public:
+  // Throws hf::GlError naming `label` before allocating when `bytes` exceeds
+  // maxStorageBlockBytes(): a shader could not address the whole buffer.
   StorageBuffer(std::size_t bytes, const std::string& label);
   ~StorageBuffer();
   StorageBuffer(const StorageBuffer&) = delete;

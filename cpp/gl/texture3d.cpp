@@ -100,6 +100,7 @@ void Texture3D::download(void* dst, std::size_t bytes) const {
   if (bytes != texels() * bytesPerTexel()) throw Error("download of '" + label_ + "': wrong buffer size");
   const FormatInfo fi = formatInfo(format_);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  countSync();  // waits for the GPU to finish what wrote it
   // In z-slabs of at most kMaxReadBytes: GL sizes are GLsizei, and 2 GiB fields exist.
   const std::size_t slice = static_cast<std::size_t>(size_.x) * size_.y * bytesPerTexel();
   const int slab = static_cast<int>(std::max<std::size_t>(1, kMaxReadBytes / slice));

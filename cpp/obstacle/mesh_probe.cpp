@@ -25,7 +25,9 @@ static_assert(kMaxMeshElements <= std::size_t{0x7fffffff}, "crossing counts must
 
 MeshProbe::MeshProbe(const fluid::Grid& grid)
     : grid_(grid),
-      crossings_(grid.cells() * sizeof(std::int32_t), "mesh crossings"),
+      crossings_(grid.cells() * sizeof(std::int32_t), "mesh crossings of the " + std::to_string(grid.res.x) + "x" +
+                                                          std::to_string(grid.res.y) + "x" + std::to_string(grid.res.z) +
+                                                          " grid (4 bytes per cell)"),
       transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
       crossings_program_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
       fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()) {

@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 
 #include "gl/egl_context.h"
+#include "gl/gl_check.h"
 #include "gl/gl_worker.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -26,8 +27,21 @@ void addDevice(py::module_& m) {
       },
       py::arg("device") = "",
       "Make a GL context as a Simulation would and describe it (renderer, vendor, version,\n"
-      "platform, device_index, software, memory_bytes, max_3d_texture_size).\n"
-      "device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware first), 'software' or an EGL device number.");
+      "platform, device_index, software, memory_bytes (free now), max_3d_texture_size,\n"
+      "max_storage_block_bytes, warning).\n"
+      "device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware first), 'hardware' (a GPU or an error),\n"
+      "'software' or an EGL device number.");
+  m.def(
+      "gl_counters",
+      [] {
+        const gl::GlCounters c = gl::glCounters();
+        py::dict d;
+        d["dispatches"] = c.dispatches;
+        d["syncs"] = c.syncs;
+        return d;
+      },
+      "Compute dispatches and GPU-to-CPU syncs (read-backs) since the process started, all\n"
+      "simulations together: {'dispatches': int, 'syncs': int}.");
 }
 
 }  // namespace hf::python

@@ -46,6 +46,8 @@ inline py::dict deviceDict(const gl::ContextInfo& info) {
   d["software"] = info.software;
   d["memory_bytes"] = info.memory_bytes;
   d["max_3d_texture_size"] = info.max_3d_texture_size;
+  d["max_storage_block_bytes"] = info.max_storage_block_bytes;
+  d["warning"] = info.warning;
   return d;
 }
 

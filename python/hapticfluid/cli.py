@@ -35,7 +35,7 @@ def _add_info(sub) -> None:
                                    "(hapticfluid.probe_device) and the EGL devices found "
                                    "(hapticfluid.list_egl_devices).")
     p.add_argument("--device", default="",
-                   help="GL device: 'software' or an EGL device number; by default "
+                   help="GL device: 'hardware' (a GPU or an error), 'software' or an EGL device number; by default "
                         "HAPTICFLUID_EGL_DEVICE or auto (hardware GPU first)")
     p.set_defaults(func=cmd_info)
 
@@ -86,7 +86,7 @@ def _add_demo(sub) -> None:
                    default=_demo.DEFAULT_ADVECTION,
                    help="advection scheme (default: %(default)s)")
     p.add_argument("--device", default="",
-                   help="GL device: 'software' or an EGL device number; by default "
+                   help="GL device: 'hardware' (a GPU or an error), 'software' or an EGL device number; by default "
                         "HAPTICFLUID_EGL_DEVICE or auto (hardware GPU first)")
     p.add_argument("--out", default=_demo.DEFAULT_OUT_DIR, metavar="DIR",
                    help="output directory (default: %(default)s)")

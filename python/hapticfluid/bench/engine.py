@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import hapticfluid as hf
+from hapticfluid import _core
 from hapticfluid.bench import report
 from hapticfluid.bench.scene import SEED_DOMAIN, SEED_RESOLUTION, BenchScene
 
@@ -55,7 +56,7 @@ QUICK_SIZES = (
 MEMORY_SHARE = 0.5
 
 FIXED_COLUMNS = ["grid", "cells", "solver", "steps", "steps/s", "wall ms median", "wall ms p90",
-                 "GPU ms total"]
+                 "GPU ms total", "dispatches/step", "GPU->CPU syncs/step"]
 
 
 def available_memory_bytes(device_info: Dict[str, object]) -> Optional[int]:
@@ -83,6 +84,8 @@ class Measurement:
     gpu_ms: List[Dict[str, float]]
     residuals: List[float]
     iterations: int
+    dispatches_per_step: float = 0.0  # compute dispatches per timed step (gl_counters)
+    syncs_per_step: float = 0.0       # GPU-to-CPU read-backs per timed step
 
     def stage_names(self) -> List[str]:
         names: List[str] = []
@@ -109,6 +112,7 @@ def measure(scene: BenchScene, solver: str, solver_kwargs: Dict[str, object], si
         gpu: List[Dict[str, float]] = []
         residuals: List[float] = []
         iterations = 0
+        before = _core.gl_counters()
         start = time.perf_counter()
         while len(wall) < size.max_steps:
             if len(wall) >= size.min_steps and time.perf_counter() - start >= size.budget_s:
@@ -119,7 +123,11 @@ def measure(scene: BenchScene, solver: str, solver_kwargs: Dict[str, object], si
             iterations = r.pressure_iterations
             if r.relative_residual >= 0.0:
                 residuals.append(r.relative_residual)
-    return Measurement(scene, solver, wall, gpu, residuals, iterations)
+        after = _core.gl_counters()
+    steps = max(len(wall), 1)
+    return Measurement(scene, solver, wall, gpu, residuals, iterations,
+                       (after["dispatches"] - before["dispatches"]) / steps,
+                       (after["syncs"] - before["syncs"]) / steps)
 
 
 def run(quick: bool = False, sizes: Optional[Sequence[Size]] = None,
@@ -156,7 +164,8 @@ def run(quick: bool = False, sizes: Optional[Sequence[Size]] = None,
     for m in results:
         total_s = sum(m.wall_ms) / 1000.0
         row = [m.scene.label, m.scene.cells, m.solver, len(m.wall_ms), len(m.wall_ms) / total_s,
-               report.median(m.wall_ms), report.p90(m.wall_ms), m.gpu_total_median()]
+               report.median(m.wall_ms), report.p90(m.wall_ms), m.gpu_total_median(),
+               m.dispatches_per_step, m.syncs_per_step]
         row += [report.finite_or_none(m.stage_median(s)) for s in stages]
         row += [m.iterations, report.finite_or_none(report.median(m.residuals)) if m.residuals else None]
         rows.append(row)
@@ -169,8 +178,12 @@ def run(quick: bool = False, sizes: Optional[Sequence[Size]] = None,
         f"dt {scene0.dt_s:.4g} s" if scene0 else "no sizes",
         f"wall ms: host time of Simulation.step (includes its {hf.STEP_READBACK_BYTES}-byte result read-back); "
         "GPU ms: GL timestamp queries around each stage, median over the timed steps",
+        "dispatches/step and GPU->CPU syncs/step: compute dispatches and read-backs that wait for the GPU, "
+        "mean over the timed steps (the scene's probe pose upload and result read-back included)",
         f"device: {device.get('renderer')} ({device.get('version')})",
     ]
+    if device.get("warning"):
+        notes.append(f"device warning: {device['warning']}")
     if device.get("software"):
         notes.append("software rasterizer (llvmpipe): 'GPU' times are CPU times of the shader threads")
     return {"title": "Engine: full simulation step", "columns": columns, "rows": rows, "notes": notes}
