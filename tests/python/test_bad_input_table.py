@@ -285,6 +285,7 @@ CSV_BAD = {
     "short_row": ("0,0,0,0\n1,0,0\n", None),
     "decreasing": ("1,0,0,0\n0,0,0,0\n", None),
     "binary": (b"\xff\xfe\x00\x01garbage", None),
+    "non_utf8_line": (b"0,0,0,0\r\n1,0.0\xeb\x94,0,0\r\n", None),  # once gave an error with no message
 }
 
 
