@@ -7,7 +7,7 @@
 # Rates measured on this machine (2 shared cores, llvmpipe), single process each:
 #   scene ~630 inputs/s  -> 10 M in ~4.5 h
 #   mesh  ~2700 inputs/s -> 10 M in ~1 h
-#   csv   ~1000-2000 inputs/s (writes a file per input) -> 10 M in ~2 h
+#   csv   ~740 inputs/s (writes a file per input) -> 10 M in ~4 h
 #   falcon_packet ~6400 inputs/s (200 k in 31 s, ASan + UBSan) -> 10 M in ~26 min
 # A finding stops that target with exit status 1 and leaves the input in build/fuzz-findings/.
 set -euo pipefail

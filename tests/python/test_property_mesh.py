@@ -11,7 +11,7 @@ from hypothesis.extra import numpy as hnp
 import hapticfluid as hf
 from hapticfluid import meshes
 
-SETTINGS = settings(max_examples=40, deadline=None, derandomize=True,
+SETTINGS = settings(max_examples=40, deadline=None, derandomize=True, database=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 
 

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 import hapticfluid as hf
 from hapticfluid.bake.scene import BakeScene, load_scene, scene_from_dict
 
-SETTINGS = settings(max_examples=100, deadline=None, derandomize=True,
+SETTINGS = settings(max_examples=100, deadline=None, derandomize=True, database=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 
 SCENE_KEYS = ["domain", "resolution", "fluid", "source", "probe", "frames", "substeps", "cfl", "max_substeps",
