@@ -276,7 +276,12 @@ session on it fails to start; close() still stops it (the session then fails wit
       "A device following waypoints: times (s, strictly increasing), positions (m, device frame,\n"
       "one (x, y, z) per time), linearly interpolated; at the end it holds the last one or, with\n"
       "loop=True, starts over. Time starts at its first read. max_force in N.");
-  m.def("scripted_device_from_csv", &haptics::ScriptedDevice::fromCsv, py::arg("path"), py::arg("loop") = false,
+  m.def(
+      "scripted_device_from_csv",
+      [](const std::string& path, bool loop, float max_force) {
+        return haptics::ScriptedDevice::fromCsv(pathArg(path, "path"), loop, max_force);
+      },
+      py::arg("path"), py::arg("loop") = false,
         py::arg("max_force") = 10.0f,
         "scripted_device() from a CSV file of t,x,y,z rows (s, m); '#' comments and a header line\n"
         "are skipped.");

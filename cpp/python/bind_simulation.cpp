@@ -56,7 +56,10 @@ template <class T, class Get, class Set>
 void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set, const char* doc) {
   c.def_property(
       name, [get](const Simulation& s) { return get(s.params()); },
-      [set](Simulation& s, T v) { s.updateParams([&](fluid::FluidParams& p) { set(p, v); }); },
+      [set, name](Simulation& s, const py::object& value) {
+        const T v = castArg<T>(value, name);
+        s.updateParams([&](fluid::FluidParams& p) { set(p, v); });
+      },
       doc);
 }
 

@@ -6,14 +6,37 @@
 #include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "common/error.h"
 #include "gl/egl_context.h"
 
 namespace hf::python {
 
 namespace py = pybind11;
+
+// A value given as a Python object, as T. A value of the wrong type raises TypeError naming the
+// argument (pybind11's own "incompatible function arguments" names none).
+template <class T>
+T castArg(const py::handle& value, const char* name) {
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + ": wrong type " +
+                         py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>() + " (" +
+                         py::repr(value).cast<std::string>() + ")");
+  }
+}
+
+// A file path for the engine: a NUL character would cut it short, so it is refused, naming the argument.
+inline const std::string& pathArg(const std::string& path, const char* name) {
+  if (path.find('\0') != std::string::npos) {
+    throw InvalidArgument(std::string(name) + " holds a NUL character; give a real file path");
+  }
+  return path;
+}
 
 inline glm::vec3 toVec3(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
 
