@@ -69,6 +69,7 @@ void PressureMultigrid::startResidual(FluidFields& f, bool closed) {
   f.pressure.cur().bindImage(1, GL_READ_ONLY);
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   r_.bindImage(0, GL_WRITE_ONLY);
   reducer_.bindPartials(0);
   init_.dispatch(rowInvocations(grid_.res));
@@ -99,6 +100,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     // q = A s and s.q
     s_.bindImage(1, GL_READ_ONLY);
     f.nbmask.bindImage(3, GL_READ_ONLY);
+    f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
     q_.bindImage(0, GL_WRITE_ONLY);
     reducer_.bindPartials(0);
     apply_.dispatch(rowInvocations(grid_.res));

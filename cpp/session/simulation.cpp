@@ -191,12 +191,13 @@ struct Simulation::Engine {
                 kResultSlots) {}
 
   StepReport step(float dt, const fluid::FluidParams& p, const std::optional<ProbeState>& pose,
-                  const fluid::SmokeSource& source, const glm::vec3& rho_g, const glm::vec3& reference_m) {
+                  const fluid::SmokeSource& source, const glm::vec3& rho_g, const glm::vec3& /*reference_m: the force takes only hydrostatic differences*/) {
     auto& f = solver.fields();
     timer.begin();
     obstacle::Obstacle* body = nullptr;
     if (pose && pose->kind == ProbeState::Kind::Sphere) {
       probe.setPose(pose->sphere);
+      probe.setCutCells(p.cut_cells);
       body = &probe;
     } else if (pose) {
       if (!mesh_probe) mesh_probe = std::make_unique<obstacle::MeshProbe>(grid);  // its programs on first use
@@ -211,7 +212,9 @@ struct Simulation::Engine {
       f.solid_velocity.clear();
     }
     timer.mark("voxelize");
-    classifier.classify(f.solid, f.cell_class, f.nbmask, p.open_top);
+    const bool cut_cells = body && body->writeFaceFractions(f.face_open);
+    if (!cut_cells) classifier.binaryFractions(f.solid, f.face_open);
+    classifier.classify(f.solid, f.face_open, f.cell_class, f.nbmask, p.open_top);
     timer.mark("classify");
     solver.advect(dt, p);
     timer.mark("advect");
@@ -233,7 +236,7 @@ struct Simulation::Engine {
     timer.mark("project");
     const obstacle::CellBox box = body ? body->bounds() : obstacle::CellBox{};
     const glm::vec3 p0 = body ? body->referencePointM() : glm::vec3(0.0f);
-    force.reduce(f.pressure.cur(), f.cell_class, box, rho_g, reference_m, p0, reducer, kForceSlots);
+    force.reduce(f.pressure.cur(), f.cell_class, f.nbmask, f.face_open, box, cut_cells, rho_g, p0, reducer, kForceSlots);
     timer.mark("force");
     const std::vector<glm::vec4> results = reducer.readResults();  // the step's one read-back
     StepReport r;

@@ -236,6 +236,9 @@ struct Solved {
 Solved solveOnce(PressureSolver& solver, FluidFields& f, const std::vector<std::uint8_t>& mask,
                  const std::vector<float>& rhs, const FluidParams& params) {
   f.nbmask.upload(mask.data(), mask.size());
+  // Every face open: the mask's links alone say which neighbours the operator couples.
+  const std::vector<float> open(f.face_open.texels() * 4, 1.0f);
+  f.face_open.upload(open.data(), open.size() * sizeof(float));
   f.rhs.upload(rhs.data(), rhs.size() * sizeof(float));
   f.pressure.cur().clear();
   Solved s;

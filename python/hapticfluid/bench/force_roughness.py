@@ -6,8 +6,9 @@ residual of 1e-5 each step, dt = 1/120 s. After the start transient (the first
 TRANSIENT_S seconds) the axial force should be steady; reported per grid are its mean, the
 RMS of its step-to-step change and the largest single change, both divided by the mean
 ("roughness" and "largest jump"), and the cells the sphere's centre crossed in the window.
-Voxelized solids switch whole cells in one step, so the force jumps once per cell crossed;
-cut cells (face-area fractions) make the change continuous.
+Each grid runs twice: with the probe's voxels (cut_cells off, the default: whole cells switch
+in one step, so the force jumps once per cell crossed) and with cut cells (face-area fractions
+from the sphere, Simulation.cut_cells: the change is continuous).
 
 Run alone: ``python3 -m hapticfluid.bench.force_roughness [--quick] [--json PATH]``.
 """
@@ -34,15 +35,16 @@ QUICK_GRIDS = (24,)
 # cells per second, so a shorter window holds as many jumps).
 WINDOW_S = {24: 0.6, 48: 0.6, 96: 0.3}
 
-COLUMNS = ["grid", "steps", "cells_crossed", "mean_force_n", "roughness", "largest_jump", "mean_iterations",
+COLUMNS = ["grid", "cut_cells", "steps", "cells_crossed", "mean_force_n", "roughness", "largest_jump", "mean_iterations",
            "max_residual"]
 
 
-def force_series(n: int, window_s: float) -> Dict[str, object]:
+def force_series(n: int, window_s: float, cut_cells: bool) -> Dict[str, object]:
     """Axial forces (N) of the steps after the transient, with the solver's figures."""
     sim = hf.Simulation(resolution=(n, n, n), domain_size=(1.0, 1.0, 1.0), gravity=(0.0, 0.0, 0.0),
                         fluid_density=1000.0, pressure_solver="multigrid", pressure_tolerance=TOLERANCE,
                         pressure_iterations=MAX_ITERATIONS)
+    sim.cut_cells = cut_cells
     transient = int(round(TRANSIENT_S / DT_S))
     steps = transient + int(round(window_s / DT_S))
     forces: List[float] = []
@@ -73,11 +75,12 @@ def roughness(forces: Sequence[float]) -> Dict[str, float]:
     return {"mean": mean, "roughness": rms / abs(mean), "largest_jump": largest / abs(mean)}
 
 
-def _measure(n: int) -> Dict[str, object]:
-    s = force_series(n, WINDOW_S[n])
+def _measure(n: int, cut_cells: bool) -> Dict[str, object]:
+    s = force_series(n, WINDOW_S[n], cut_cells)
     r = roughness(s["forces"])
     return {
         "grid": f"{n}x{n}x{n}",
+        "cut_cells": cut_cells,
         "steps": len(s["forces"]),
         "cells_crossed": round(float(s["cells_crossed"]), 2),
         "mean_force_n": round(r["mean"], 4),
@@ -91,9 +94,10 @@ def _measure(n: int) -> Dict[str, object]:
 def run(quick: bool = False) -> dict:
     rows: List[List[object]] = []
     for n in (QUICK_GRIDS if quick else FULL_GRIDS):
-        report.progress(f"force_roughness: {n}^3")
-        m = _measure(n)
-        rows.append([m[c] for c in COLUMNS])
+        for cut_cells in (False, True):
+            report.progress(f"force_roughness: {n}^3, cut_cells {cut_cells}")
+            m = _measure(n, cut_cells)
+            rows.append([m[c] for c in COLUMNS])
     notes = [f"sphere r {RADIUS_M} m at {SPEED_M_S} m/s along x in a 1 m box of water, dt 1/120 s, multigrid "
              f"to {TOLERANCE:g}; the first {TRANSIENT_S} s left out",
              "roughness = RMS of the step-to-step change of the axial force / |mean|; largest_jump = largest "
