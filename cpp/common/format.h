@@ -14,5 +14,8 @@ inline std::string num(double v) {
 }
 
 inline std::string vecText(const glm::vec3& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
+inline std::string ivecText(const glm::ivec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
 
 }  // namespace hf

@@ -25,6 +25,8 @@ class GlWorker;
 
 namespace hf::session {
 
+class StepPipeline;
+
 struct SimulationConfig {
   glm::ivec3 resolution{64, 64, 64};   // cells per axis (>= 8 each); cells must be cubic
   glm::vec3 domain_size_m{1.0f};       // box edge lengths, m
@@ -135,8 +137,7 @@ class Simulation {
   static std::size_t stepReadbackBytes();
 
  private:
-  struct Engine;
-  // Runs fn(engine) on the GL thread, holding gpu_mutex_; throws if the simulation is closed.
+  // Runs fn(pipeline) on the GL thread, holding gpu_mutex_; throws if the simulation is closed.
   template <class F>
   auto onGl(F&& fn);
 
@@ -158,7 +159,7 @@ class Simulation {
   std::mutex gpu_mutex_;
   std::atomic<bool> closed_{false};
   std::unique_ptr<gl::GlWorker> worker_;
-  std::unique_ptr<Engine> engine_;  // lives and dies on the worker's thread
+  std::unique_ptr<StepPipeline> pipeline_;  // the GL objects; lives and dies on the worker's thread
 };
 
 }  // namespace hf::session

@@ -575,5 +575,24 @@ TEST_F(MovingSphere, ResetReproducesTheFirstStep) {
   EXPECT_EQ(again.exposed_faces, first.exposed_faces);
 }
 
+// The step is a list of named stages (session/step_pipeline): each is timed once, in the order
+// docs/ARCHITECTURE.md gives; `residual` only when the residual is asked for.
+TEST(Simulation, StepTimesEveryStageOnceInOrder) {
+  Simulation sim(cubeConfig(16));
+  sim.setSphereProbe(sphere(glm::vec3(0.5f), 0.2f));
+  const auto names = [](const StepReport& r) {
+    std::vector<std::string> out;
+    for (const auto& [name, ms] : r.gpu_ms) out.push_back(name);
+    return out;
+  };
+  EXPECT_EQ(names(sim.step(0.01)), (std::vector<std::string>{"voxelize", "classify", "advect", "forces", "divergence",
+                                                             "pressure", "residual", "project", "force"}));
+  sim.updateParams([](fluid::FluidParams& p) { p.compute_residual = false; });
+  const StepReport r = sim.step(0.01);
+  EXPECT_EQ(names(r), (std::vector<std::string>{"voxelize", "classify", "advect", "forces", "divergence", "pressure",
+                                                "project", "force"}));
+  EXPECT_EQ(r.relative_residual, -1.0f);  // fixed-count Jacobi, not measured
+}
+
 }  // namespace
 }  // namespace hf::session

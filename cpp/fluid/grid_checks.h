@@ -1,0 +1,26 @@
+#pragma once
+// Checks of the grid a simulation is made on, and of a time step on it (beside the settings
+// checks of fluid/validate.h, whose ranges they use); each throws hf::InvalidArgument saying
+// what to change.
+#include <glm/glm.hpp>
+
+#include "fluid/fluid_params.h"
+#include "fluid/grid.h"
+#include "gl/egl_context.h"
+
+namespace hf::fluid {
+
+// Enough cells on every axis for the stencils and walls (the message gives the minimum).
+void checkResolution(const glm::ivec3& resolution);
+// The grid of `resolution` cells over a box of `domain_size_m` (m) whose minimum corner is at
+// `origin_m` (m): both finite, the origin within kMaxOriginOffset, cells cubic and of an edge
+// within kMinCellSize .. kMaxCellSize.
+Grid makeGrid(const glm::ivec3& resolution, const glm::vec3& domain_size_m, const glm::vec3& origin_m);
+// The grid's fields fit the device: its largest 3D texture and a share of its memory.
+void checkFits(const Grid& grid, const gl::ContextInfo& info);
+// A time step `dt_s` (s) within kMinTimeStep .. kMaxTimeStep whose derived scales with these
+// settings on this grid (rho h / dt, dt / (rho h)) are normal floats. In double, so a value
+// float cannot hold (1e-40, 1e300) is reported as given.
+void validateStep(double dt_s, const FluidParams& params, const Grid& grid);
+
+}  // namespace hf::fluid

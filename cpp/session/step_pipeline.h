@@ -1,0 +1,79 @@
+#pragma once
+// One simulation step on the GL thread, as a list of named stages: voxelize, classify, advect,
+// forces, divergence, pressure, residual (when asked for), project, force. Each stage ends with
+// a GPU timer mark of its name (StepReport::gpu_ms); then the step's one read-back brings the
+// force, torque, centroid and residual sums. Made, used and destroyed on the GL thread only
+// (it holds GL objects); the Simulation copies the host state into StepInputs for it.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "fluid/fluid_params.h"
+#include "fluid/fluid_solver.h"
+#include "fluid/grid.h"
+#include "force/force_reducer.h"
+#include "gl/group_reducer.h"
+#include "gl/stage_timer.h"
+#include "obstacle/classifier.h"
+#include "obstacle/mesh_probe.h"
+#include "obstacle/sphere_probe.h"
+#include "session/simulation.h"
+
+namespace hf::session {
+
+// What one step reads, copied from the host state when it starts.
+struct StepInputs {
+  float dt_s = 0.0f;                    // s, already checked (fluid::validateStep)
+  fluid::FluidParams params;
+  std::optional<ProbeState> probe;      // none: no body in the fluid
+  fluid::SmokeSource source;
+  glm::vec3 rho_g{0.0f};                // fluid density times gravity, N/m^3
+  glm::vec3 reference_m{0.0f};          // world point of 0 hydrostatic pressure, m
+};
+
+class StepPipeline {
+ public:
+  // The step's read-back: this many vec4 result slots.
+  static constexpr std::size_t kResultSlots = 5;
+
+  explicit StepPipeline(const fluid::Grid& grid);
+  ~StepPipeline();
+
+  // Runs the stages in order and decodes the read-back. Throws hf::Error if the solver's state
+  // became non-finite.
+  StepReport step(const StepInputs& in);
+  fluid::FluidFields& fields() { return solver_.fields(); }
+  void reset() { solver_.reset(); }  // fluid at rest: velocity, smoke, heat, pressure zero
+
+ private:
+  struct Pass;  // one step in flight: its inputs and what the stages hand on
+  struct Stage {
+    const char* name;                           // its GPU timer mark
+    void (StepPipeline::*run)(Pass&);
+    bool (*runs)(const fluid::FluidParams&);    // null: every step
+  };
+  static const Stage kStages[];
+
+  void voxelize(Pass& pass);    // the probe writes the solid mask and velocity
+  void classify(Pass& pass);    // face fractions; mask -> cell classes + neighbour mask
+  void advect(Pass& pass);
+  void forces(Pass& pass);      // sources, buoyancy, vorticity confinement
+  void divergence(Pass& pass);  // boundaries, rhs (its mean removed in a closed box)
+  void pressure(Pass& pass);    // the solve (its mean removed in a closed box)
+  void residual(Pass& pass);    // ||rhs - A p||, ||rhs|| (FluidParams::compute_residual)
+  void project(Pass& pass);
+  void force(Pass& pass);       // force, torque, centroid over the body's cells
+  StepReport report(const Pass& pass, const std::vector<glm::vec4>& results);  // + the finite check
+
+  fluid::Grid grid_;
+  fluid::FluidSolver solver_;
+  obstacle::SphereProbe sphere_;
+  std::unique_ptr<obstacle::MeshProbe> mesh_;  // its programs made on first use
+  obstacle::Classifier classifier_;
+  force::ForceReducer force_;
+  gl::GroupReducer reducer_;
+  gl::StageTimer timer_;
+};
+
+}  // namespace hf::session
