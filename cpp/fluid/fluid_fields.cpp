@@ -30,9 +30,9 @@ PingPong& FluidFields::scratchFor(int field_kind, const glm::ivec3& size) {
 std::size_t fieldBytes(const Grid& g) {
   // Per cell: velocity 3x2x4, MacCormack scratch 4x2x4, density/temperature/pressure 3x2x4,
   // rhs 4, three R8UI masks, solid velocity + vorticity + cell force + face fractions 4x16, and the multigrid
-  // solver's (made on first use): CG vectors 4x4 + coarse levels (13 bytes a cell, 1/7 of the
-  // cells in all) rounded up to 2.
-  constexpr std::size_t kBytesPerCell = 24 + 32 + 24 + 4 + 3 + 64 + 16 + 2;
+  // solver's (made on first use): CG vectors 4x4 + coarse levels (29 bytes a cell, 1/7 of the
+  // cells in all) rounded up to 5.
+  constexpr std::size_t kBytesPerCell = 24 + 32 + 24 + 4 + 3 + 64 + 16 + 5;
   return g.cells() * kBytesPerCell;
 }
 
