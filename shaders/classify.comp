@@ -1,10 +1,13 @@
-// Stage "classify": from the solid mask, writes the seed's four cell classes and, for the
-// pressure stages, each cell's neighbour mask (see common.glsl).
+// Stage "classify": from the solid mask, writes the seed's four cell classes (by cell centre)
+// and, for the pressure stages, each cell's neighbour mask (see common.glsl) from the face
+// fractions: cells are linked across a face with an open part, and a cell with no open face
+// has no pressure unknown (NB_SOLID). With binary fractions this is the solid mask's own rule.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r8ui, binding = 2) readonly uniform uimage3D u_solid;
 layout(r8ui, binding = 0) uniform writeonly uimage3D u_class;
 layout(r8ui, binding = 1) uniform writeonly uimage3D u_nbmask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 
 uniform int u_open_top;  // 1: the +z wall is open (pressure 0 beyond it)
 
@@ -14,22 +17,24 @@ void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
   bool solid = solidAt(c);
-  uint mask = solid ? NB_SOLID : 0u;
+  uint mask = 0u;
   bool fluid_nb = false;
   bool solid_nb = false;
   for (int d = 0; d < 6; ++d) {
     ivec3 q = c + NEIGHBOUR[d];
+    bool open = FACE_OPEN(u_face_open, c, d) > 0.0;
     if (!inGrid(q)) {
-      if (d == 5 && u_open_top != 0) mask |= NB_OPEN_TOP;
+      if (d == 5 && u_open_top != 0 && open) mask |= NB_OPEN_TOP;
       continue;
     }
+    if (open) mask |= 1u << uint(d);
     if (solidAt(q)) {
       solid_nb = true;
     } else {
       fluid_nb = true;
-      mask |= 1u << uint(d);
     }
   }
+  if (mask == 0u) mask = NB_SOLID;
   uint cls = solid ? (fluid_nb ? CELL_BOUNDARY : CELL_INSIDE)
                    : (solid_nb ? CELL_SURROUNDING : CELL_OUTSIDE);
   imageStore(u_class, c, uvec4(cls));

@@ -16,6 +16,14 @@ const uint CELL_INSIDE = 3u;       // solid, all neighbours solid
 const uint NB_OPEN_TOP = 64u;
 const uint NB_SOLID = 128u;
 
+// Cut cells (Batty, Bertails & Bridson 2007): the open (fluid) fraction of every MAC face, 1 =
+// fluid, 0 = covered by a solid, in an RGBA32F image of (nx+1, ny+1, nz+1) texels: texel (i,j,k)
+// holds in .x/.y/.z the fraction of the x-, y- and z-face with index (i,j,k). Stages that use
+// it bind it at image unit FACE_OPEN_UNIT.
+#define FACE_OPEN_UNIT 6
+// Open fraction of face d (NEIGHBOUR order) of cell c, read from the face-fraction image `img`.
+#define FACE_OPEN(img, c, d) imageLoad(img, ((d) & 1) != 0 ? (c) + unitAxis((d) >> 1) : (c))[(d) >> 1]
+
 const ivec3 NEIGHBOUR[6] = ivec3[6](ivec3(-1, 0, 0), ivec3(1, 0, 0), ivec3(0, -1, 0),
                                      ivec3(0, 1, 0), ivec3(0, 0, -1), ivec3(0, 0, 1));
 

@@ -1,10 +1,13 @@
 // Stage "enforce_boundaries": on one velocity component, closed domain walls get zero normal
-// velocity (the +z wall stays free when the top is open), and every face touching a solid cell
-// gets the solid's velocity (the average over the solid cells on its two sides).
+// velocity (the +z wall stays free when the top is open), and every fully covered face (open
+// fraction 0) gets the solid's velocity (the average over the solid cells on its two sides; at
+// least one cell beside a covered face has its centre in the body). Partly open faces keep the
+// fluid's velocity: divergence.comp weights the two parts.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
-layout(r8ui, binding = 1) readonly uniform uimage3D u_nbmask;
+layout(r8ui, binding = 1) readonly uniform uimage3D u_solid;
 layout(rgba32f, binding = 2) readonly uniform image3D u_solid_velocity;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 layout(r32f, binding = 0) uniform image3D u_vel;
 
 uniform int u_axis;
@@ -21,12 +24,16 @@ void main() {
       return;
     }
   }
+  if (imageLoad(u_face_open, idx)[u_axis] > 0.0) return;
   // Clamping makes both sides of an open-top face the cell below it.
   ivec3 lo = clampCell(idx - unitAxis(u_axis));
   ivec3 hi = clampCell(idx);
-  bool slo = (imageLoad(u_nbmask, lo).r & NB_SOLID) != 0u;
-  bool shi = (imageLoad(u_nbmask, hi).r & NB_SOLID) != 0u;
-  if (!slo && !shi) return;
+  bool slo = imageLoad(u_solid, lo).r != 0u;
+  bool shi = imageLoad(u_solid, hi).r != 0u;
+  if (!slo && !shi) {  // not reached for a sphere or a voxelized body; the mean of both sides
+    slo = true;
+    shi = true;
+  }
   float sum = 0.0;
   if (slo) sum += imageLoad(u_solid_velocity, lo)[u_axis];
   if (shi) sum += imageLoad(u_solid_velocity, hi)[u_axis];

@@ -5,6 +5,7 @@ layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 layout(r32f, binding = 1) readonly uniform image3D u_x;
 layout(r32f, binding = 2) readonly uniform image3D u_b;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_mask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_faces;
 layout(r32f, binding = 0) uniform writeonly image3D u_out;
 
 void main() {
@@ -16,9 +17,9 @@ void main() {
     return;
   }
   float x = imageLoad(u_x, c).r;
-  float ax = (m & NB_OPEN_TOP) != 0u ? x : 0.0;  // sum of differences: no cancellation
+  float ax = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_faces, c, 5) * x : 0.0;  // sum of differences: no cancellation
   for (int d = 0; d < 6; ++d) {
-    if (((m >> uint(d)) & 1u) != 0u) ax += x - imageLoad(u_x, c + NEIGHBOUR[d]).r;
+    if (((m >> uint(d)) & 1u) != 0u) ax += FACE_OPEN(u_faces, c, d) * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
   }
   imageStore(u_out, c, vec4(imageLoad(u_b, c).r - ax));
 }

@@ -1,6 +1,7 @@
 // Stage "mg_smooth": one colour of a red-black Gauss-Seidel sweep of A x = b on one multigrid
-// level, where A x = n x - sum of the linked neighbours' x (n = linked neighbours + the open-top
-// ghost at 0; the mask bits of common.glsl). Cells of colour (i + j + k) & 1 == u_colour are
+// level, where A x = n x - sum of the linked neighbours' w x (w the face's open fraction, n = the
+// sum of the linked faces' and the open top's fractions; the mask bits and face fractions of
+// common.glsl; coarse levels' fractions from mg_coarsen_faces). Cells of colour (i + j + k) & 1 == u_colour are
 // updated in place; they read only the other colour, so the dispatch has no read/write race.
 // The dispatch covers ceil(nx / 2) x ny x nz invocations: one per cell of that colour.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
@@ -8,6 +9,7 @@ layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 layout(r32f, binding = 0) uniform image3D u_x;
 layout(r32f, binding = 1) readonly uniform image3D u_b;
 layout(r8ui, binding = 2) readonly uniform uimage3D u_mask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_faces;
 
 uniform int u_colour;      // 0 or 1
 uniform int u_zero_guess;  // 1: x starts at 0, so the other colour's values are taken as 0
@@ -17,7 +19,10 @@ void main() {
   ivec3 c = ivec3(2 * g.x + ((g.y + g.z + u_colour) & 1), g.y, g.z);
   if (!inGrid(c)) return;
   uint m = imageLoad(u_mask, c).r;
-  float n = float(bitCount(m & 63u) + int((m & NB_OPEN_TOP) != 0u));
+  float n = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_faces, c, 5) : 0.0;
+  for (int d = 0; d < 6; ++d) {
+    if (((m >> uint(d)) & 1u) != 0u) n += FACE_OPEN(u_faces, c, d);
+  }
   if ((m & NB_SOLID) != 0u || n == 0.0) {
     imageStore(u_x, c, vec4(0.0));
     return;
@@ -25,7 +30,7 @@ void main() {
   float sum = 0.0;
   if (u_zero_guess == 0) {
     for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) sum += imageLoad(u_x, c + NEIGHBOUR[d]).r;
+      if (((m >> uint(d)) & 1u) != 0u) sum += FACE_OPEN(u_faces, c, d) * imageLoad(u_x, c + NEIGHBOUR[d]).r;
     }
   }
   imageStore(u_x, c, vec4((imageLoad(u_b, c).r + sum) / n));

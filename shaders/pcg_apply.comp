@@ -6,6 +6,7 @@ layout(local_size_x = ROW_X, local_size_y = ROW_Y) in;
 
 layout(r32f, binding = 1) readonly uniform image3D u_s;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 layout(r32f, binding = 0) uniform writeonly image3D u_q;
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 
@@ -19,9 +20,9 @@ void main() {
     float q = 0.0;
     if ((m & NB_SOLID) == 0u) {
       float s = imageLoad(u_s, c).r;
-      q = (m & NB_OPEN_TOP) != 0u ? s : 0.0;
+      q = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_face_open, c, 5) * s : 0.0;
       for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) q += s - imageLoad(u_s, c + NEIGHBOUR[d]).r;
+        if (((m >> uint(d)) & 1u) != 0u) q += FACE_OPEN(u_face_open, c, d) * (s - imageLoad(u_s, c + NEIGHBOUR[d]).r);
       }
       acc.x += s * q;
     }

@@ -1,5 +1,6 @@
 // Stage "pcg_init": the starting residual of the preconditioned conjugate gradient solve,
-// r = b - A p with b = -rhs (A p = sum over linked neighbours of (p - p_nb), plus p at the open
+// r = b - A p with b = -rhs (A p = sum over linked neighbours of w (p - p_nb), w the face's open
+// fraction (cut cells), plus w p at the open
 // top, so A is positive (semi)definite and A p = -rhs is the pressure equation
 // sum_nb (p_nb - p) = rhs). Per row, (sum of r, fluid cells, r.r, b.b) into partials[] (x / y
 // is the mean a closed box removes with pressure_shift.comp). 0 in solid cells.
@@ -10,6 +11,7 @@ layout(local_size_x = ROW_X, local_size_y = ROW_Y) in;
 layout(r32f, binding = 1) readonly uniform image3D u_pressure;
 layout(r32f, binding = 2) readonly uniform image3D u_rhs;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 layout(r32f, binding = 0) uniform writeonly image3D u_r;
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 
@@ -23,9 +25,9 @@ void main() {
     float r = 0.0;
     if ((m & NB_SOLID) == 0u) {
       float p = imageLoad(u_pressure, c).r;
-      float ap = (m & NB_OPEN_TOP) != 0u ? p : 0.0;  // differences, not n p - sum: exact near 0
+      float ap = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_face_open, c, 5) * p : 0.0;  // differences, not n p - sum: exact near 0
       for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) ap += p - imageLoad(u_pressure, c + NEIGHBOUR[d]).r;
+        if (((m >> uint(d)) & 1u) != 0u) ap += FACE_OPEN(u_face_open, c, d) * (p - imageLoad(u_pressure, c + NEIGHBOUR[d]).r);
       }
       float b = -imageLoad(u_rhs, c).r;
       r = b - ap;

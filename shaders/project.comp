@@ -1,10 +1,13 @@
-// Stage "project": subtracts (dt/rho) grad p from one velocity component on faces between two
-// fluid cells, and on the open top (ghost pressure 0). Faces touching a solid keep the solid's
-// velocity and closed walls stay at 0 (set by enforce_boundaries); per-texel update only.
+// Stage "project": subtracts (dt/rho) grad p from one velocity component on faces with an open
+// part (both cells beside them then hold a pressure unknown), and on the open top (ghost pressure
+// 0). The stored velocity is the face's fluid part; the covered part carries the solid's velocity
+// (divergence.comp). Fully covered faces keep the solid's velocity and closed walls stay at 0
+// (set by enforce_boundaries); per-texel update only.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r32f, binding = 1) readonly uniform image3D u_pressure;
 layout(r8ui, binding = 2) readonly uniform uimage3D u_nbmask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 layout(r32f, binding = 0) uniform image3D u_vel;
 
 uniform int u_axis;
@@ -17,9 +20,9 @@ void main() {
   int i = idx[u_axis];
   bool top = u_open_top != 0 && u_axis == 2 && i == u_res.z;
   if ((i == 0 || i == u_res[u_axis]) && !top) return;
+  if (imageLoad(u_face_open, idx)[u_axis] <= 0.0) return;
   ivec3 lo = idx - unitAxis(u_axis);
-  uint mlo = imageLoad(u_nbmask, lo).r;
-  if ((mlo & NB_SOLID) != 0u) return;
+  if ((imageLoad(u_nbmask, lo).r & NB_SOLID) != 0u) return;
   float p_lo = imageLoad(u_pressure, lo).r;
   float p_hi = 0.0;
   if (!top) {

@@ -1,5 +1,5 @@
 // Stage "residual": per row of cells along x (j, k), the sums of r^2 and rhs^2 of the pressure
-// equation (r = rhs - sum_nb (p_nb - p)) over its fluid cells, written to partials[j + ny k]
+// equation (r = rhs - sum_nb w (p_nb - p), w the face's open fraction) over its fluid cells, written to partials[j + ny k]
 // for reduce.comp. A row loop instead of a workgroup tree: llvmpipe runs barriers slowly
 // (fluid/row_reduction.h).
 layout(local_size_x = ROW_X, local_size_y = ROW_Y) in;
@@ -7,6 +7,7 @@ layout(local_size_x = ROW_X, local_size_y = ROW_Y) in;
 layout(r32f, binding = 1) readonly uniform image3D u_pressure;
 layout(r32f, binding = 2) readonly uniform image3D u_rhs;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
+layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
 
 void main() {
@@ -18,9 +19,9 @@ void main() {
     uint m = imageLoad(u_nbmask, c).r;
     if ((m & NB_SOLID) != 0u) continue;
     float p = imageLoad(u_pressure, c).r;
-    float lap = (m & NB_OPEN_TOP) != 0u ? -p : 0.0;
+    float lap = (m & NB_OPEN_TOP) != 0u ? -FACE_OPEN(u_face_open, c, 5) * p : 0.0;
     for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) lap += imageLoad(u_pressure, c + NEIGHBOUR[d]).r - p;
+      if (((m >> uint(d)) & 1u) != 0u) lap += FACE_OPEN(u_face_open, c, d) * (imageLoad(u_pressure, c + NEIGHBOUR[d]).r - p);
     }
     float b = imageLoad(u_rhs, c).r;
     float r = b - lap;

@@ -1,5 +1,6 @@
 // Stage "voxelize_sphere": marks the cells whose centre lies in the probe sphere as solid and
-// stores the rigid velocity v + w x r of the body at those cell centres (m/s).
+// stores the rigid velocity v + w x r of the body at every cell centre (m/s; cut faces outside
+// the body's cells take their covered part's velocity from it).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(r8ui, binding = 0) uniform writeonly uimage3D u_solid;
@@ -16,7 +17,7 @@ void main() {
   if (!inGrid(c)) return;
   vec3 r = vec3(c) + 0.5 - u_centre;
   bool solid = dot(r, r) <= u_radius * u_radius;
-  vec3 v = solid ? u_velocity + cross(u_angular, r * u_cell_size) : vec3(0.0);
+  vec3 v = u_velocity + cross(u_angular, r * u_cell_size);
   imageStore(u_solid, c, uvec4(solid ? 1u : 0u));
   imageStore(u_solid_velocity, c, vec4(v, 0.0));
 }

@@ -17,6 +17,7 @@ FluidFields::FluidFields(const Grid& g)
       solid_velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity"),
       cell_class(g.res, gl::TexelFormat::R8UI, "cell classes"),
       nbmask(g.res, gl::TexelFormat::R8UI, "neighbour mask"),
+      face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face open fractions"),
       vorticity(g.res, gl::TexelFormat::RGBA32F, "vorticity"),
       cell_force(g.res, gl::TexelFormat::RGBA32F, "cell force") {}
 
@@ -28,10 +29,10 @@ PingPong& FluidFields::scratchFor(int field_kind, const glm::ivec3& size) {
 
 std::size_t fieldBytes(const Grid& g) {
   // Per cell: velocity 3x2x4, MacCormack scratch 4x2x4, density/temperature/pressure 3x2x4,
-  // rhs 4, three R8UI masks, solid velocity + vorticity + cell force 3x16, and the multigrid
-  // solver's (made on first use): CG vectors 4x4 + coarse levels (13 bytes a cell, 1/7 of the
-  // cells in all) rounded up to 2.
-  constexpr std::size_t kBytesPerCell = 24 + 32 + 24 + 4 + 3 + 48 + 16 + 2;
+  // rhs 4, three R8UI masks, solid velocity + vorticity + cell force + face fractions 4x16, and the multigrid
+  // solver's (made on first use): CG vectors 4x4 + coarse levels (29 bytes a cell, 1/7 of the
+  // cells in all) rounded up to 5.
+  constexpr std::size_t kBytesPerCell = 24 + 32 + 24 + 4 + 3 + 64 + 16 + 5;
   return g.cells() * kBytesPerCell;
 }
 

@@ -19,6 +19,9 @@ struct PingPong {
   int index = 0;
 };
 
+// Image unit of FluidFields::face_open in every stage that reads it (FACE_OPEN_UNIT in common.glsl).
+constexpr unsigned kFaceOpenUnit = 6;
+
 struct FluidFields {
   explicit FluidFields(const Grid& grid);
 
@@ -31,6 +34,7 @@ struct FluidFields {
   gl::Texture3D solid_velocity; // RGBA32F rigid velocity at solid cell centres, m/s
   gl::Texture3D cell_class;     // R8UI seed classes (obstacle/cell_class.h)
   gl::Texture3D nbmask;         // R8UI neighbour mask (shaders/common.glsl)
+  gl::Texture3D face_open;      // RGBA32F open fraction of the x/y/z faces, res + 1 texels (common.glsl)
   gl::Texture3D vorticity;      // RGBA32F curl (1/s) and its magnitude
   gl::Texture3D cell_force;     // RGBA32F body acceleration at cells, m/s^2
   // MacCormack scratch (forward and backward passes), made on first use.

@@ -204,7 +204,8 @@ void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
 }
 
 void FluidSolver::enforceBoundaries(const FluidParams& p) {
-  fields_.nbmask.bindImage(1, GL_READ_ONLY);
+  fields_.solid.bindImage(1, GL_READ_ONLY);
+  fields_.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   fields_.solid_velocity.bindImage(2, GL_READ_ONLY);
   boundaries_.set("u_open_top", p.open_top ? 1 : 0);
   for (int a = 0; a < 3; ++a) {
@@ -217,6 +218,8 @@ void FluidSolver::enforceBoundaries(const FluidParams& p) {
 void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
   bindVelocityImages(1);
   fields_.nbmask.bindImage(4, GL_READ_ONLY);
+  fields_.solid_velocity.bindImage(5, GL_READ_ONLY);
+  fields_.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   fields_.rhs.bindImage(0, GL_WRITE_ONLY);
   divergence_.set("u_scale", p.density_kg_m3 * grid_.cell_size_m / dt_s);
   divergence_.dispatch(grid_.res);
@@ -256,6 +259,7 @@ void FluidSolver::removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, st
 void FluidSolver::project(float dt_s, const FluidParams& p) {
   fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
   fields_.nbmask.bindImage(2, GL_READ_ONLY);
+  fields_.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   project_.set("u_open_top", p.open_top ? 1 : 0);
   project_.set("u_scale", dt_s / (p.density_kg_m3 * grid_.cell_size_m));
   for (int a = 0; a < 3; ++a) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "fluid/fluid_fields.h"
 #include "gl/workgroup.h"
 
 namespace hf::fluid {
@@ -18,6 +19,7 @@ std::vector<glm::ivec3> MultigridVCycle::levelResolutions(const glm::ivec3& fine
 
 MultigridVCycle::Coarse::Coarse(const glm::ivec3& r)
     : mask(r, gl::TexelFormat::R8UI, "multigrid mask"),
+      faces(r + 1, gl::TexelFormat::RGBA32F, "multigrid face fractions"),
       x(r, gl::TexelFormat::R32F, "multigrid x"),
       b(r, gl::TexelFormat::R32F, "multigrid b"),
       res(r, gl::TexelFormat::R32F, "multigrid residual") {}
@@ -25,6 +27,7 @@ MultigridVCycle::Coarse::Coarse(const glm::ivec3& r)
 MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
     : res_(levelResolutions(fine_res)),
       coarsen_("mg_coarsen_mask.comp", gl::cellGroupDefines()),
+      coarsen_faces_("mg_coarsen_faces.comp", gl::cellGroupDefines()),
       smooth_("mg_smooth.comp", gl::cellGroupDefines()),
       residual_("mg_residual.comp", gl::cellGroupDefines()),
       restrict_("mg_restrict.comp", gl::cellGroupDefines()),
@@ -42,8 +45,18 @@ void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const gl::Texture3
   coarsen_.dispatch(coarse_res);
 }
 
-void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, gl::Texture3D& x,
-                             const gl::Texture3D& b, int colour, bool zero_guess) {
+void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture3D& fine_faces,
+                                   const glm::ivec3& coarse_res, gl::Texture3D& coarse_faces) {
+  fine_faces.bindImage(1, GL_READ_ONLY);
+  coarse_faces.bindImage(0, GL_WRITE_ONLY);
+  coarsen_faces_.set("u_res", coarse_res);
+  coarsen_faces_.set("u_fine_size", fine_res);
+  coarsen_faces_.dispatch(coarse_res + 1);
+}
+
+void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess) {
+  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   x.bindImage(0, GL_READ_WRITE);
   b.bindImage(1, GL_READ_ONLY);
   mask.bindImage(2, GL_READ_ONLY);
@@ -53,8 +66,9 @@ void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, g
   smooth_.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
 }
 
-void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& x,
-                               const gl::Texture3D& b, gl::Texture3D& out) {
+void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                               const gl::Texture3D& x, const gl::Texture3D& b, gl::Texture3D& out) {
+  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   x.bindImage(1, GL_READ_ONLY);
   b.bindImage(2, GL_READ_ONLY);
   mask.bindImage(3, GL_READ_ONLY);
@@ -84,50 +98,54 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D
   prolong_.dispatch(fine_res);
 }
 
-void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask) {
+void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces) {
   const gl::Texture3D* finer = &fine_mask;
+  const gl::Texture3D* finer_faces = &fine_faces;
   for (std::size_t l = 1; l < res_.size(); ++l) {
     coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask);
+    coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces);
     finer = &coarse_[l - 1].mask;
+    finer_faces = &coarse_[l - 1].faces;
   }
 }
 
-void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D& r, gl::Texture3D& z,
-                            gl::Texture3D& scratch) {
+void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
+                            gl::Texture3D& z, gl::Texture3D& scratch) {
   // Level l's textures: level 0 is (fine_mask, z, r, scratch).
   struct View {
     const gl::Texture3D* mask;
+    const gl::Texture3D* faces;
     gl::Texture3D* x;
     const gl::Texture3D* b;
     gl::Texture3D* res;
   };
   std::vector<View> v;
-  v.push_back({&fine_mask, &z, &r, &scratch});
-  for (auto& c : coarse_) v.push_back({&c.mask, &c.x, &c.b, &c.res});
+  v.push_back({&fine_mask, &fine_faces, &z, &r, &scratch});
+  for (auto& c : coarse_) v.push_back({&c.mask, &c.faces, &c.x, &c.b, &c.res});
   const int last = levels() - 1;
   auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
 
   for (int l = 0; l < last; ++l) {
     for (int s = 0; s < kSmoothSweeps; ++s) {
-      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 0, s == 0);
-      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 1, false);
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0);
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
     }
-    residual(level(l), *v[l].mask, *v[l].x, *v[l].b, *v[l].res);
+    residual(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, *v[l].res);
     restrictResidual(level(l), *v[l].mask, *v[l].res, level(l + 1), coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
   }
   for (int s = 0; s < kCoarsestSweeps; ++s) {
-    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 0, s == 0);
-    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 1, false);
+    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 0, s == 0);
+    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 1, false);
   }
   for (int s = 0; s < kCoarsestSweeps; ++s) {
-    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 1, false);
-    smooth(level(last), *v[last].mask, *v[last].x, *v[last].b, 0, false);
+    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 1, false);
+    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 0, false);
   }
   for (int l = last - 1; l >= 0; --l) {
     prolongAdd(level(l), *v[l].mask, *v[l].x, *v[l + 1].x);
     for (int s = 0; s < kSmoothSweeps; ++s) {
-      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 1, false);
-      smooth(level(l), *v[l].mask, *v[l].x, *v[l].b, 0, false);
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, false);
     }
   }
 }

@@ -7,7 +7,9 @@
 // Levels: level 0 is the simulation grid; each coarser level has ceil(n / 2) cells per axis
 // (any resolution, not only powers of two) down to at most kCoarsestCells per axis. Coarse
 // masks come from the fine one (mg_coarsen_mask.comp): a coarse cell is fluid if any child is,
-// linked across a side if a fluid child is, and sees the open top if a fluid child does.
+// linked across a side if a fluid child is, and sees the open top if a fluid child does; coarse
+// face fractions (cut cells) are the mean of the fine faces they are made of (mg_coarsen_faces.comp),
+// and every level's operator weights each link by its face's open fraction.
 // Transfer is piecewise constant (prolongation P) and its transpose (restriction P^T, times
 // kCoarseScale); smoothing is red-black Gauss-Seidel, red then black before the coarse
 // correction and black then red after it, and the coarsest level is solved by symmetric
@@ -39,18 +41,22 @@ class MultigridVCycle {
   int levels() const { return static_cast<int>(res_.size()); }
   const glm::ivec3& resolution(int level) const { return res_[static_cast<std::size_t>(level)]; }
 
-  // Rebuilds every coarse mask from the fine one (once per step: the solid moves).
-  void buildMasks(const gl::Texture3D& fine_mask);
+  // Rebuilds every coarse mask and face-fraction image from the fine ones (once per step: the
+  // solid moves). `fine_faces`: the fine level's face fractions (shaders/common.glsl).
+  void buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces);
   // z = M r from z = 0; `scratch` (fine size) is overwritten. Call buildMasks first.
-  void apply(const gl::Texture3D& fine_mask, const gl::Texture3D& r, gl::Texture3D& z, gl::Texture3D& scratch);
+  void apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
+             gl::Texture3D& z, gl::Texture3D& scratch);
 
   // The stages, public for tests. `res` is the resolution of the level the textures have.
   void coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const glm::ivec3& coarse_res,
                    gl::Texture3D& coarse_mask);
-  void smooth(const glm::ivec3& res, const gl::Texture3D& mask, gl::Texture3D& x, const gl::Texture3D& b,
-              int colour, bool zero_guess);
-  void residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& x, const gl::Texture3D& b,
-                gl::Texture3D& out);
+  void coarsenFaces(const glm::ivec3& fine_res, const gl::Texture3D& fine_faces, const glm::ivec3& coarse_res,
+                    gl::Texture3D& coarse_faces);
+  void smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
+              const gl::Texture3D& b, int colour, bool zero_guess);
+  void residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
+                const gl::Texture3D& b, gl::Texture3D& out);
   void restrictResidual(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const gl::Texture3D& fine_res_tex,
                         const glm::ivec3& coarse_res, gl::Texture3D& coarse_b, float scale);
   void prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, gl::Texture3D& fine_x,
@@ -58,16 +64,18 @@ class MultigridVCycle {
 
   // Texture of a coarse level (level >= 1), for tests.
   gl::Texture3D& mask(int level) { return coarse_[static_cast<std::size_t>(level - 1)].mask; }
+  gl::Texture3D& faces(int level) { return coarse_[static_cast<std::size_t>(level - 1)].faces; }
 
  private:
   struct Coarse {
     explicit Coarse(const glm::ivec3& res);
-    gl::Texture3D mask, x, b, res;
+    gl::Texture3D mask, faces, x, b, res;
   };
 
   std::vector<glm::ivec3> res_;
   std::vector<Coarse> coarse_;  // levels 1 .. levels()-1
   gl::ComputeProgram coarsen_;
+  gl::ComputeProgram coarsen_faces_;
   gl::ComputeProgram smooth_;
   gl::ComputeProgram residual_;
   gl::ComputeProgram restrict_;

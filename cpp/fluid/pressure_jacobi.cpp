@@ -15,6 +15,7 @@ PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.c
 void PressureJacobi::sweeps(FluidFields& f, int count) {
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   for (int i = 0; i < count; ++i) {
     f.pressure.cur().bindImage(1, GL_READ_ONLY);
     f.pressure.next().bindImage(0, GL_WRITE_ONLY);

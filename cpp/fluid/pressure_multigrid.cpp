@@ -42,7 +42,7 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
 }
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
-  vcycle_.apply(f.nbmask, r_, z_, q_);  // q is free again once the update has used it
+  vcycle_.apply(f.nbmask, f.face_open, r_, z_, q_);  // q is free again once the update has used it
   r_.bindImage(1, GL_READ_ONLY);
   z_.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
@@ -71,6 +71,7 @@ void PressureMultigrid::startResidual(FluidFields& f, bool closed) {
   f.pressure.cur().bindImage(1, GL_READ_ONLY);
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   r_.bindImage(0, GL_WRITE_ONLY);
   reducer_.bindPartials(0);
   init_.dispatch(rowInvocations(grid_.res));
@@ -82,7 +83,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const std::size_t groups = rowCount(grid_.res);
   const float tolerance = params.pressure_tolerance;
   const bool closed = !params.open_top;
-  vcycle_.buildMasks(f.nbmask);
+  vcycle_.buildMasks(f.nbmask, f.face_open);
   startResidual(f, closed);
   coldStartIfWorse(f);
 
@@ -103,6 +104,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     // q = A s and s.q
     s_.bindImage(1, GL_READ_ONLY);
     f.nbmask.bindImage(3, GL_READ_ONLY);
+    f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
     q_.bindImage(0, GL_WRITE_ONLY);
     reducer_.bindPartials(0);
     apply_.dispatch(rowInvocations(grid_.res));

@@ -14,6 +14,7 @@ void ResidualMeter::accumulate(FluidFields& f, gl::GroupReducer& reducer, std::s
   f.pressure.cur().bindImage(1, GL_READ_ONLY);
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   reducer.bindPartials(0);
   residual_.dispatch(rowInvocations(grid_.res));
   reducer.reduce(rowCount(grid_.res), slot);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "fluid/fluid_fields.h"
 #include "gl/workgroup.h"
 
 namespace hf::force {
@@ -18,8 +19,8 @@ ForceReducer::ForceReducer(const fluid::Grid& grid) : grid_(grid), faces_("force
 std::size_t ForceReducer::partialsNeeded(const fluid::Grid& grid) { return kParts * gl::groupCount(grid.res); }
 
 void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& cell_class,
-                          const obstacle::CellBox& box, const glm::vec3& rho_g, const glm::vec3& reference_m,
-                          const glm::vec3& p0_m, gl::GroupReducer& reducer, const ForceSlots& slots) {
+                          const gl::Texture3D& nbmask, const gl::Texture3D& face_open, const obstacle::CellBox& box,
+                          bool cut_cells, const glm::vec3& rho_g, const glm::vec3& p0_m, gl::GroupReducer& reducer, const ForceSlots& slots) {
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) {
     reducer.bindPartials(0);
     for (std::size_t slot : {slots.force, slots.torque, slots.centroid}) reducer.reduce(0, slot);  // zeros
@@ -29,11 +30,13 @@ void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& ce
   if (kParts * groups > reducer.maxGroups()) throw Error("force: the reducer holds too few partials for the box");
   pressure.bindImage(0, GL_READ_ONLY);
   cell_class.bindImage(1, GL_READ_ONLY);
+  nbmask.bindImage(2, GL_READ_ONLY);
+  face_open.bindImage(fluid::kFaceOpenUnit, GL_READ_ONLY);
   reducer.bindPartials(0);
   faces_.set("u_origin", box.origin);
   faces_.set("u_extent", box.extent);
   faces_.set("u_rho_g", rho_g);
-  faces_.set("u_reference", grid_.toGrid(reference_m));
+  faces_.set("u_cut_cells", cut_cells ? 1 : 0);
   faces_.set("u_p0", grid_.toGrid(p0_m));
   faces_.dispatch(box.extent);
   reducer.reduce(groups, slots.force, 0);

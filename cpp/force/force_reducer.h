@@ -40,10 +40,12 @@ class ForceReducer {
   explicit ForceReducer(const fluid::Grid& grid);
   // Partials the reducer must hold for a box of the whole grid.
   static std::size_t partialsNeeded(const fluid::Grid& grid);
-  // `rho_g`: fluid density times gravity (N/m^3); `reference_m`: world point of 0 hydrostatic Pa;
+  // `face_open`: the faces' open fractions, geometric when `cut_cells`, else binary from the voxels;
+  // `rho_g`: fluid density times gravity (N/m^3) (only its difference across a face enters);
   // `p0_m`: world point near the body that the torque and centroid sums are taken about.
-  void reduce(const gl::Texture3D& pressure, const gl::Texture3D& cell_class, const obstacle::CellBox& box,
-              const glm::vec3& rho_g, const glm::vec3& reference_m, const glm::vec3& p0_m,
+  void reduce(const gl::Texture3D& pressure, const gl::Texture3D& cell_class, const gl::Texture3D& nbmask,
+              const gl::Texture3D& face_open, const obstacle::CellBox& box,
+              bool cut_cells, const glm::vec3& rho_g, const glm::vec3& p0_m,
               gl::GroupReducer& reducer, const ForceSlots& slots);
   // The sums -> force and torque about `centre_m` (nullopt: the solid cells' centroid), using
   // tau_c = tau_p0 - (c - p0) x F.

@@ -10,11 +10,16 @@ namespace hf::obstacle {
 class Classifier {
  public:
   explicit Classifier(const fluid::Grid& grid);
-  void classify(const gl::Texture3D& solid, gl::Texture3D& cell_class, gl::Texture3D& nbmask, bool open_top);
+  // Face fractions of the voxels alone: a face is covered (0) when a cell beside it is solid.
+  void binaryFractions(const gl::Texture3D& solid, gl::Texture3D& face_open);
+  // Classes by cell centre from `solid`; the neighbour mask from the face fractions.
+  void classify(const gl::Texture3D& solid, const gl::Texture3D& face_open, gl::Texture3D& cell_class,
+                gl::Texture3D& nbmask, bool open_top);
 
  private:
   fluid::Grid grid_;
   gl::ComputeProgram program_;
+  gl::ComputeProgram binary_;
 };
 
 }  // namespace hf::obstacle

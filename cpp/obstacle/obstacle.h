@@ -26,6 +26,13 @@ class Obstacle {
  public:
   virtual ~Obstacle() = default;
   virtual void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) = 0;
+  // Cut cells: writes the open fraction of every MAC face from the body's geometry into
+  // `face_open` (shaders/common.glsl) and returns true; false (the default) when the body has no
+  // cut cells, and the faces are then open or covered by its voxels (Classifier::binaryFractions).
+  virtual bool writeFaceFractions(gl::Texture3D& face_open) {
+    (void)face_open;
+    return false;
+  }
   // Cells that can hold its boundary cells (the force reduction visits only these).
   virtual CellBox bounds() const = 0;
   // A world point near the body (m): the force stage sums torques about it (float precision).

@@ -19,6 +19,10 @@ class SphereProbe : public Obstacle {
   void setPose(const SpherePose& pose) { pose_ = pose; }
   const SpherePose& pose() const { return pose_; }
   void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) override;
+  // The faces' open fractions from the sphere itself (shaders/sphere_fractions.comp) when cut
+  // cells are on (setCutCells); otherwise false, and the voxels' binary fractions are used.
+  bool writeFaceFractions(gl::Texture3D& face_open) override;
+  void setCutCells(bool on) { cut_cells_ = on; }
   CellBox bounds() const override;
   glm::vec3 referencePointM() const override { return pose_.centre_m; }
 
@@ -26,6 +30,8 @@ class SphereProbe : public Obstacle {
   fluid::Grid grid_;
   SpherePose pose_;
   gl::ComputeProgram program_;
+  gl::ComputeProgram fractions_;
+  bool cut_cells_ = false;
 };
 
 }  // namespace hf::obstacle

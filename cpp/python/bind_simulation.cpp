@@ -299,6 +299,11 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
   paramProperty<bool>(c, "compute_residual", [](const fluid::FluidParams& p) { return p.compute_residual; },
                       [](fluid::FluidParams& p, bool v) { p.compute_residual = v; },
                       "Measure the pressure residual each step.");
+  paramProperty<bool>(c, "cut_cells", [](const fluid::FluidParams& p) { return p.cut_cells; },
+                      [](fluid::FluidParams& p, bool v) { p.cut_cells = v; },
+                      "Sphere probe only: cut cells (face-area fractions from the sphere's geometry) in the\n"
+                      "divergence, pressure solve, projection and force, so the force changes continuously as it\n"
+                      "moves. Off (the default): faces are open or covered by the probe's voxels.");
 
   c.def(
       "set_probe",

@@ -32,6 +32,7 @@ struct StepPipeline::Pass {
   obstacle::Obstacle* body = nullptr;  // the probe voxelized this step, if any
   fluid::SolveStats stats;             // of the pressure solve
   glm::vec3 p0_m{0.0f};                // the point the force stage summed torques about
+  bool cut_cells = false;              // the body wrote geometric face fractions (else binary)
 };
 
 // The step, in order. A stage whose `runs` is false this step is skipped with its timer mark.
@@ -69,6 +70,7 @@ void StepPipeline::voxelize(Pass& pass) {
   const std::optional<ProbeState>& probe = pass.in.probe;
   if (probe && probe->kind == ProbeState::Kind::Sphere) {
     sphere_.setPose(probe->sphere);
+    sphere_.setCutCells(pass.in.params.cut_cells);
     pass.body = &sphere_;
   } else if (probe) {
     if (!mesh_) mesh_ = std::make_unique<obstacle::MeshProbe>(grid_);
@@ -86,7 +88,9 @@ void StepPipeline::voxelize(Pass& pass) {
 
 void StepPipeline::classify(Pass& pass) {
   auto& f = solver_.fields();
-  classifier_.classify(f.solid, f.cell_class, f.nbmask, pass.in.params.open_top);
+  pass.cut_cells = pass.body && pass.body->writeFaceFractions(f.face_open);
+  if (!pass.cut_cells) classifier_.binaryFractions(f.solid, f.face_open);
+  classifier_.classify(f.solid, f.face_open, f.cell_class, f.nbmask, pass.in.params.open_top);
 }
 
 void StepPipeline::advect(Pass& pass) { solver_.advect(pass.in.dt_s, pass.in.params); }
@@ -114,8 +118,10 @@ void StepPipeline::project(Pass& pass) { solver_.project(pass.in.dt_s, pass.in.p
 void StepPipeline::force(Pass& pass) {
   const obstacle::CellBox box = pass.body ? pass.body->bounds() : obstacle::CellBox{};
   pass.p0_m = pass.body ? pass.body->referencePointM() : glm::vec3(0.0f);
-  force_.reduce(solver_.fields().pressure.cur(), solver_.fields().cell_class, box, pass.in.rho_g,
-                pass.in.reference_m, pass.p0_m, reducer_, kForceSlots);
+  auto& f = solver_.fields();
+  // Only hydrostatic differences enter the force: pass.in.reference_m is not needed here.
+  force_.reduce(f.pressure.cur(), f.cell_class, f.nbmask, f.face_open, box, pass.cut_cells, pass.in.rho_g,
+                pass.p0_m, reducer_, kForceSlots);
 }
 
 StepReport StepPipeline::report(const Pass& pass, const std::vector<glm::vec4>& results) {

@@ -56,7 +56,7 @@ class StepPipeline {
   static const Stage kStages[];
 
   void voxelize(Pass& pass);    // the probe writes the solid mask and velocity
-  void classify(Pass& pass);    // mask -> cell classes + neighbour mask
+  void classify(Pass& pass);    // face fractions; mask -> cell classes + neighbour mask
   void advect(Pass& pass);
   void forces(Pass& pass);      // sources, buoyancy, vorticity confinement
   void divergence(Pass& pass);  // boundaries, rhs (its mean removed in a closed box)

@@ -114,6 +114,7 @@ class Simulation:
     compute_residual: bool
     pressure_solver: str
     pressure_tolerance: float
+    cut_cells: bool
     def set_probe(self, centre: Vec3, radius: float, velocity: Vec3 = ..., angular_velocity: Vec3 = ...) -> None: ...
     def set_mesh_probe(
         self,

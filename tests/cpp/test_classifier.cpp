@@ -65,13 +65,15 @@ class ClassifierTest : public test::GlTest {
       gl::Texture3D velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity");
       gl::Texture3D cls(g.res, gl::TexelFormat::R8UI, "classes");
       gl::Texture3D nbmask(g.res, gl::TexelFormat::R8UI, "nbmask");
+      gl::Texture3D face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
       SphereProbe probe(g);
       Classifier classifier(g);
       std::vector<GpuResult> out;
       for (const Scene& s : scenes) {
         probe.setPose(poseFor(g, s));
         probe.voxelize(solid, velocity);
-        classifier.classify(solid, cls, nbmask, s.open_top);
+        classifier.binaryFractions(solid, face_open);
+        classifier.classify(solid, face_open, cls, nbmask, s.open_top);
         GpuResult r;
         r.solid.resize(g.cells());
         r.cls.resize(g.cells());
@@ -108,31 +110,31 @@ class ClassifierTest : public test::GlTest {
           // The scenes keep every cell centre clear of the sphere's surface, so float
           // rounding on the GPU cannot flip a cell.
           EXPECT_GT(std::abs(d2 - double(r) * double(r)), 1e-3) << "scene too close to a cell centre";
-          if (d2 <= double(r) * double(r)) {
-            ref.solid[index(i, j, k)] = 1;
-            ref.velocity[index(i, j, k)] =
-                pose.velocity_m_s + glm::cross(pose.angular_velocity_rad_s, d * g.cell_size_m);
-          }
+          // The rigid velocity at every cell centre (cut faces outside the body's cells use it).
+          ref.velocity[index(i, j, k)] = pose.velocity_m_s + glm::cross(pose.angular_velocity_rad_s, d * g.cell_size_m);
+          if (d2 <= double(r) * double(r)) ref.solid[index(i, j, k)] = 1;
         }
     for (int k = 0; k < n.z; ++k)
       for (int j = 0; j < n.y; ++j)
         for (int i = 0; i < n.x; ++i) {
           const bool solid = ref.solid[index(i, j, k)] != 0;
           bool fluid_nb = false, solid_nb = false;
-          std::uint8_t mask = solid ? kSolidBit : 0;
+          // Links across the open faces (binary fractions: neither side solid); no link: no unknown.
+          std::uint8_t mask = 0;
           for (int dir = 0; dir < 6; ++dir) {
             const int a = i + kNb[dir][0], b = j + kNb[dir][1], cc = k + kNb[dir][2];
             if (!inGrid(a, b, cc)) {
-              if (dir == 5 && s.open_top) mask |= kOpenTopBit;
+              if (dir == 5 && s.open_top && !solid) mask |= kOpenTopBit;
               continue;
             }
             if (ref.solid[index(a, b, cc)] != 0) {
               solid_nb = true;
             } else {
               fluid_nb = true;
-              mask |= static_cast<std::uint8_t>(1u << dir);
+              if (!solid) mask |= static_cast<std::uint8_t>(1u << dir);
             }
           }
+          if (mask == 0) mask = kSolidBit;
           CellClass cls = solid ? (fluid_nb ? CellClass::Boundary : CellClass::Inside)
                                 : (solid_nb ? CellClass::Surrounding : CellClass::Outside);
           ref.cls[index(i, j, k)] = static_cast<std::uint8_t>(cls);

@@ -118,6 +118,12 @@ std::vector<float> download(const gl::Texture3D& t) {
   return v;
 }
 
+std::vector<float> download4(const gl::Texture3D& t) {
+  std::vector<float> v(t.texels() * 4);
+  t.download(v.data(), v.size() * sizeof(float));
+  return v;
+}
+
 std::vector<std::uint8_t> downloadMask(const gl::Texture3D& t) {
   std::vector<std::uint8_t> v(t.texels());
   t.download(v.data(), v.size());
@@ -181,7 +187,11 @@ TEST_F(Multigrid, CoarseMaskRestrictionAndProlongationMatchCpuReferences) {
   for (std::size_t i = 0; i < coarse_values.size(); ++i) coarse_values[i] = 1.0f + static_cast<float>(i % 5);
 
   std::vector<std::uint8_t> got_mask;
-  std::vector<float> got_restricted, got_prolonged;
+  std::vector<float> got_restricted, got_prolonged, got_faces;
+  // Face fractions (x/y/z faces of one index per texel, res + 1 texels a side): distinct values.
+  const glm::ivec3 ffn = t.fine.n + 1;
+  std::vector<float> fine_faces(static_cast<std::size_t>(ffn.x) * ffn.y * ffn.z * 4);
+  for (std::size_t i = 0; i < fine_faces.size(); ++i) fine_faces[i] = 0.05f * static_cast<float>(i % 17);
   onGl([&] {
     MultigridVCycle v(t.fine.n);
     ASSERT_EQ(v.levels(), 2);
@@ -195,8 +205,11 @@ TEST_F(Multigrid, CoarseMaskRestrictionAndProlongationMatchCpuReferences) {
     gl::Texture3D cb(t.coarse.n, gl::TexelFormat::R32F, "coarse b");
     gl::Texture3D cx(t.coarse.n, gl::TexelFormat::R32F, "coarse x");
     cx.upload(coarse_values.data(), coarse_values.size() * sizeof(float));
-    v.buildMasks(fm);
+    gl::Texture3D ff(t.fine.n + 1, gl::TexelFormat::RGBA32F, "fine face fractions");
+    ff.upload(fine_faces.data(), fine_faces.size() * sizeof(float));
+    v.buildMasks(fm, ff);
     got_mask = downloadMask(v.mask(1));
+    got_faces = download4(v.faces(1));
     v.restrictResidual(t.fine.n, fm, fr, t.coarse.n, cb, 0.5f);
     got_restricted = download(cb);
     v.prolongAdd(t.fine.n, fm, fx, cx);
@@ -204,6 +217,34 @@ TEST_F(Multigrid, CoarseMaskRestrictionAndProlongationMatchCpuReferences) {
   });
 
   EXPECT_EQ(got_mask, coarsenReference(t));
+  // A coarse face's open fraction is the sum of its (up to four) fine faces' over four; on the
+  // far wall of an odd fine size the fine plane is the wall itself.
+  const glm::ivec3 cfn = t.coarse.n + 1;
+  ASSERT_EQ(got_faces.size(), static_cast<std::size_t>(cfn.x) * cfn.y * cfn.z * 4);
+  auto texel = [](const glm::ivec3& size, const glm::ivec3& c) {
+    return static_cast<std::size_t>(c.x + size.x * (c.y + size.y * c.z));
+  };
+  for (int k = 0; k < cfn.z; ++k)
+    for (int j = 0; j < cfn.y; ++j)
+      for (int i = 0; i < cfn.x; ++i)
+        for (int a = 0; a < 3; ++a) {
+          const glm::ivec3 C(i, j, k);
+          glm::ivec3 face_size = t.coarse.n;
+          face_size[a] += 1;
+          if (glm::any(glm::greaterThanEqual(C, face_size))) continue;
+          const int b = (a + 1) % 3, c = (a + 2) % 3;
+          double sum = 0.0;
+          for (int o = 0; o < 4; ++o) {
+            glm::ivec3 f = 2 * C;
+            f[a] = std::min(2 * C[a], t.fine.n[a]);
+            f[b] += o & 1;
+            f[c] += o >> 1;
+            if (f[b] >= t.fine.n[b] || f[c] >= t.fine.n[c]) continue;
+            sum += fine_faces[texel(ffn, f) * 4 + static_cast<std::size_t>(a)];
+          }
+          EXPECT_NEAR(got_faces[texel(cfn, C) * 4 + static_cast<std::size_t>(a)], 0.25 * sum, 1e-6)
+              << "coarse face " << i << " " << j << " " << k << " axis " << a;
+        }
   // The gap at (3, 4, 5) links coarse (1, 2, 2) and (2, 2, 2) across x; the wall elsewhere does not.
   EXPECT_TRUE(got_mask[t.coarse.at({1, 2, 2})] & 2u);
   EXPECT_FALSE(got_mask[t.coarse.at({1, 1, 1})] & 2u);
@@ -236,6 +277,9 @@ struct Solved {
 Solved solveOnce(PressureSolver& solver, FluidFields& f, const std::vector<std::uint8_t>& mask,
                  const std::vector<float>& rhs, const FluidParams& params) {
   f.nbmask.upload(mask.data(), mask.size());
+  // Every face open: the mask's links alone say which neighbours the operator couples.
+  const std::vector<float> open(f.face_open.texels() * 4, 1.0f);
+  f.face_open.upload(open.data(), open.size() * sizeof(float));
   f.rhs.upload(rhs.data(), rhs.size() * sizeof(float));
   f.pressure.cur().clear();
   Solved s;

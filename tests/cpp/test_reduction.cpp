@@ -176,7 +176,9 @@ std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& gr
     gl::Texture3D pressure(grid.res, gl::TexelFormat::R32F, "pressure");
     solid.upload(shape.solid.data(), shape.solid.size());
     obstacle::Classifier classifier(grid);
-    classifier.classify(solid, cls, nbmask, false);
+    gl::Texture3D face_open(grid.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
+    classifier.binaryFractions(solid, face_open);
+    classifier.classify(solid, face_open, cls, nbmask, false);
     force::ForceReducer reducer(grid);
     GroupReducer groups(force::ForceReducer::partialsNeeded(grid), 3);
     std::vector<force::BodyForce> out;
@@ -187,7 +189,7 @@ std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& gr
           for (int i = 0; i < grid.res.x; ++i) p[shape.idx(i, j, k)] = c.pressure(i, j, k);
       pressure.upload(p.data(), p.size() * sizeof(float));
       const glm::vec3 p0 = grid.toWorld(glm::vec3(grid.res) * 0.5f);
-      reducer.reduce(pressure, cls, c.box, c.rho_g, c.reference_m, p0, groups, force::ForceSlots{});
+      reducer.reduce(pressure, cls, nbmask, face_open, c.box, false, c.rho_g, p0, groups, force::ForceSlots{});
       out.push_back(force::ForceReducer::decode(groups.readResults(), force::ForceSlots{}, p0, std::nullopt));
     }
     return out;

@@ -58,13 +58,16 @@ BodyForce gpuForce(const BoxScene& s, bool dynamic, const glm::vec3& rho_g, cons
     gl::Texture3D pressure(g.res, gl::TexelFormat::R32F, "pressure");
     solid.upload(mask.data(), mask.size());
     pressure.upload(p.data(), p.size() * sizeof(float));
-    obstacle::Classifier(g).classify(solid, cls, nbmask, false);
+    gl::Texture3D face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
+    obstacle::Classifier classifier(g);
+    classifier.binaryFractions(solid, face_open);
+    classifier.classify(solid, face_open, cls, nbmask, false);
     ForceReducer reducer(g);
     gl::GroupReducer groups(ForceReducer::partialsNeeded(g), 6);
     const ForceSlots slots{5, 1, 3};  // any slots
     const obstacle::CellBox box{s.lo - 1, s.hi - s.lo + 2};
     const glm::vec3 p0 = g.toWorld(glm::vec3(s.lo + s.hi) * 0.5f) + glm::vec3(0.013f, -0.004f, 0.02f);
-    reducer.reduce(pressure, cls, box, rho_g, reference_m, p0, groups, slots);
+    reducer.reduce(pressure, cls, nbmask, face_open, box, false, rho_g, p0, groups, slots);
     return ForceReducer::decode(groups.readResults(), slots, p0, centre_m);
   });
 }
