@@ -13,6 +13,13 @@ inline std::string num(double v) {
   return buf;
 }
 
+// Three significant digits, for figures a person reads in a status line ("0.0307 kg").
+inline std::string num3(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 inline std::string vecText(const glm::vec3& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
 inline std::string ivecText(const glm::ivec3& v) {
   return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";

@@ -32,19 +32,19 @@ GainChoice renderableForceGain(const DeviceInfo& device, double added_mass_kg, d
   const double by_stiffness = device.max_stiffness_n_m > 0.0f ? device.max_stiffness_n_m / c.stiffness_n_m : 1.0;
   const double gain = std::min({1.0, by_damping, by_stiffness});
   c.gain = static_cast<float>(gain);
-  const std::string fluid = "the fluid renders " + num(c.mass_kg) + " kg, " + num(c.damping_n_s_m) + " N s/m and " +
-                            num(c.stiffness_n_m) + " N/m per unit gain (added mass " + num(added_mass_kg) + " kg x scale " +
-                            num(scale) + ", step " + num(step_s) + " s)";
+  const std::string fluid = "the fluid renders " + num3(c.mass_kg) + " kg, " + num3(c.damping_n_s_m) + " N s/m and " +
+                            num3(c.stiffness_n_m) + " N/m per unit gain (added mass " + num3(added_mass_kg) + " kg x scale " +
+                            num3(scale) + ", step " + num3(step_s) + " s)";
   if (device.max_damping_n_s_m <= 0.0f && device.max_stiffness_n_m <= 0.0f) {
     c.reason = "force gain 1: '" + device.name + "' reports no rendering limits";
   } else if (gain >= 1.0) {
     c.reason = "force gain 1: " + fluid + ", within the limits of '" + device.name + "'";
   } else if (by_damping <= by_stiffness) {
-    c.reason = "force gain " + num(gain) + " = max damping " + num(device.max_damping_n_s_m) + " N s/m of '" +
-               device.name + "' / " + num(c.damping_n_s_m) + " N s/m: " + fluid;
+    c.reason = "force gain " + num3(gain) + " = max damping " + num3(device.max_damping_n_s_m) + " N s/m of '" +
+               device.name + "' / " + num3(c.damping_n_s_m) + " N s/m: " + fluid;
   } else {
-    c.reason = "force gain " + num(gain) + " = max stiffness " + num(device.max_stiffness_n_m) + " N/m of '" +
-               device.name + "' / " + num(c.stiffness_n_m) + " N/m: " + fluid;
+    c.reason = "force gain " + num3(gain) + " = max stiffness " + num3(device.max_stiffness_n_m) + " N/m of '" +
+               device.name + "' / " + num3(c.stiffness_n_m) + " N/m: " + fluid;
   }
   return c;
 }
