@@ -43,8 +43,10 @@ def migrate():
     that had something to move)."""
     lines = []
     for scene in bpy.data.scenes:
-        old = getattr(scene, SCENE_PROP, None)
-        if old is None or (old.domain is None and old.probe is None and old.source is None):
+        if SCENE_PROP not in scene.keys():  # read through RNA, the group would be made (empty)
+            continue
+        old = getattr(scene, SCENE_PROP)
+        if old.domain is None and old.probe is None and old.source is None:
             continue
         moved, kept = [], []
         for attr, role in roles.ROLE_ATTRS.items():
