@@ -13,7 +13,7 @@ import bpy
 
 from . import properties, roles
 
-BAR_BOTTOM_PX = 4   # above the region's lower edge, at UI scale 1 (Blender's cache lines start about there)
+BAR_BOTTOM_PX = 18  # above the region's lower edge (clear of the horizontal scroll bar), at UI scale 1
 BAR_HEIGHT_PX = 6
 COLOURS = {  # RGBA
     "baked": (0.25, 0.55, 1.0, 0.95),
