@@ -164,7 +164,7 @@ def check_migrated(values, how):
     check(s.volume_object is not None and s.volume_object.name == "OldVolume", f"{how}: the Volume kept")
     check(not s.is_baking and s.status == properties.INTERRUPTED_NOTE,
           f"{how}: is_baking moved, then cleared as interrupted: {s.status!r}")
-    check("hapticfluid_bake" not in scene.keys(), f"{how}: the old scene group is gone")
+    check(not scene.is_property_set("hapticfluid_bake"), f"{how}: the old scene group is gone")
 
 
 def old_file_migrates(tmp):

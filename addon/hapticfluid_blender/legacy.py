@@ -43,7 +43,7 @@ def migrate():
     that had something to move)."""
     lines = []
     for scene in bpy.data.scenes:
-        if SCENE_PROP not in scene.keys():  # read through RNA, the group would be made (empty)
+        if not scene.is_property_set(SCENE_PROP):  # (not keys(): bpy.props are no custom props in 5.0)
             continue
         old = getattr(scene, SCENE_PROP)
         if old.domain is None and old.probe is None and old.source is None:
@@ -71,7 +71,7 @@ def migrate():
         domain_moved = old.domain is not None and old.domain.hapticfluid.role == "DOMAIN"
         old.domain = old.probe = old.source = None
         if domain_moved:
-            del scene[SCENE_PROP]  # everything it held is on the domain now
+            scene.property_unset(SCENE_PROP)  # everything it held is on the domain now
         else:
             kept.append("the bake settings stay unused in the old scene settings: no domain was chosen (give a "
                         f"mesh the Domain role in {roles.PHYSICS_PATH} and set them there)")
