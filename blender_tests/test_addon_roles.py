@@ -90,6 +90,10 @@ def set_role_operator():
           f"a duplicated domain is a problem naming both: {problem}")
     refused(bpy.ops.hapticfluid.bake, "keep the Domain role on one object", "BoxA")
     bpy.data.objects.remove(dup)
+    bystander = cube(0.2, (5.0, 0.0, 0.0), "Bystander")
+    check(settings(scene).domain == a and roles.role_of(bystander) == "NONE"
+          and not bystander.is_property_set("hapticfluid"),
+          "looking up the roles stores nothing on objects without one")
     return a, b, pointer
 
 
@@ -110,7 +114,8 @@ def physics_tab(a, b, pointer):
         want = {"DOMAIN": ["BoxA"], "PROBE": ["Pointer"], "SOURCE": []}[cls.role]
         check(shown == want, f"sub-panel {cls.bl_label} shows for the {cls.role.lower()}: {shown}")
     main = draw(physics_panels.HAPTICFLUID_PT_physics.draw, a)
-    ops = [(kw.get("text"), kw.get("depress")) for args, kw, _ in main.calls("operator") if args[0].endswith("set_role")]
+    ops = [(kw.get("text"), kw.get("depress")) for args, kw, _ in main.calls("operator")
+           if args[0].endswith("set_role")]
     check(ops == [("Domain", True), ("Probe", False), ("Smoke Source", False)], f"the role as buttons: {ops}")
     bake_ops = [args[0] for args, _kw, _ in main.calls("operator") if not args[0].endswith("set_role")]
     check(bake_ops == ["hapticfluid.bake", "hapticfluid.bake_resume", "hapticfluid.bake_free"],

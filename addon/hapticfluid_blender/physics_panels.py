@@ -47,7 +47,7 @@ def draw_physics_button(self, context):
     if obj is None or not hasattr(obj, "hapticfluid"):
         return
     row = self.layout.row(align=True)
-    if obj.hapticfluid.role == "NONE":
+    if roles.role_of(obj) == "NONE":
         row.operator_menu_enum(HAPTICFLUID_OT_set_role.bl_idname, "role", text="hapticfluid", icon="MOD_FLUIDSIM")
     else:
         row.operator(HAPTICFLUID_OT_set_role.bl_idname, text="hapticfluid", icon="X").role = "NONE"
@@ -55,7 +55,7 @@ def draw_physics_button(self, context):
 
 def _role_of(context):
     obj = getattr(context, "object", None)
-    return obj.hapticfluid.role if obj is not None and hasattr(obj, "hapticfluid") else "NONE"
+    return roles.role_of(obj) if obj is not None and hasattr(obj, "hapticfluid") else "NONE"
 
 
 class HAPTICFLUID_PT_physics(bpy.types.Panel):

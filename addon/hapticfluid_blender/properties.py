@@ -156,6 +156,8 @@ def clear_stale_bake_state(_filepath=None):
     Bake, Resume and Free for good. No bake of a file just opened can be running in this
     Blender: clear it and say how to continue."""
     for obj in bpy.data.objects:
+        if not obj.is_property_set("hapticfluid"):  # (reading it would store an empty group)
+            continue
         settings = obj.hapticfluid.domain_settings
         if settings.is_baking:
             settings.is_baking = False

@@ -39,9 +39,15 @@ def label(role) -> str:
     return properties.ROLE_LABELS[role]
 
 
+def role_of(obj):
+    """The object's role, 'NONE' without one. Asks is_property_set first: reading
+    ``obj.hapticfluid`` through RNA would store an empty group on every object scanned."""
+    return obj.hapticfluid.role if obj.is_property_set("hapticfluid") else "NONE"
+
+
 def holders(scene, role):
     """The scene's objects holding ``role``, by name (one, normally; more after a Shift+D)."""
-    return sorted((o for o in scene.objects if o.hapticfluid.role == role), key=lambda o: o.name)
+    return sorted((o for o in scene.objects if role_of(o) == role), key=lambda o: o.name)
 
 
 def holder(scene, role):
