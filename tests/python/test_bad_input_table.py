@@ -414,3 +414,41 @@ def test_cli_arguments(capsys, command, option, value):
     assert info.value.code == 2
     err = capsys.readouterr().err
     assert option in err, err
+
+
+# ----------------------------------------------------------------------------- mesh smoke source
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_VERTICES))
+def test_set_smoke_source_mesh_vertices(small_sim, kind, value):
+    _, t = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(value, t), "vertices")
+
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_TRIANGLES))
+def test_set_smoke_source_mesh_triangles(small_sim, kind, value):
+    v, _ = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(v, value), "triangles")
+
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
+def test_set_smoke_source_mesh_transform(small_sim, kind, value):
+    v, t = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(v, t, transform=value), "transform")
+
+
+@pytest.mark.parametrize("arg,kind,value", [(a, k, v) for a in ("density", "temperature")
+                                            for k, v in BAD_NONNEG_FLOAT.items()]
+                         + [("emission", k, v) for k, v in BAD_STRING_CHOICE.items()])
+def test_set_smoke_source_mesh_values(small_sim, arg, kind, value):
+    v, t = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(v, t, **{arg: value}), arg)
+
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
+def test_set_smoke_source_pose_transform(small_sim, kind, value):
+    v, t = _tetra()
+    small_sim.set_smoke_source_mesh(v, t)
+    try:
+        _expect(lambda: small_sim.set_smoke_source_pose(value), "transform")
+    finally:
+        small_sim.clear_smoke_source()
