@@ -17,28 +17,10 @@ from types import SimpleNamespace
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import SOURCE_DIR as SOURCE, bake_scene, check, refused
 
-import hapticfluid_blender  # noqa: E402
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import blender_scene, panels, prefs, properties  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
-
-
-def refused(op, *fragments):
-    """Run ``op`` (background mode raises an ERROR report); return its message."""
-    try:
-        op()
-    except RuntimeError as err:
-        text = str(err)
-        check(all(f in text for f in fragments), f"refused with {fragments}: {text}")
-        return text
-    raise AssertionError(f"not refused: expected {fragments}")
 
 
 class Recorder:
@@ -104,21 +86,9 @@ def draw(panel_cls):
 
 
 def new_scene(cache_dir):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, location=(0.4, 0.5, 0.5))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=0)
-    probe.location = (0.55, 0.5, 0.5)
-    probe.keyframe_insert("location", frame=4)
-    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.1, location=(0.5, 0.5, 0.2))
-    source = bpy.context.active_object
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.source = domain, probe, source
-    s.resolution, s.frame_start, s.frame_end, s.substeps, s.pressure_iterations = 12, 1, 2, 1, 4
-    s.cache_dir = cache_dir
+    scene, s, _, _, _ = bake_scene(cache_dir, resolution=12, frames=(1, 2), probe_radius=0.1,
+                                   probe_path=((0, (0.4, 0.5, 0.5)), (4, (0.55, 0.5, 0.5))))
+    s.pressure_iterations = 4
     return scene, s
 
 

@@ -3,21 +3,13 @@ while a bake was running (is_baking set) and opened again has its Bake/Resume/Fr
 usable, with a status saying the bake was interrupted."""
 
 import os
-import sys
 import tempfile
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import SOURCE_DIR as SOURCE, check
 
 import hapticfluid_blender  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def main():

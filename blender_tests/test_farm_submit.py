@@ -6,35 +6,22 @@ report that starts with the fix and writes nothing."""
 import json
 import os
 import shutil
-import sys
 import tempfile
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import empty_file, check, cube, key_locations, set_roles, uv_sphere
 
 import hapticfluid_blender  # noqa: E402
 
 
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
-
-
 def build_scene(cache_dir):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.12, location=(0.3, 0.5, 0.55))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=1)
-    probe.location = (0.65, 0.5, 0.55)
-    probe.keyframe_insert("location", frame=4)
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.probe_shape = domain, probe, "SPHERE"
+    scene = empty_file()
+    domain = cube(1.0, (0.5, 0.5, 0.5))
+    probe = uv_sphere(0.12, (0.3, 0.5, 0.55))
+    key_locations(probe, ((1, (0.3, 0.5, 0.55)), (4, (0.65, 0.5, 0.55))))
+    s = set_roles(scene, domain, probe)
+    s.probe_shape = "SPHERE"
     s.resolution, s.frame_start, s.frame_end, s.substeps = 16, 1, 4, 1
     s.cache_dir = cache_dir
     return scene

@@ -18,31 +18,18 @@ import time
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import check, cube, empty_file, set_roles
 
-import hapticfluid_blender  # noqa: E402
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message, flush=True)
 
 
 def new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1.2):
     """Empty file: a 1 m domain cube with its corner at the origin, a 0.2 m cube probe."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    domain.name = "Domain"
-    bpy.ops.mesh.primitive_cube_add(size=0.2, location=probe_at)
-    probe = bpy.context.active_object
-    probe.name = "Probe"
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe = domain, probe
+    scene = empty_file()
+    domain = cube(1.0, (0.5, 0.5, 0.5), "Domain")
+    probe = cube(0.2, probe_at, "Probe")
+    bake = set_roles(scene, domain, probe)
     bake.fluid_density = fluid_density
     bake.pressure_iterations = 20
     live = scene.hapticfluid_live

@@ -8,82 +8,45 @@ must cover a region of the viewport (pixels that change when the Volume is hidde
 Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
 
 import os
-import shutil
-import sys
 import tempfile
 import threading
 import time
-import traceback
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
-import hapticfluid_blender  # noqa: E402
+from support import (area as area_of, check, clear_objects, close_splash, cube, drive, fail, finish,
+                     frames_on_disk as frames_in, ico_sphere, invoke, key_locations, out_dir, png_rgb, redraw_all,
+                     remove_on_exit, screenshot as screenshot_to, set_roles, uv_sphere, window)
+
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 
 FRAMES = 48
-OUT = os.environ.get("HAPTICFLUID_OUT_DIR") or os.path.join(SOURCE, "out", "addon")
-TMP = tempfile.mkdtemp(prefix="hf_blender_display_")
+OUT = out_dir("addon")
+TMP = remove_on_exit(tempfile.mkdtemp(prefix="hf_blender_display_"))
 CACHE = os.path.join(TMP, "cache")
 state = {"phase": "start", "t0": time.time(), "durations": [], "waits": 0}
 
 
-def fail(message):
-    print("FAILED:", message, flush=True)
-    shutil.rmtree(TMP, ignore_errors=True)
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
-
-
-def window():
-    return bpy.context.window_manager.windows[0]
-
-
-def area_of(kind):
-    return next(a for a in window().screen.areas if a.type == kind)
-
-
 def setup():
     hapticfluid_blender.register()
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        bpy.data.objects.remove(obj)
+    scene = clear_objects()
     fx = bpy.data.collections.new("FX")
     scene.collection.children.link(fx)
     bpy.context.view_layer.active_layer_collection = bpy.context.view_layer.layer_collection.children["FX"]
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, location=(0.3, 0.5, 0.6))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=0)
-    probe.location = (0.7, 0.5, 0.6)
-    probe.keyframe_insert("location", frame=FRAMES)
-    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.14, location=(0.5, 0.5, 0.22))
-    source = bpy.context.active_object
+    domain = cube(1.0, (0.5, 0.5, 0.5))
+    probe = uv_sphere(0.1, (0.3, 0.5, 0.6))
+    key_locations(probe, ((0, (0.3, 0.5, 0.6)), (FRAMES, (0.7, 0.5, 0.6))))
+    source = ico_sphere(0.14, (0.5, 0.5, 0.22))
     source.hide_set(True)  # the screenshots show the smoke, not the emitter
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.source = domain, probe, source
+    s = set_roles(scene, domain, probe, source)
     s.resolution, s.frame_start, s.frame_end, s.substeps = 24, 1, FRAMES, 2
     s.heat_buoyancy, s.source_temperature, s.source_density = 2.0, 10.0, 1.0
     s.cache_dir = CACHE
-    # close the splash screen before any modal operator listens for Esc
-    window().event_simulate(type="ESC", value="PRESS")
-    window().event_simulate(type="ESC", value="RELEASE")
-
-
-def invoke(op):
-    with bpy.context.temp_override(window=window(), area=area_of("VIEW_3D")):
-        return op("INVOKE_DEFAULT")
+    close_splash()
 
 
 def frames_on_disk():
-    folder = os.path.join(CACHE, "data")
-    return sorted(os.listdir(folder)) if os.path.isdir(folder) else []
+    return frames_in(CACHE)
 
 
 def bake_threads():
@@ -91,20 +54,12 @@ def bake_threads():
 
 
 def screenshot(kind, name):
-    os.makedirs(OUT, exist_ok=True)
-    path = os.path.join(OUT, name)
-    with bpy.context.temp_override(window=window(), area=area_of(kind)):
-        bpy.ops.screen.screenshot_area(filepath=path)
-    check(os.path.getsize(path) > 1000, f"screenshot {path}")
-    return path
+    return screenshot_to(os.path.join(OUT, name), kind)
 
 
 def pixels(path):
-    img = bpy.data.images.load(path)
-    px = list(img.pixels)
-    w, h = img.size
-    bpy.data.images.remove(img)
-    return px, w, h
+    rgb = png_rgb(path)
+    return rgb, rgb.shape[1], rgb.shape[0]
 
 
 def frame_viewport():
@@ -122,22 +77,7 @@ def frame_viewport():
     props.context = "SCENE"
 
 
-def redraw_all():
-    for area in window().screen.areas:
-        area.tag_redraw()
-
-
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
-
-
 def step():
-    if time.time() - state["t0"] > 400:
-        fail(f"timed out in phase {state['phase']}")
     phase = state["phase"]
     scene = bpy.context.scene
     if phase == "start":
@@ -189,8 +129,7 @@ def step():
             redraw_all()
             return 0.2
         state["with_smoke"] = screenshot("VIEW_3D", "viewport_solid.png")
-        with bpy.context.temp_override(window=window()):
-            bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "window.png"))
+        screenshot_to(os.path.join(OUT, "window.png"))
         scene.hapticfluid_bake.volume_object.hide_viewport = True
         redraw_all()
         state["phase"] = "shoot_without"
@@ -204,8 +143,7 @@ def step():
         a, w, h = pixels(state["with_smoke"])
         b, w2, h2 = pixels(without)
         check((w, h) == (w2, h2), "both viewport screenshots have one size")
-        changed = sum(1 for i in range(0, len(a), 4)
-                      if max(abs(a[i + c] - b[i + c]) for c in range(3)) > 0.08)
+        changed = int((abs(a - b).max(axis=2) > 0.08).sum())
         share = changed / (w * h)
         check(share > 0.01, f"the smoke covers a visible region of the Solid viewport: {changed} of {w * h} pixels "
                             f"({100 * share:.1f} %)")
@@ -219,7 +157,7 @@ def step():
         state["waits"] = 0
     elif phase == "scroll":
         state["waits"] += 1
-        big = max((a for a in window().screen.areas if a.type == "PROPERTIES"), key=lambda a: a.width * a.height)
+        big = area_of("PROPERTIES")
         region = next(r for r in big.regions if r.type == "WINDOW")
         if state["waits"] == 2:
             big.spaces.active.context = "SCENE"
@@ -229,18 +167,12 @@ def step():
         if state["waits"] < 12:
             redraw_all()
             return 0.2
-        os.makedirs(OUT, exist_ok=True)
-        path = os.path.join(OUT, "panel_scene_tab.png")
-        with bpy.context.temp_override(window=window(), area=big):
-            bpy.ops.screen.screenshot_area(filepath=path)
-        check(os.path.getsize(path) > 1000, f"screenshot {path}")
+        screenshot("PROPERTIES", "panel_scene_tab.png")
         hapticfluid_blender.unregister()
-        shutil.rmtree(TMP, ignore_errors=True)
-        print("blender bake display test passed; screenshots in", OUT, flush=True)
-        bpy.ops.wm.quit_blender()
+        finish(f"blender bake display test passed; screenshots in {OUT}")
         return None
     return 0.1
 
 
 setup()
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 400, lambda: f"in phase {state['phase']}")
