@@ -3,7 +3,7 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from . import volume
+from . import source_mesh, volume
 
 
 def _is_mesh(_self, obj):
@@ -25,9 +25,9 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
                ("SPHERE", "Sphere", "A sphere of half the object's largest local extent, scaled with the object")),
         description="What the probe pushes the fluid with")
     source: PointerProperty(
-        name="Smoke Source", type=bpy.types.Object,
-        description="Object marking the smoke emitter: its location is the centre, half its largest "
-                    "dimension the radius (m); empty for no emitter")
+        name="Smoke Source", type=bpy.types.Object, update=source_mesh.sync_render_visibility,
+        description="Smoke emitter: a closed mesh emits from its volume and follows its animation (hidden from "
+                    "renders while it is the source); an Empty is a sphere of its display size; none for no emitter")
     resolution: IntProperty(
         name="Resolution", default=64, min=8, max=1024, soft_max=256,
         description="Cells along the domain's longest edge (bake resolution, independent of the "
@@ -139,9 +139,9 @@ CACHE_SETTINGS = ("probe_shape", "resolution", "frame_start", "substeps", "adapt
 def cache_inputs(scene, settings):
     """What the cache is made from, cheap enough for a panel's draw: the settings above (by their
     UI names), the objects' names, the domain's and the source's world placement and size (both
-    read at the current frame by the bake), gravity and frame rate. The probe counts by its name
-    only: its animation is read with frame_set on every frame, too slow for a draw, and its
-    placement at the current frame changes as the timeline plays."""
+    read at the current frame by the bake), gravity and frame rate. The probe and the smoke source
+    count by their names only: their animation is read with frame_set on every frame, too slow
+    for a draw, and their placement at the current frame changes as the timeline plays."""
     out = {}
     for key in CACHE_SETTINGS:
         value = getattr(settings, key)
@@ -149,7 +149,7 @@ def cache_inputs(scene, settings):
     for key in ("domain", "probe", "source"):
         obj = getattr(settings, key)
         name = settings.bl_rna.properties[key].name
-        if obj is None or key == "probe":
+        if obj is None or key in ("probe", "source"):  # animated: read per frame by the bake
             out[name] = None if obj is None else obj.name
             continue
         out[name] = [obj.name, [round(v, 6) for row in obj.matrix_world for v in row],
