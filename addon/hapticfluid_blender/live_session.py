@@ -175,8 +175,15 @@ class _Engine:
         self.resolution = cells
         if plan.source is not None:
             s = plan.source
-            self.sim.set_smoke_source(tuple(s["centre"]), s["radius"], density=s["density"],
-                                      temperature=s["temperature"])
+            if s.get("shape") == "mesh":  # held where it is at Start
+                import numpy as np
+
+                self.sim.set_smoke_source_mesh(np.asarray(s["vertices"], dtype=np.float32),
+                                               np.asarray(s["triangles"], dtype=np.int32), s["matrix"],
+                                               density=s["density"], temperature=s["temperature"])
+            else:
+                self.sim.set_smoke_source(tuple(s["centre"]), s["radius"], density=s["density"],
+                                          temperature=s["temperature"])
         shape = plan.probe_shape
         matrix = plan.probe_matrix
         try:

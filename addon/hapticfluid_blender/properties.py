@@ -6,7 +6,7 @@ settings, its cache and status; ``probe_settings``; ``source_settings``). Read t
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from . import volume
+from . import source_mesh, volume
 
 
 ROLE_ITEMS = (
@@ -126,6 +126,7 @@ def _role_changed(self, context):
     from . import roles
 
     roles.check_new_role(self.id_data, self.role)
+    source_mesh.sync_render_visibility()  # a smoke source is hidden from renders while it is one
 
 
 class HapticFluidObjectSettings(bpy.types.PropertyGroup):
@@ -187,17 +188,17 @@ def ui_name(key):
 def cache_inputs(scene, settings):
     """What the cache is made from, cheap enough for a panel's draw: the settings above (by their
     UI names), the objects' names, the domain's and the source's world placement and size (both
-    read at the current frame by the bake), gravity and frame rate. The probe counts by its name
-    only: its animation is read with frame_set on every frame, too slow for a draw, and its
-    placement at the current frame changes as the timeline plays. ``settings`` is
-    ``roles.settings_of(scene)``."""
+    read at the current frame by the bake), gravity and frame rate. The probe and the smoke source
+    count by their names only: their animation is read with frame_set on every frame, too slow
+    for a draw, and their placement at the current frame changes as the timeline plays.
+    ``settings`` is ``roles.settings_of(scene)``."""
     out = {}
     for key in CACHE_SETTINGS:
         value = getattr(settings, key)
         out[ui_name(key)] = round(value, 9) if isinstance(value, float) else value
     for key, name in ROLE_INPUT_NAMES.items():
         obj = getattr(settings, key)
-        if obj is None or key == "probe":
+        if obj is None or key in ("probe", "source"):  # animated: read per frame by the bake
             out[name] = None if obj is None else obj.name
             continue
         out[name] = [obj.name, [round(v, 6) for row in obj.matrix_world for v in row],

@@ -12,6 +12,10 @@ CELL_INSIDE: int
 STEP_READBACK_BYTES: int  # bytes of the result read-back ending every step (+ residual checks if pressure_tolerance > 0)
 MIN_TIME_STEP_S: float  # smallest dt Simulation.step() takes, s
 MAX_TIME_STEP_S: float  # largest dt Simulation.step() takes, s
+SOURCE_EMISSIONS: Tuple[str, ...]  # smoke source emission modes: 'hold', 'rate'
+MAX_SOURCE_DENSITY: float  # largest source density (concentration, or per second with 'rate')
+MAX_SOURCE_TEMPERATURE_K: float  # largest source temperature (K above ambient, or K/s with 'rate')
+SOURCE_SUBSAMPLES: int  # a mesh source's coverage: vertical sample lines per cell along x and along y
 
 Vec3 = Sequence[float]
 Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column
@@ -134,7 +138,26 @@ class Simulation:
     def clear_probe(self) -> None: ...
     @property
     def probe(self) -> Optional[Dict[str, object]]: ...
-    def set_smoke_source(self, centre: Vec3, radius: float, density: float = 1.0, temperature: float = 0.0) -> None: ...
+    def set_smoke_source(
+        self,
+        centre: Vec3,  # m
+        radius: float,  # m
+        density: float = 1.0,  # concentration ('hold') or per second ('rate')
+        temperature: float = 0.0,  # K above ambient ('hold') or K/s ('rate')
+        emission: str = "hold",  # 'hold' or 'rate'
+    ) -> None: ...
+    def set_smoke_source_mesh(
+        self,
+        vertices: npt.ArrayLike,  # (N, 3) m, local frame
+        triangles: npt.ArrayLike,  # (M, 3) int vertex indices, closed mesh
+        transform: Optional[Matrix4] = None,  # local -> world (matrix_world), m
+        density: float = 1.0,  # concentration ('hold') or per second ('rate')
+        temperature: float = 0.0,  # K above ambient ('hold') or K/s ('rate')
+        emission: str = "hold",  # 'hold' or 'rate'
+    ) -> None: ...
+    def set_smoke_source_pose(self, transform: Optional[Matrix4]) -> None: ...  # local -> world, m
+    @property
+    def smoke_source(self) -> Optional[Dict[str, object]]: ...
     def clear_smoke_source(self) -> None: ...
     def step(self, dt: float) -> StepReport: ...
     @property

@@ -200,12 +200,15 @@ def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
 # ---- checkpoint ----------------------------------------------------------------------------
 
 def fingerprint_until(fingerprint: Dict[str, Any], frame: int) -> Dict[str, Any]:
-    """The fingerprint as the state after ``frame`` depends on it: the probe's keys up to that
-    frame only, so that raising the end frame (more keys) still resumes the checkpoint."""
-    probe = fingerprint.get("probe")
-    if not probe or "keys" not in probe:
-        return fingerprint
-    return {**fingerprint, "probe": {**probe, "keys": [k for k in probe["keys"] if k[0] <= frame]}}
+    """The fingerprint as the state after ``frame`` depends on it: the probe's and a mesh
+    source's keys up to that frame only, so that raising the end frame (more keys) still resumes
+    the checkpoint."""
+    out = dict(fingerprint)
+    for name in ("probe", "source"):
+        part = fingerprint.get(name)
+        if part and "keys" in part:
+            out[name] = {**part, "keys": [k for k in part["keys"] if k[0] <= frame]}
+    return out
 
 
 def settings_differences(saved: Dict[str, Any], now: Dict[str, Any]) -> List[str]:

@@ -30,7 +30,7 @@ import numpy as np
 import hapticfluid as hf
 from hapticfluid.bake import cache as _cache
 from hapticfluid.bake import verify as _verify
-from hapticfluid.bake.scene import BakeScene, ProbeSpec
+from hapticfluid.bake.scene import BakeScene, ProbeSpec, SmokeSource
 from hapticfluid.bake.trajectory import Motion
 
 CancelCheck = Union[threading.Event, Callable[[], bool], None]
@@ -100,15 +100,52 @@ def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: 
     apply_probe(sim, probe, probe.trajectory.motion(a, b, dt))
 
 
+def apply_source(sim: "hf.Simulation", source: SmokeSource, frame_time: float) -> None:
+    """Put the smoke source where it is at ``frame_time`` (frames): the one place that knows how
+    the engine takes a source. A sphere is set once; a mesh is uploaded once, then only its pose
+    changes (set_smoke_source_pose: host-side, cheap)."""
+    current = sim.smoke_source
+    if source.shape == "sphere":
+        if current is None:
+            sim.set_smoke_source(source.centre, source.radius, density=source.density,
+                                 temperature=source.temperature, emission=source.emission)
+        return
+    assert source.trajectory is not None
+    matrix = source.trajectory.pose(frame_time).matrix()
+    if current is None or current.get("kind") != "mesh":
+        sim.set_smoke_source_mesh(source.vertices, source.triangles, matrix, density=source.density,
+                                  temperature=source.temperature, emission=source.emission)
+    else:
+        sim.set_smoke_source_pose(matrix)
+
+
+def _apply_substep_source(sim: "hf.Simulation", source: SmokeSource, frame: int, s: int, n: int) -> None:
+    """apply_source for substep s (0-based) of n in ``frame``: the pose at the substep's end, as
+    the probe's (the step emits where the source is when it ends)."""
+    apply_source(sim, source, (frame - 1) + (s + 1) / n)
+
+
 def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
                      cancelled: Callable[[], bool] = lambda: False) -> bool:
     """Before any step: hand the engine every substep pose of frames first..end (fixed substeps;
     max_substeps per frame when adaptive) so its own checks (domain margin, mesh validity, speed)
     refuse a bad trajectory up front, naming the frame. Leaves no probe set. Checks ``cancelled``
-    once per frame (a long trajectory takes a while): returns False if it was cancelled."""
+    once per frame (a long trajectory takes a while): returns False if it was cancelled.
+    A mesh smoke source's poses are checked the same way (the source stays set)."""
+    n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
+    source = scene.source
+    if source is not None and source.shape == "mesh":
+        for frame in range(first, scene.frame_end + 1):
+            if cancelled():
+                return False
+            for s in range(n):
+                try:
+                    _apply_substep_source(sim, source, frame, s, n)
+                except hf.InvalidArgumentError as exc:
+                    raise hf.InvalidArgumentError(
+                        f"the smoke source's path is refused at frame {frame} (substep {s + 1} of {n}): {exc}") from None
     if scene.probe is None:
         return True
-    n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
     dt = scene.frame_dt / n
     try:
         for frame in range(first, scene.frame_end + 1):
@@ -134,9 +171,8 @@ def make_simulation(scene: BakeScene) -> "hf.Simulation":
                         heat_dissipation=f["heat_dissipation"], pressure_iterations=f["pressure_iterations"],
                         pressure_solver=f["pressure_solver"], pressure_tolerance=f["pressure_tolerance"],
                         compute_residual=False, device=scene.device)
-    if scene.source is not None:
-        s = scene.source
-        sim.set_smoke_source(s.centre, s.radius, density=s.density, temperature=s.temperature)
+    if scene.source is not None:  # a mesh source at the pose before the first frame; each substep moves it
+        apply_source(sim, scene.source, scene.frame_start - 1)
     return sim
 
 
@@ -324,6 +360,8 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                     break
                 if scene.probe is not None:
                     _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
+                if scene.source is not None:
+                    _apply_substep_source(sim, scene.source, frame, s, n)
                 sim.step(dt)
                 if progress is not None:
                     progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
