@@ -79,8 +79,8 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
         if live.device == "FALCON":
             narrow_label_row(col, live, "firmware_path", "Firmware")
         if live.device in ("MOUSE", "TIMELINE") and bake.probe_shape == "MESH":
-            wrapped_label(layout, context, "The probe follows the object's location; its rotation stays as at "
-                                           "Start (see the Device tooltip)", icon="INFO")
+            wrapped_label(layout, context, "The probe follows the object's location and rotation; its scale "
+                                           "stays as at Start (see the Device tooltip)", icon="INFO")
         row = layout.row(align=True)
         row.scale_y = 1.3
         if live.is_running:

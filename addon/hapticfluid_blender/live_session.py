@@ -210,7 +210,7 @@ class _Engine:
             self.workspace_box = (tuple(float(min(a[i], b[i])) for i in range(3)),
                                   tuple(float(max(a[i], b[i])) for i in range(3)))
         if plan.mode in HOST_MODES:  # the first pose the haptic thread reads is the object's
-            self.device.push_pose(tuple(matrix[r][3] for r in range(3)))
+            self.device.push_pose(tuple(matrix[r][3] for r in range(3)), orientation=probe_rotation(matrix))
         self.session.start()
 
     @staticmethod
@@ -352,8 +352,10 @@ class LiveController:
         now = self.clock()
         self.ticks += 1
         latest = session.latest()
-        if self.plan.mode in HOST_MODES:
-            self.engine.device.push_pose(tuple(self.probe.matrix_world.translation))
+        if self.plan.mode in HOST_MODES:  # location and rotation: the probe turns with the object
+            m = self.probe.matrix_world
+            self.engine.device.push_pose(tuple(m.translation), orientation=probe_rotation(m))
+            self._check_scale(m)
         else:
             self._follow_device(latest)
         self._update_drawer(latest)
@@ -380,6 +382,18 @@ class LiveController:
             if not linked:
                 return f"Start the session again with a {role}: the {role} '{name}' was deleted"
         return None
+
+    def _check_scale(self, matrix):
+        """The session keeps the probe's scale from Start; a scale changed since says so in the status."""
+        start = [self.start_matrix.col[c].to_3d().length for c in range(3)]
+        now = [matrix.col[c].to_3d().length for c in range(3)]
+        changed = any(abs(a - b) > 1e-4 * max(a, b) for a, b in zip(start, now))
+        note = "; the probe's new scale applies at the next Start"
+        status = self.live.status
+        if changed and not status.endswith(note):
+            self.live.status = status + note
+        elif not changed and status.endswith(note):
+            self.live.status = status[:-len(note)]
 
     def _follow_device(self, latest):
         from mathutils import Vector
@@ -499,6 +513,20 @@ class LiveController:
             pass
         if self.report:
             log.warning("hapticfluid live session ended: %s", self.report)
+
+
+def probe_rotation(matrix) -> Tuple[float, float, float, float]:
+    """The rotation of a probe's matrix_world (rows or a mathutils Matrix) as a quaternion
+    (w, x, y, z), by the engine's rule (HapticSession::probeRotation): Gram-Schmidt on the x, then
+    y column, z = x cross y, so a scaled or mirrored matrix gives the same proper rotation there
+    and here; the engine keeps the rest as the probe's scale."""
+    from mathutils import Matrix, Vector
+
+    cols = [Vector([matrix[r][c] for r in range(3)]) for c in range(2)]
+    x = cols[0].normalized()
+    y = (cols[1] - cols[1].dot(x) * x).normalized()
+    q = Matrix((x, y, x.cross(y))).transposed().to_quaternion()
+    return (q.w, q.x, q.y, q.z)
 
 
 def write_keys(obj, rotation_path, samples):

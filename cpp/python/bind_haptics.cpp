@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "haptics/device.h"
+#include "haptics/clock.h"
 #include "haptics/device_claim.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
@@ -194,6 +195,15 @@ void addHaptics(py::module_& m) {
       .def_readonly("buttons", &DeviceState::buttons, "Bit i set: button i pressed.")
       .def_readonly("homed", &DeviceState::homed, "False: no force may be commanded yet.")
       .def_readonly("time", &DeviceState::time_s, "Time of the reading (s, time.monotonic() clock).")
+      .def_property_readonly(
+          "orientation",
+          [](const DeviceState& s) -> py::object {
+            if (!s.has_orientation) return py::none();
+            return py::make_tuple(s.orientation.w, s.orientation.x, s.orientation.y, s.orientation.z);
+          },
+          "The handle's rotation as a unit quaternion (w, x, y, z), or None for a 3-DoF device.")
+      .def_property_readonly("angular_velocity", [](const DeviceState& s) { return vec3Array(s.angular_velocity_rad_s); },
+                             "Angular velocity (rad/s, device frame; zeros for a 3-DoF device).")
       .def("__repr__", [](const DeviceState& s) {
         return "DeviceState(position=(" + std::to_string(s.position_m.x) + ", " + std::to_string(s.position_m.y) +
                ", " + std::to_string(s.position_m.z) + ") m, homed=" + (s.homed ? "True" : "False") + ")";
@@ -246,14 +256,23 @@ session on it fails to start; close() still stops it (the session then fails wit
       m, "HostDevice", "A handle whose pose the host pushes each frame; made by host_device().")
       .def(
           "push_pose",
-          [](haptics::HostDevice& d, const Vec3& position, std::optional<double> time) {
-            if (time) d.pushPose(toVec3(position), *time);
-            else d.pushPose(toVec3(position));
+          [](haptics::HostDevice& d, const Vec3& position, std::optional<double> time,
+             std::optional<std::array<float, 4>> orientation) {
+            const double t = time ? *time : haptics::monotonicNowS();
+            if (orientation) {
+              const auto& q = *orientation;
+              d.pushPose(toVec3(position), glm::quat(q[0], q[1], q[2], q[3]), t);
+            } else {
+              d.pushPose(toVec3(position), t);
+            }
           },
-          py::arg("position"), py::arg("time") = py::none(),
+          py::arg("position"), py::arg("time") = py::none(), py::arg("orientation") = py::none(),
+          py::call_guard<py::gil_scoped_release>(),
           "Set the handle's position (m, device frame) sampled at `time` (s, increasing; default now\n"
-          "on time.monotonic()). The velocity is estimated from successive pushes. Never blocks the\n"
-          "haptic thread.")
+          "on time.monotonic()). The velocity is estimated from successive pushes. orientation: None\n"
+          "(a 3-DoF handle) or the rotation as a quaternion (w, x, y, z), normalised here: the\n"
+          "session's probe then turns with it (its scale stays the one it started with) and its\n"
+          "angular velocity is estimated from successive pushes. Never blocks the haptic thread.")
       .def_property_readonly("pushes", &haptics::HostDevice::pushes, "Poses pushed so far.")
       .def("state_after", &haptics::HostDevice::stateAfter, py::arg("elapsed"),
            "The DeviceState `elapsed` seconds after the latest push arrived (no clock involved).")

@@ -184,6 +184,10 @@ class DeviceState:
     def homed(self) -> bool: ...
     @property
     def time(self) -> float: ...  # s
+    @property
+    def orientation(self) -> Optional[Tuple[float, float, float, float]]: ...  # (w, x, y, z); None: 3-DoF
+    @property
+    def angular_velocity(self) -> npt.NDArray[np.float32]: ...  # rad/s, device frame
 
 class Device:
     def info(self) -> DeviceInfo: ...
@@ -203,7 +207,12 @@ class ScriptedDevice(Device):
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
 class HostDevice(Device):
-    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...  # |coordinate| <= 1e6 m
+    def push_pose(
+        self,
+        position: Vec3,  # m, |coordinate| <= 1e6
+        time: Optional[float] = None,  # s, increasing
+        orientation: Optional[Tuple[float, float, float, float]] = None,  # quaternion (w, x, y, z)
+    ) -> None: ...
     @property
     def pushes(self) -> int: ...
     def state_after(self, elapsed: float) -> DeviceState: ...  # elapsed not NaN (s)
