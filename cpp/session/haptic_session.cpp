@@ -421,6 +421,7 @@ HapticSessionStats HapticSession::stats() const {
   st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
   st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
   st.snapshots = snapshots_.load(std::memory_order_relaxed);
+  st.stale_after_s = loop_.latest().stale_after_s;
   st.force_gain = s_.loop.pipeline.map.force_gain;
   st.force_gain_reason = s_.force_gain_reason;
   st.error = error();

@@ -79,6 +79,7 @@ struct HapticSessionStats {
   double sim_step_ms = 0.0;        // host time of the latest step, ms
   double sim_dt_s = 0.0;           // time step of the latest step, s
   std::uint64_t snapshots = 0;     // field snapshots published
+  double stale_after_s = 0.0;      // age at which the latest force starts fading (safety stage), s
   float force_gain = 0.0f;         // device N per fluid N in use
   std::string force_gain_reason;   // how it was chosen
   std::string error;               // "" or the first error

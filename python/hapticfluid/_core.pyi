@@ -243,7 +243,9 @@ class HapticSession:
         max_force: Optional[float] = None,  # N
         slew_rate: float = 200.0,  # N/s, >= max_force / 2 s (stop() winds down at it)
         ramp_time: float = 2.0,  # s
-        stale_after: float = 0.1,  # s, at most 10
+        stale_after: float = 0.1,  # s, at most 10: the least age at which a force fades
+        stale_periods: float = 3.0,  # measured simulation periods before a force is stale, 1..100
+        stale_after_max: float = 3.0,  # s, (0, 10]: a stalled simulation's force fades by then
         fade_time: float = 0.2,  # s, at most 10
         rate: float = 1000.0,  # Hz
         sim_dt: float = 0.0,  # s; 0 = real time
