@@ -93,6 +93,22 @@ def simulated_falcon_moves_the_probe():
     check(tuple(session.latest_force) == (0.0, 0.0, 0.0), "the force went to zero")
 
 
+def simulated_hand_sweeps_the_probe():
+    """Hand Gesture 'Sweep': the simulated hand moves the grip back and forth along x after
+    homing, and the probe object follows it across the domain."""
+    scene, _domain, probe = new_scene(probe_at=(0.5, 0.5, 0.5))
+    live = scene.hapticfluid_live
+    live.device = "SIMULATED_FALCON"
+    live.hand_gesture = "SWEEP"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    xs = []
+    run_for_seconds(run, 4.5, each=lambda: xs.append(probe.matrix_world.translation.x))
+    live_ops.stop_all()
+    # +-0.025 m of the Falcon's workspace mapped onto the 1 m domain (uniform fit): about +-0.3 m.
+    check(max(xs) > 0.7 and min(xs) < 0.3, f"the probe sweeps across the domain: x {min(xs):.3f} .. {max(xs):.3f} m")
+
+
 class RecordingDrawer:
     """Stands in for live_draw.LiveDrawer (which does nothing in --background): keeps the calls."""
 
@@ -482,6 +498,7 @@ def measure():
 def main():
     register_twice()
     simulated_falcon_moves_the_probe()
+    simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()
     mouse_turns_a_mesh_probe_and_record_keys_the_rotation()

@@ -23,6 +23,17 @@ def _engine_defaults():
 _DEFAULTS = _engine_defaults()
 
 
+def _gesture_items():
+    """The simulated hand's gestures (hapticfluid.hand_gestures): (IDENTIFIER, Name, description)."""
+    try:
+        from hapticfluid import hand_gestures
+
+        described = hand_gestures.DESCRIPTIONS
+    except ImportError:
+        described = {"rest": "The hand rests at the middle of the workspace"}
+    return tuple((name.upper(), name.capitalize(), text) for name, text in described.items())
+
+
 def _default(name):
     return {"default": _DEFAULTS[name]} if _DEFAULTS.get(name) is not None else {}
 
@@ -78,6 +89,9 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     prediction: BoolProperty(name="Prediction",
                              description="Update the force between simulation frames with a fitted drag model",
                              **_default("prediction"))
+    hand_gesture: EnumProperty(name="Hand Gesture", items=_gesture_items(), default="REST",
+                               description="What the simulated hand does with the Simulated Falcon's grip after "
+                                           "homing (the probe follows it)")
     firmware_path: StringProperty(name="Falcon Firmware", subtype="FILE_PATH", default="",
                                   description="Novint's firmware file (nvent_firmware.bin), uploaded when the Falcon "
                                               "runs none (after power-on); empty: it must already run")

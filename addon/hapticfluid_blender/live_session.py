@@ -55,6 +55,7 @@ class LivePlan:
     max_force: float                   # N
     firmware: Optional[str] = None
     show_temperature: bool = False
+    hand_gesture: str = "rest"         # the simulated Falcon's hand (hapticfluid.hand_gestures)
 
 
 @dataclass
@@ -134,7 +135,7 @@ def read_plan(scene) -> LivePlan:
         source=blender_scene.source_dict(bake), probe_shape=shape,
         probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
         auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
-        firmware=firmware, show_temperature=live.show_temperature)
+        firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower())
 
 
 def _box_text(lo, hi) -> str:
@@ -218,7 +219,9 @@ class _Engine:
         if plan.mode in HOST_MODES:
             return hf.host_device(max_force=plan.max_force)
         if plan.mode == "SIMULATED_FALCON":
-            return hf.open_simulated_falcon(max_force=plan.max_force)
+            from hapticfluid import hand_gestures
+
+            return hf.open_simulated_falcon(max_force=plan.max_force, **hand_gestures.falcon_args(plan.hand_gesture))
         try:
             # No homing wait: the session commands no force until the user has homed it.
             return hf.open_falcon(firmware=plan.firmware, home=False, max_force=plan.max_force)

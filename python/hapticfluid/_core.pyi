@@ -307,4 +307,6 @@ def open_simulated_falcon(
     hand_stiffness: float = 300.0,  # N/m
     hand_damping: float = 12.0,  # N s/m
     unplug_after: Optional[int] = None,  # packets
+    hand_path: Optional[Sequence[Tuple[float, float, float, float]]] = None,  # (t s, x, y, z m) after homing
+    hand_loop: bool = False,
 ) -> FalconDevice: ...
