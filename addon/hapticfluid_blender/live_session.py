@@ -375,6 +375,12 @@ class LiveController:
         if self.drawer is not None:
             self.drawer.set_domain(self.plan.domain_lo, self.plan.domain_hi)
             self.drawer.set_workspace_box(*(self.engine.workspace_box or (None, None)))
+            self.drawer.set_probe(self.plan.probe_shape)  # the smoke's rays stop at the probe
+            self.drawer.set_probe_matrix([list(row) for row in self.probe.matrix_world])
+        # The smoke is drawn inside the domain and hidden by anything in front of it (the scene's
+        # depth): a solid domain would hide it all, so it is drawn as wire, as the bake does.
+        if self.domain.display_type in ("SOLID", "TEXTURED"):
+            self.domain.display_type = "WIRE"
 
     def _lost_object(self) -> Optional[str]:
         for obj, name, role in ((self.probe, self.probe_name, "probe"), (self.domain, self.domain_name, "domain")):
@@ -421,6 +427,7 @@ class LiveController:
                 self._display = display
                 self.drawer.set_display(*display)
             self.force_origin = tuple(self.probe.matrix_world.translation)
+            self.drawer.set_probe_matrix([list(row) for row in self.probe.matrix_world])
             self.drawer.set_force(self.force_origin, self.hand_force_world(latest), self.plan.max_force)
 
     def hand_force_world(self, latest) -> Tuple[float, float, float]:
