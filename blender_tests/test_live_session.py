@@ -2,9 +2,11 @@
 
 Modal operators get no events in --background, so this drives the controller and the operator
 helpers (live_ops.start / tick / stop_all) directly: register and unregister twice; a session on
-the simulated Falcon moves the probe object to the device pose; in Mouse mode moving the object
-moves the probe (the fluid force opposes the motion, so it changes sign with the direction);
-Record keys the performed poses (replacing keys in that range); every bad setup gives a report
+the simulated Falcon moves the probe object to the device pose (and its scripted hand, Hand
+Gesture Sweep, sweeps it across the domain); in Mouse mode moving the object moves the probe (the
+fluid force opposes the motion, so it changes sign with the direction) and turning it turns the
+fluid's probe (the bake's pose: the same cells); Record keys the performed poses, location and
+rotation in the object's rotation mode (replacing keys in that range); every bad setup gives a report
 that starts with the fix; disabling the add-on, read_homefile and open_mainfile during a session
 stop it. Measures (prints, never asserts) simulation Hz, haptic Hz and latency at 32^3 and 48^3.
 Any failure raises, so Blender exits 1."""
