@@ -233,7 +233,10 @@ def _ray_info(name):
     info.vertex_in(0, 'VEC3', "pos")
     info.vertex_out(iface)
     info.fragment_out(0, 'VEC4', "FragColor")
-    if hasattr(info, "depth_write"):  # Blender 4.x+ declares a fragment depth write (3.4: plain GLSL)
+    # gl_FragDepth is written as plain GLSL: Blender's Python create-info has no depth-write
+    # declaration up to 5.x (taken if a later one offers it). 208 bytes of push constants: above
+    # Vulkan's guaranteed 128, which Blender 4.x+ prints a note about and serves from a buffer.
+    if hasattr(info, "depth_write"):
         info.depth_write('ANY')
     info.define("DEPTH_BIAS_M", f"{DEPTH_BIAS_M:.6f}")
     return info
