@@ -128,13 +128,26 @@ def key_locations(obj, keys):
         obj.keyframe_insert("location", frame=frame)
 
 
+def settings(scene=None):
+    """The scene's roles and settings as the add-on reads them (roles.settings_of): ``domain``,
+    ``probe``, ``source`` are the objects holding the roles (assigning moves a role), the other
+    names the settings of the role that owns them."""
+    from hapticfluid_blender import roles
+
+    return roles.settings_of(scene or bpy.context.scene)
+
+
 def set_roles(scene, domain, probe, source=None):
-    """Give the objects their hapticfluid roles (the bake and the live session read the same)."""
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe = domain, probe
-    if source is not None:
-        bake.source = source
-    return bake
+    """Give the objects their hapticfluid roles, as the Physics tab stores them (each object's
+    ``hapticfluid.role``, one object per role); returns ``settings(scene)``."""
+    from hapticfluid_blender import roles
+
+    for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):
+        if obj is not None:
+            roles.assign(scene, role, obj)  # taken from another object that had it
+            if obj.hapticfluid.role != role:
+                raise AssertionError(f"'{obj.name}' did not get the {role} role")
+    return settings(scene)
 
 
 def bake_scene(cache_dir, resolution=24, frames=(1, 4), substeps=1, probe_radius=0.12,

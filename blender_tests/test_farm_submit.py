@@ -10,7 +10,7 @@ import tempfile
 
 import bpy
 
-from support import empty_file, check, cube, key_locations, set_roles, uv_sphere
+from support import empty_file, check, cube, key_locations, set_roles, settings, uv_sphere
 
 import hapticfluid_blender  # noqa: E402
 
@@ -51,11 +51,11 @@ def main():
 
         refused("Set the Shared Root")  # empty by default
         farm.shared_root = root
-        scene.hapticfluid_bake.cache_dir = os.path.join(tmp, "local_cache")
+        settings(scene).cache_dir = os.path.join(tmp, "local_cache")
         refused("Choose a Cache Folder under the shared root")
         check(not os.path.exists(farm.job_dir), "nothing written when refused")
 
-        scene.hapticfluid_bake.cache_dir = os.path.join(root, "caches", "shot")
+        settings(scene).cache_dir = os.path.join(root, "caches", "shot")
         result = bpy.ops.hapticfluid.write_farm_job()
         check(result == {"FINISHED"}, f"Write Farm Job finished ({result})")
         job = farm.job_dir
@@ -71,10 +71,10 @@ def main():
                          "OutputDir": "renders/shot", "Resolution": 16, "Frames": "1-4", "ChunkSize": 3},
               f"OpenJD values relative to the shared root: {values}")
         with open(os.path.join(job, "flamenco_job.json"), encoding="utf-8") as f:
-            settings = json.load(f)["settings"]
-        check((settings["shared_root"], settings["scene_file"], settings["cache_dir"], settings["output_dir"])
+            flamenco = json.load(f)["settings"]
+        check((flamenco["shared_root"], flamenco["scene_file"], flamenco["cache_dir"], flamenco["output_dir"])
               == (root, "jobs/shot/hapticfluid_scene.json", "caches/shot", "renders/shot"),
-              f"Flamenco settings relative to the shared root: {settings}")
+              f"Flamenco settings relative to the shared root: {flamenco}")
         check(farm.submit_command.startswith(f"cd {root} && openjd run jobs/shot/template.yaml -p file://jobs/shot/parameters.json"),
               f"the submit command is shown: {farm.submit_command}")
 

@@ -10,7 +10,7 @@ import time
 import bpy
 
 from support import (check, clear_objects, cube, drive, fail, finish, frames_on_disk as frames_in, invoke,
-                     key_locations, remove_on_exit, set_roles, uv_sphere)
+                     key_locations, remove_on_exit, set_roles, settings, uv_sphere)
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 
@@ -36,7 +36,7 @@ def frames_on_disk():
 
 
 def step():
-    s = bpy.context.scene.hapticfluid_bake
+    s = settings()
     phase = state["phase"]
     if phase == "start":
         check(invoke(bpy.ops.hapticfluid.bake) == {"RUNNING_MODAL"}, "Bake invoked from the UI runs modal")
@@ -79,4 +79,4 @@ def step():
 
 
 setup()
-drive(step, 240, lambda: f"in phase {state['phase']} (status: {bpy.context.scene.hapticfluid_bake.status})")
+drive(step, 240, lambda: f"in phase {state['phase']} (status: {settings().status})")

@@ -9,7 +9,7 @@ import time
 
 import bpy
 
-from support import check, cube, drive, fail, invoke, region, set_roles, uv_sphere, window
+from support import check, cube, drive, fail, invoke, region, set_roles, settings, uv_sphere, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops  # noqa: E402
@@ -84,7 +84,7 @@ def step():
         if len(recording.samples) >= 5:  # ticks are slow while Xvfb's llvmpipe redraws: count samples
             n = len(recording.samples)
             check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record again ends it")
-            probe = scene.hapticfluid_bake.probe
+            probe = settings(scene).probe
             from hapticfluid_blender import live_session
 
             fc = live_session.object_fcurves(probe).find("location", index=0)
