@@ -4,7 +4,9 @@ workspace box. Screenshots of the window before and after set_density/set_force 
 the domain's projected screen region (computed from its 8 corners) and along the arrow's
 projected segment. The PNGs are kept in <source>/out/live_draw*.png (HAPTICFLUID_SOURCE_DIR)
 to be looked at. Also checks: one texture upload per new array, gpu.state restored after the
-callback, remove() idempotent; prints the redraw rate at 32^3 and 64^3.
+callback, remove() idempotent; the smoke respects the scene's depth: a probe in front of the plume
+stays unveiled, one behind it is veiled by the smoke in front (live_draw_probe_*.png); prints the
+redraw rate at 32^3 and 64^3.
 Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
 
 import math
@@ -95,6 +97,25 @@ def project(point):
     _, area, region = view3d()
     xy = location_3d_to_region_2d(region, area.spaces.active.region_3d, point)
     return None if xy is None else (region.x + xy.x, region.y + xy.y)  # window pixels, origin bottom-left
+
+
+def place_probe(side):
+    """The probe sphere 0.22 m from the plume's axis towards the eye (side +1) or away from it (-1),
+    at mid height; the drawer told where it is, so the smoke's rays stop there."""
+    from mathutils import Vector
+
+    _, area, _ = view3d()
+    eye = area.spaces.active.region_3d.view_matrix.inverted().translation
+    axis = Vector((0.5, 0.5, 0.45))
+    towards = (eye - axis)
+    towards.z = 0.0
+    at = axis + side * 0.22 * towards.normalized()
+    probe = bpy.data.objects["Probe"]
+    probe.location = at
+    bpy.context.view_layer.update()
+    state["probe_at"] = tuple(at)
+    drawer.set_probe({"shape": "sphere", "radius": 0.08})
+    drawer.set_probe_matrix([list(row) for row in probe.matrix_world])
 
 
 def smoke_checks(before, after):
@@ -284,8 +305,42 @@ def step():
         red_minus_blue = float((base[:, :, 0] - base[:, :, 2]).mean())
         check(red_minus_blue > 0.1, f"show_temperature tints the hot column warm (red - blue = {red_minus_blue:.2f})")
         drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, False)
-        state["fps_results"] = []
-        measure_fps(*FPS_PLAN[0])
+        density, _ = plume(32)
+        drawer.set_density(density)
+        place_probe(+1.0)
+        state.update(phase="probe_base", wait_frames=drawer.frames_drawn + 3, side=+1.0, probe_results={})
+    elif phase == "probe_base":  # the probe without smoke: what it looks like unveiled
+        drawer.set_display(0.0, False)
+        state.update(phase="probe_empty", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "probe_empty":
+        side = state["side"]
+        state["probe_base_img"] = screenshot(f"live_draw_probe_{'front' if side > 0 else 'behind'}_empty.png")
+        drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, False)
+        state.update(phase="probe_smoke", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "probe_smoke":
+        side = state["side"]
+        name = "front" if side > 0 else "behind"
+        img = screenshot(f"live_draw_probe_{name}.png")
+        x, y = project(state["probe_at"])
+        patch = (slice(int(y) - 5, int(y) + 6), slice(int(x) - 5, int(x) + 6))
+        veil = float(np.abs(img[patch] - state["probe_base_img"][patch]).max(axis=2).mean())
+        state["probe_results"][name] = veil
+        print(f"probe {name} of the plume: smoke changes its pixels by {veil:.3f}", flush=True)
+        if side > 0:
+            check(veil < 0.04, f"the probe in front of the plume stays visible, not drawn over ({veil:.3f})")
+            place_probe(-1.0)
+            state.update(phase="probe_base", wait_frames=drawer.frames_drawn + 3, side=-1.0)
+        else:
+            check(veil > 0.1, f"the probe behind the plume is veiled by the smoke in front of it ({veil:.3f})")
+            px, py = project((0.5, 0.5, 0.3))
+            column = float(np.abs(img[int(py) - 4:int(py) + 5, int(px) - 4:int(px) + 5]
+                                  - state["before"][int(py) - 4:int(py) + 5, int(px) - 4:int(px) + 5]).max(axis=2).mean())
+            check(column > SMOKE_DIFF, f"the plume beside the probe is still drawn ({column:.3f})")
+            bpy.data.objects["Probe"].location = PROBE
+            bpy.context.view_layer.update()
+            drawer.set_probe(None)
+            state["fps_results"] = []
+            measure_fps(*FPS_PLAN[0])
     elif phase == "fps":
         n, seconds, every, frames0, uploads0, t0, density = state["fps"]
         if every:

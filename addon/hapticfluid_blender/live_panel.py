@@ -91,9 +91,11 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
         narrow_label_row(col, live, "device", "Device")
         if live.device == "FALCON":
             narrow_label_row(col, live, "firmware_path", "Firmware")
+        if live.device == "SIMULATED_FALCON":
+            narrow_label_row(col, live, "hand_gesture", "Hand")
         if live.device in ("MOUSE", "TIMELINE") and bake.probe_shape == "MESH":
-            wrapped_label(layout, context, "The probe follows the object's location; its rotation stays as at "
-                                           "Start (see the Device tooltip)", icon="INFO")
+            wrapped_label(layout, context, "The probe follows the object's location and rotation; its scale "
+                                           "stays as at Start (see the Device tooltip)", icon="INFO")
         row = layout.row(align=True)
         row.scale_y = 1.3
         if live.is_running:

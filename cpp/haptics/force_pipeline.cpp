@@ -56,9 +56,11 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.force_n = out.passive_n;
   safe.dt_s = in.dt_s;
   safe.force_age_s = in.have_force ? out.force_age_s : 0.0;
+  safe.sim_rate_hz = in.have_force ? in.force.sim_rate_hz : 0.0;
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  out.stale_after_s = safety_.staleAfter();
   if (!safe.homed || !safe.enabled) filter_.reset();
   return out;
 }

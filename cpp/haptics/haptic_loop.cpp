@@ -148,6 +148,11 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   pose.velocity_m_s = map.velocityToDomain(state.velocity_m_s);
   pose.time_s = now_s;
   pose.homed = state.homed;
+  pose.has_orientation = state.has_orientation;
+  if (state.has_orientation) {
+    pose.orientation = map.orientationToDomain(state.orientation);
+    pose.angular_velocity_rad_s = map.angularVelocityToDomain(state.angular_velocity_rad_s);
+  }
   poses_.write(pose);
 
   TickInput in;

@@ -207,6 +207,10 @@ class DeviceState:
     def homed(self) -> bool: ...
     @property
     def time(self) -> float: ...  # s
+    @property
+    def orientation(self) -> Optional[Tuple[float, float, float, float]]: ...  # (w, x, y, z); None: 3-DoF
+    @property
+    def angular_velocity(self) -> npt.NDArray[np.float32]: ...  # rad/s, device frame
 
 class Device:
     def info(self) -> DeviceInfo: ...
@@ -226,7 +230,12 @@ class ScriptedDevice(Device):
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
 class HostDevice(Device):
-    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...  # |coordinate| <= 1e6 m
+    def push_pose(
+        self,
+        position: Vec3,  # m, |coordinate| <= 1e6
+        time: Optional[float] = None,  # s, increasing
+        orientation: Optional[Tuple[float, float, float, float]] = None,  # quaternion (w, x, y, z)
+    ) -> None: ...
     @property
     def pushes(self) -> int: ...
     def state_after(self, elapsed: float) -> DeviceState: ...  # elapsed not NaN (s)
@@ -257,7 +266,9 @@ class HapticSession:
         max_force: Optional[float] = None,  # N
         slew_rate: float = 200.0,  # N/s, >= max_force / 2 s (stop() winds down at it)
         ramp_time: float = 2.0,  # s
-        stale_after: float = 0.1,  # s, at most 10
+        stale_after: float = 0.1,  # s, at most 10: the least age at which a force fades
+        stale_periods: float = 3.0,  # measured simulation periods before a force is stale, 1..100
+        stale_after_max: float = 3.0,  # s, (0, 10]: a stalled simulation's force fades by then
         fade_time: float = 0.2,  # s, at most 10
         rate: float = 1000.0,  # Hz
         sim_dt: float = 0.0,  # s; 0 = real time
@@ -319,4 +330,6 @@ def open_simulated_falcon(
     hand_stiffness: float = 300.0,  # N/m
     hand_damping: float = 12.0,  # N s/m
     unplug_after: Optional[int] = None,  # packets
+    hand_path: Optional[Sequence[Tuple[float, float, float, float]]] = None,  # (t s, x, y, z m) after homing
+    hand_loop: bool = False,
 ) -> FalconDevice: ...
