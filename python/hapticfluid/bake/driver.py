@@ -199,6 +199,33 @@ def write_frame(scene: BakeScene, state: Dict[str, Any], frame: int, substeps: i
     return path
 
 
+class _SolverTally:
+    """What the pressure solves of a session reached, for the manifest: the worst relative
+    residual (the solver's own estimate; tolerance mode only), the iterations, and how many
+    steps stopped at the iteration cap above the tolerance."""
+
+    def __init__(self) -> None:
+        self.steps = 0
+        self.iterations = 0
+        self.max_iterations = 0
+        self.unconverged = 0
+        self.worst: Optional[float] = None
+
+    def add(self, report: "hf.StepReport") -> None:
+        self.steps += 1
+        self.iterations += int(report.pressure_iterations)
+        self.max_iterations = max(self.max_iterations, int(report.pressure_iterations))
+        if not report.converged:
+            self.unconverged += 1
+        if report.relative_residual >= 0.0:  # -1: fixed iteration count, nothing measured
+            self.worst = max(self.worst or 0.0, float(report.relative_residual))
+
+    def record(self) -> Dict[str, Any]:
+        return {"steps": self.steps, "mean_iterations": self.iterations / self.steps if self.steps else 0.0,
+                "max_iterations": self.max_iterations, "unconverged_steps": self.unconverged,
+                "max_relative_residual": self.worst}
+
+
 def _cancel_check(cancel: CancelCheck) -> Callable[[], bool]:
     if cancel is None:
         return lambda: False
@@ -296,6 +323,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     t0 = time.perf_counter()
     written = 0
     status = "finished"
+    solver = _SolverTally()
     with make_simulation(scene) as sim:
         session["device"] = sim.device.get("renderer")
         # a bad pose fails here, and a cancel returns here, before the old bake is freed
@@ -324,7 +352,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                     break
                 if scene.probe is not None:
                     _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
-                sim.step(dt)
+                solver.add(sim.step(dt))
                 if progress is not None:
                     progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
             if status == "cancelled":
@@ -341,6 +369,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
             manifest["complete"] = frame == scene.frame_end
             session["frames"] = written
             session["seconds"] = time.perf_counter() - t0
+            session["pressure"] = solver.record()
             _cache.write_manifest(cache_dir, manifest)
             done = _progress(scene, frame, write_from, written, n, n, t0, True)
             say(f"frame {frame}: {n} substeps, {(time.perf_counter() - frame_t0):.2f} s; "
