@@ -119,3 +119,68 @@ def test_a_write_error_mid_bake_is_the_bakes_error_and_resume_gives_the_same_bit
     assert sorted(state) == sorted(expected)
     for name, value in expected.items():
         np.testing.assert_array_equal(state[name], value, err_msg=name)
+
+
+def _state(rng):
+    def field(shape):
+        return np.asfortranarray(rng.standard_normal(shape).astype(np.float32))  # as Simulation.state()
+
+    return {"velocity_x": field((7, 6, 5)), "velocity_y": field((6, 7, 5)), "velocity_z": field((6, 6, 6)),
+            "density": field((6, 6, 5)), "pressure": field((6, 6, 5)), "time": 0.25, "steps": 6}
+
+
+def test_the_checkpoint_is_hashed_as_written_and_read_back_exactly(tmp_path):
+    import hashlib
+    import json
+    import zipfile
+
+    from hapticfluid.bake.cache import checkpoint_path, load_checkpoint, save_checkpoint
+
+    state = _state(np.random.default_rng(1))
+    (tmp_path / "checkpoint").mkdir()
+    save_checkpoint(tmp_path, 3, state, {"a": 1})
+    with zipfile.ZipFile(checkpoint_path(tmp_path)) as z:
+        assert z.namelist()[-1] == "meta.npy"  # the digests are known only after the arrays
+        meta = json.loads(np.load(z.open("meta.npy")).tobytes())
+    assert meta["format"] == 2
+    for name in ("velocity_x", "density"):
+        info = meta["arrays"][name]
+        # the digest of the array's bytes in its own (Fortran) memory order: what the member holds
+        assert info["order"] == "F"
+        assert info["sha256"] == hashlib.sha256(state[name].tobytes(order="F")).hexdigest()
+    frame, back = load_checkpoint(tmp_path, {"a": 1})
+    assert frame == 3 and back["time"] == 0.25 and back["steps"] == 6
+    for name, value in state.items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(back[name], value, err_msg=name)
+            assert back[name].flags.f_contiguous
+
+
+def test_a_format_1_checkpoint_still_resumes(tmp_path):
+    """Format 1 (before the writer thread): C-order copies, digests of the C-order bytes."""
+    import hashlib
+    import json
+
+    from hapticfluid.bake.cache import checkpoint_path, load_checkpoint, settings_digest
+
+    state = _state(np.random.default_rng(2))
+    arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
+    meta = {"format": 1, "frame": 2, "scalars": {"time": 0.25, "steps": 6},
+            "settings_sha256": settings_digest({"a": 1}), "settings": {"a": 1},
+            "arrays": {k: {"sha256": hashlib.sha256(np.ascontiguousarray(a)).hexdigest(), "shape": list(a.shape),
+                           "dtype": str(a.dtype), "fortran": True} for k, a in arrays.items()}}
+    (tmp_path / "checkpoint").mkdir()
+    with open(checkpoint_path(tmp_path), "wb") as f:
+        np.savez(f, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8),
+                 **{k: np.ascontiguousarray(a) for k, a in arrays.items()})
+    frame, back = load_checkpoint(tmp_path, {"a": 1})
+    assert frame == 2
+    for name, value in arrays.items():
+        np.testing.assert_array_equal(back[name], value, err_msg=name)
+    # and a damaged format-1 array is still refused
+    arrays["density"][0, 0, 0] += 1.0
+    with open(checkpoint_path(tmp_path), "wb") as f:
+        np.savez(f, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8),
+                 **{k: np.ascontiguousarray(a) for k, a in arrays.items()})
+    with pytest.raises(BakeError, match="'density' does not match its checksum"):
+        load_checkpoint(tmp_path, {"a": 1})
