@@ -11,6 +11,11 @@ frame on both sides), ``FRAMES`` frames at ``FPS``, one step per frame; the engi
 solve is multigrid-preconditioned CG to a relative residual of ``TOLERANCE`` every step (the
 bake's manifest records the worst residual each session reached, checked here).
 
+Before/after: with ``HAPTICFLUID_BENCH_BASELINE`` set to a folder holding another build of the
+``hapticfluid`` package (e.g. one made from an earlier commit), every round also runs that
+build's bake command, right after this one's, as a third row ("baseline"): a change's effect
+measured side by side on a machine whose speed drifts.
+
 Run alone: ``python3 -m hapticfluid.bench.mantaflow_bake [--quick] [--json PATH]``.
 """
 
@@ -38,6 +43,7 @@ TOLERANCE = 1e-3  # relative residual of every step's pressure solve
 MAX_ITERATIONS = 50  # CG iterations per solve at most (the solve stops at TOLERANCE first)
 GRIDS = ("density", "velocity")
 BAKE_TIMEOUT_S = 1800
+BASELINE_ENV = "HAPTICFLUID_BENCH_BASELINE"  # folder whose hapticfluid package is the baseline build
 
 
 def bench_scene(resolution_max: int) -> BenchScene:
@@ -75,17 +81,22 @@ def _file_gaps_ms(paths: List[Path]) -> List[float]:
     return [(b - a) * 1000.0 for a, b in zip(times, times[1:])]
 
 
-def run_bake_command(scene: BenchScene, frames: int, workdir: Path) -> Dict[str, object]:
-    """``python3 -m hapticfluid bake`` on the scene in a child process: wall and CPU seconds of
-    the whole command, the gaps between its frame files, and the manifest's solver figures."""
+def run_bake_command(scene: BenchScene, frames: int, workdir: Path,
+                     package_dir: Optional[str] = None) -> Dict[str, object]:
+    """``python3 -m hapticfluid bake`` on the scene in a child process (the package on this
+    interpreter's path, or the one in ``package_dir``): wall and CPU seconds of the whole
+    command, the gaps between its frame files, and the manifest's solver figures."""
     cache = workdir / "cache"
     scene_path = workdir / "scene.json"
     scene_path.write_text(json.dumps(bake_scene_dict(scene, frames, cache)), encoding="utf-8")
     cmd = [sys.executable, "-m", "hapticfluid", "bake", str(scene_path), "--quiet"]
+    env = dict(os.environ)
+    if package_dir:
+        env["PYTHONPATH"] = os.pathsep.join([package_dir, env.get("PYTHONPATH", "")])
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=BAKE_TIMEOUT_S, env=dict(os.environ))
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=BAKE_TIMEOUT_S, env=env)
     except subprocess.TimeoutExpired:
         raise hf.HapticFluidError(f"the bake command took longer than {BAKE_TIMEOUT_S} s") from None
     total_s = time.perf_counter() - t0
@@ -111,27 +122,32 @@ def run_bake_command(scene: BenchScene, frames: int, workdir: Path) -> Dict[str,
 
 
 def _rows(round_label, scene: BenchScene, frames: int, manta: Dict[str, object],
-          ours: Dict[str, object]) -> List[list]:
+          runs: Dict[str, Dict[str, object]]) -> List[list]:
     manta_ms = manta["bake_s"] * 1000.0 / frames
     times = [t for _, t in manta["frame_files"]]
     gaps = [(b - a) * 1000.0 for a, b in zip(times, times[1:])]
     manta_steady = report.median(gaps) if gaps else None
     manta_cpu = manta["bake_cpu_s"] * 1000.0 / frames
-    ours_ms = ours["total_s"] * 1000.0 / frames
-    ours_steady = report.median(ours["gaps_ms"]) if ours["gaps_ms"] else None
-    ours_cpu = ours["cpu_s"] * 1000.0 / frames
-    steady_ratio = manta_steady / ours_steady if manta_steady and ours_steady else None
-    return [[round_label, f"Mantaflow (Blender {manta['blender_version']})", scene.label, frames, 1,
-             manta["bake_s"], manta_ms, manta_steady, manta_cpu, 1.0, 1.0 if manta_steady else None, 1.0],
-            [round_label, f"hapticfluid bake command (multigrid to {TOLERANCE:g})", scene.label, frames, 1,
-             ours["total_s"], ours_ms, ours_steady, ours_cpu, manta_ms / ours_ms, steady_ratio,
-             manta_cpu / ours_cpu]]
+    rows = [[round_label, f"Mantaflow (Blender {manta['blender_version']})", scene.label, frames, 1,
+             manta["bake_s"], manta_ms, manta_steady, manta_cpu, 1.0, 1.0 if manta_steady else None, 1.0]]
+    for label, ours in runs.items():
+        ours_ms = ours["total_s"] * 1000.0 / frames
+        ours_steady = report.median(ours["gaps_ms"]) if ours["gaps_ms"] else None
+        ours_cpu = ours["cpu_s"] * 1000.0 / frames
+        steady_ratio = manta_steady / ours_steady if manta_steady and ours_steady else None
+        rows.append([round_label, label, scene.label, frames, 1, ours["total_s"], ours_ms, ours_steady, ours_cpu,
+                     manta_ms / ours_ms, steady_ratio, manta_cpu / ours_cpu])
+    return rows
 
 
 def run(quick: bool = False, log=report.progress) -> dict:
     cfg = QUICK if quick else FULL
     res_max, frames, n_rounds = cfg["resolution_max"], cfg["frames"], cfg["rounds"]
     scene = bench_scene(res_max)
+    baseline = os.environ.get(BASELINE_ENV) or None
+    builds = {f"hapticfluid bake command (multigrid to {TOLERANCE:g})": None}
+    if baseline:
+        builds[f"baseline: {baseline}"] = baseline
     rounds: List[List[list]] = []
     residuals: List[float] = []
     iterations: List[float] = []
@@ -144,13 +160,21 @@ def run(quick: bool = False, log=report.progress) -> dict:
             manta = mantaflow.run_mantaflow(scene, res_max, frames, Path(tmp), fps=FPS, open_top=False)
         if manta["grid"] is not None and tuple(manta["grid"]) != scene.resolution:
             raise hf.HapticFluidError(f"Mantaflow's grid is {manta['grid']}, expected {scene.resolution}")
-        with tempfile.TemporaryDirectory(prefix="hf-bench-bake-command-") as tmp:
-            if log:
-                log(f"mantaflow (bake command): round {r}/{n_rounds}: python3 -m hapticfluid bake ...")
-            ours = run_bake_command(scene, frames, Path(tmp))
+        runs: Dict[str, Dict[str, object]] = {}
+        order = list(builds.items())
+        if r % 2 == 0:
+            order.reverse()  # this build and the baseline take turns going first
+        for label, package in order:
+            with tempfile.TemporaryDirectory(prefix="hf-bench-bake-command-") as tmp:
+                if log:
+                    log(f"mantaflow (bake command): round {r}/{n_rounds}: python3 -m hapticfluid bake "
+                        f"({'this build' if package is None else package}) ...")
+                runs[label] = run_bake_command(scene, frames, Path(tmp), package)
+        runs = {label: runs[label] for label in builds}  # rows in a fixed order
+        ours = runs[next(iter(builds))]
         residuals.append(ours["max_relative_residual"])
         iterations.append(ours["mean_iterations"])
-        rounds.append(_rows(r, scene, frames, manta, ours))
+        rounds.append(_rows(r, scene, frames, manta, runs))
     rows = [row for round_rows in rounds for row in round_rows] + mantaflow.median_rows(rounds)
     notes = [
         f"the bake as a user runs it: `python3 -m hapticfluid bake scene.json` in a new process (start-up, "
@@ -169,7 +193,8 @@ def run(quick: bool = False, log=report.progress) -> dict:
         "bake operator inside Blender, Blender's own start-up not counted); steady ms/frame: median gap "
         "between consecutive frame files' modification times; CPU: all threads (hapticfluid: the child "
         "process's rusage; Mantaflow: process time around the bake)",
-        f"{n_rounds} rounds, each Mantaflow then hapticfluid; 'median' rows: the median over the rounds of "
+        f"{n_rounds} rounds, each Mantaflow then hapticfluid"
+        + (f" and the baseline build in {baseline} (taking turns going first)" if baseline else "") + "; 'median' rows: the median over the rounds of "
         "each figure, ratios included (the median of the per-round ratios)",
     ]
     return {"title": "Mantaflow (Blender) against the bake command, same scene and machine",
