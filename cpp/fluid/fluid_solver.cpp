@@ -195,11 +195,12 @@ void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
   cell_forces_.set("u_confinement", confined ? p.vorticity_confinement : 0.0f);
   cell_forces_.dispatch(grid_.res);
   fields_.cell_force.bindImage(1, GL_READ_ONLY);
-  fields_.vel[0].cur().bindImage(0, GL_READ_WRITE);
-  fields_.vel[1].cur().bindImage(2, GL_READ_WRITE);
-  fields_.vel[2].cur().bindImage(3, GL_READ_WRITE);
   apply_forces_.set("u_dt", dt_s);
-  apply_forces_.dispatch(grid_.res + glm::ivec3(1));  // every face of the three components at once
+  for (int a = 0; a < 3; ++a) {
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    apply_forces_.set("u_axis", a);
+    apply_forces_.dispatch(grid_.faceSize(a));
+  }
 }
 
 void FluidSolver::enforceBoundaries(const FluidParams& p) {
