@@ -6,22 +6,13 @@ arrow's length, cap, tip and winding, the colour ramp, the light's optical depth
 layout of the uploaded field."""
 
 import math
-import os
-import sys
 
 import bpy
 import numpy as np
 from mathutils import Vector
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
-
+from support import check
 from hapticfluid_blender import live_draw, live_draw_geometry as geometry  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def raises(call, word):

@@ -18,31 +18,18 @@ import time
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import check, cube, empty_file, set_roles, settings
 
-import hapticfluid_blender  # noqa: E402
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message, flush=True)
 
 
 def new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1.2):
     """Empty file: a 1 m domain cube with its corner at the origin, a 0.2 m cube probe."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    domain.name = "Domain"
-    bpy.ops.mesh.primitive_cube_add(size=0.2, location=probe_at)
-    probe = bpy.context.active_object
-    probe.name = "Probe"
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe = domain, probe
+    scene = empty_file()
+    domain = cube(1.0, (0.5, 0.5, 0.5), "Domain")
+    probe = cube(0.2, probe_at, "Probe")
+    bake = set_roles(scene, domain, probe)
     bake.fluid_density = fluid_density
     bake.pressure_iterations = 20
     live = scene.hapticfluid_live
@@ -244,7 +231,7 @@ def mouse_moves_the_probe_and_record_keys_it():
 
 def timeline_drives_a_sphere_probe():
     scene, _domain, probe = new_scene(probe_at=(0.3, 0.5, 0.5))
-    scene.hapticfluid_bake.probe_shape = "SPHERE"
+    settings(scene).probe_shape = "SPHERE"
     probe.keyframe_insert("location", frame=1)
     probe.location.x = 0.7
     probe.keyframe_insert("location", frame=20)
@@ -309,8 +296,8 @@ def bad_setups():
             check(text.startswith(first), f"the report starts with the fix '{first}'")
 
     def no_domain(s, d, p):
-        s.hapticfluid_bake.domain = None
-    expect(no_domain, "domain", first="Choose a domain")
+        settings(s).domain = None
+    expect(no_domain, "Domain role", first="Give a mesh the Domain role")
 
     def rotated(s, d, p):
         d.rotation_euler = (0.0, 0.0, 0.3)
@@ -323,17 +310,17 @@ def bad_setups():
     expect(rotation_applied, "axis-aligned box", first="Make the domain")
 
     def no_probe(s, d, p):
-        s.hapticfluid_bake.probe = None
-    expect(no_probe, "probe", first="Choose a probe")
+        settings(s).probe = None
+    expect(no_probe, "Probe role", first="Give an object the Probe role")
 
     def not_a_mesh(s, d, p):
         bpy.ops.object.empty_add(location=(0.5, 0.5, 0.5))
-        s.hapticfluid_bake.probe = bpy.context.active_object
+        settings(s).probe = bpy.context.active_object
     expect(not_a_mesh, "not a mesh", "Sphere shape", first="Choose a mesh object")
 
     def open_mesh(s, d, p):
         bpy.ops.mesh.primitive_monkey_add(size=0.3, location=(0.5, 0.5, 0.5))
-        s.hapticfluid_bake.probe = bpy.context.active_object
+        settings(s).probe = bpy.context.active_object
     expect(open_mesh, "Fill Holes", "Recalculate Outside", first="Close the probe")
 
     def outside(s, d, p):
@@ -399,8 +386,8 @@ def measure():
     for res in (32, 48, 64):
         scene, _domain, probe = new_scene(fluid_density=1.2)
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, location=(0.5, 0.5, 0.15))
-        scene.hapticfluid_bake.source = bpy.context.active_object
-        scene.hapticfluid_bake.pressure_iterations = 40
+        settings(scene).source = bpy.context.active_object
+        settings(scene).pressure_iterations = 40
         scene.hapticfluid_live.resolution = res
         scene.hapticfluid_live.device = "MOUSE"
         run = live_ops.start(scene)

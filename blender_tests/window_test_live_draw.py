@@ -9,9 +9,7 @@ Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out
 
 import math
 import os
-import sys
 import time
-import traceback
 
 import bpy
 import gpu
@@ -19,11 +17,13 @@ import numpy as np
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 from mathutils import Euler
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
+from support import (area, check, clear_objects, cube, drive, on_exit, out_dir, png_rgb, region, screenshot as
+                     screenshot_to, uv_sphere, window)
+
 from hapticfluid_blender import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
 from hapticfluid_blender import live_draw_geometry as geometry  # noqa: E402
 
-OUT = os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "out")
+OUT = out_dir()
 LO, HI = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
 PROBE = (0.33, 0.5, 0.55)
 FORCE = (1.9, 0.5, 1.1)       # N
@@ -34,19 +34,8 @@ FPS_PLAN = ((32, False), (32, True), (64, False), (64, True), (0, False))
 SMOKE_DIFF = 0.06             # a smoke pixel differs from the empty view by this much (0..1 channel)
 state = {"phase": "start", "t0": time.time(), "wait_frames": 0}
 drawer = live_draw.LiveDrawer()
+on_exit(drawer.remove)  # the handler goes when a check fails
 seen_state = {}
-
-
-def fail(message):
-    print("FAILED:", message, flush=True)
-    drawer.remove()
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
 
 
 def plume(n):
@@ -62,22 +51,13 @@ def plume(n):
 
 
 def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return win, area, region
+    return window(), area(), region()
 
 
 def setup():
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    domain.name = "Domain"
-    domain.display_type = "WIRE"
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.08, location=PROBE)
-    bpy.context.active_object.name = "Probe"
+    clear_objects()
+    cube(1.0, (0.5, 0.5, 0.5), "Domain").display_type = "WIRE"
+    uv_sphere(0.08, PROBE, "Probe")
     win, area, region = view3d()
     space = area.spaces.active
     space.overlay.show_floor = True
@@ -108,15 +88,7 @@ def redraw():
 
 
 def screenshot(name):
-    path = os.path.join(OUT, name)
-    win, area, _ = view3d()
-    with bpy.context.temp_override(window=win, area=area):
-        bpy.ops.screen.screenshot(filepath=path)
-    image = bpy.data.images.load(path)
-    w, h = image.size
-    pixels = np.array(image.pixels[:], dtype=np.float32).reshape(h, w, 4)[:, :, :3]  # rows bottom-up
-    bpy.data.images.remove(image)
-    return pixels
+    return png_rgb(screenshot_to(os.path.join(OUT, name)))
 
 
 def project(point):
@@ -219,18 +191,8 @@ def measure_fps(n, upload_every_frame, seconds=3.0):
     state["phase"] = "fps"
 
 
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
-
-
 def step():
     now = time.time()
-    if now - state["t0"] > 420:
-        fail(f"timed out in phase {state['phase']}")
     if drawer.frames_drawn < state["wait_frames"]:  # let the view redraw (slow on a loaded llvmpipe)
         redraw()
         return 0.05
@@ -360,6 +322,5 @@ def step():
     return 0.05
 
 
-os.makedirs(OUT, exist_ok=True)
 bpy.context.preferences.view.show_splash = False  # read before the splash opens; not saved (--factory-startup)
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 420, lambda: f"in phase {state['phase']}")

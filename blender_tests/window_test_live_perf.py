@@ -7,14 +7,13 @@ printed, not asserted (speed belongs to benchmarks); the test fails only if a se
 start, publishes no frames or does not stop. Exits 0 when every check passed, 1 otherwise."""
 
 import os
-import sys
 import time
-import traceback
 
 import bpy
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
-import hapticfluid_blender  # noqa: E402
+from support import check, clear_objects, cube, drive, fail, ico_sphere, invoke, set_roles, uv_sphere
+
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops  # noqa: E402
 
 RESOLUTIONS = (32, 48, 64)
@@ -23,40 +22,17 @@ MEASURE_S = 8.0     # wall seconds counted per resolution
 state = {"phase": "start", "index": 0, "t0": time.time(), "phase_t": time.time(), "rows": []}
 
 
-def fail(message):
-    print("FAILED:", message, flush=True)
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
-
-
 def setup():
     hapticfluid_blender.register()
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
+    scene = clear_objects()
+    domain = cube(1.0, (0.5, 0.5, 0.5))
     domain.display_type = "WIRE"
-    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.08, location=(0.5, 0.5, 0.14))
-    source = bpy.context.active_object
+    source = ico_sphere(0.08, (0.5, 0.5, 0.14))
     source.display_type = "WIRE"
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.08, location=(0.28, 0.5, 0.55))
-    probe = bpy.context.active_object
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe, bake.source = domain, probe, source
+    set_roles(scene, domain, uv_sphere(0.08, (0.28, 0.5, 0.55)), source)
     live = scene.hapticfluid_live
     live.device = "SIMULATED_FALCON"
     live.auto_resolution = False
-
-
-def view3d():
-    win = bpy.context.window_manager.windows[0]
-    return win, max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
 
 
 def next_phase(name):
@@ -64,27 +40,15 @@ def next_phase(name):
     state["phase_t"] = time.time()
 
 
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
-
-
 def step():
     scene = bpy.context.scene
     live = scene.hapticfluid_live
-    if time.time() - state["t0"] > 500:
-        fail(f"timed out in phase {state['phase']} (status: {live.status})")
     phase = state["phase"]
     run = live_ops.run_for(scene)
     if phase == "start":
         res = RESOLUTIONS[state["index"]]
         live.resolution = res
-        win, area = view3d()
-        with bpy.context.temp_override(window=win, area=area):
-            check(bpy.ops.hapticfluid.live_start("INVOKE_DEFAULT") == {"RUNNING_MODAL"}, f"a session starts at {res}^3")
+        check(invoke(bpy.ops.hapticfluid.live_start) == {"RUNNING_MODAL"}, f"a session starts at {res}^3")
         next_phase("warmup")
     elif phase == "warmup":
         if run is None:
@@ -135,4 +99,4 @@ def step():
 
 
 setup()
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 500, lambda: f"in phase {state['phase']} (status: {bpy.context.scene.hapticfluid_live.status})")

@@ -110,8 +110,11 @@ def _mesh_arrays(obj):
 
 def domain_box(settings):
     """The domain's world box (lo, hi), m, after the checks the bake and the live session share."""
+    if settings.problem:  # settings: roles.settings_of(scene); a role held twice (Shift+D copies it)
+        raise SceneError(settings.problem)
     if settings.domain is None:
-        raise SceneError("choose a domain object (its bounding box is the simulated box)")
+        raise SceneError("give a mesh the Domain role (Properties > Physics > hapticfluid): its bounding box is the "
+                         "simulated box, and no object in the scene has that role")
     domain = settings.domain
     is_box_turn, angle = _turn(domain.matrix_world)
     if not is_box_turn:  # a box turned by anything but 90 degrees has a larger world box than itself

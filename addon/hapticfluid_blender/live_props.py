@@ -1,6 +1,7 @@
 """The live session's settings and read-only stats, stored on the scene as ``scene.hapticfluid_live``.
 
-The domain, probe and smoke source are the bake's (``scene.hapticfluid_bake``): one set of roles.
+The domain, probe and smoke source are the objects holding those roles (Physics tab, read through
+``roles.settings_of(scene)``), the same for the bake and the live session.
 Defaults of the haptic settings come from the engine (``hapticfluid.haptic_session_defaults()``),
 so the add-on and the Python API behave alike; without the package the properties register with
 no default (no session can start then, and the panel says why).

@@ -23,7 +23,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import bpy
 
-from . import blender_scene
+from . import blender_scene, roles
 
 log = logging.getLogger(__name__)
 
@@ -85,7 +85,7 @@ def _sentence(text: str) -> str:
 def read_plan(scene) -> LivePlan:
     """Main thread: the scene's roles and settings -> LivePlan, or SessionError (fix first)."""
     _import_hf()  # the first thing to fix if it fails
-    bake = scene.hapticfluid_bake
+    bake = roles.settings_of(scene)
     live = scene.hapticfluid_live
     try:
         lo, hi = blender_scene.domain_box(bake)
@@ -95,7 +95,7 @@ def read_plan(scene) -> LivePlan:
         raise SessionError(f"Give the domain '{bake.domain.name}' a volume: its bounding box is flat")
     probe = bake.probe
     if probe is None:
-        raise SessionError("Choose a probe object (hapticfluid sidebar > Probe): the object that pushes the smoke")
+        raise SessionError(f"Give an object the Probe role ({roles.PHYSICS_PATH}): the object that pushes the smoke")
     if probe.name not in scene.objects:
         raise SessionError(f"Link the probe '{probe.name}' into this scene: it is not in scene '{scene.name}'")
     try:
@@ -282,7 +282,7 @@ class LiveController:
         self.drawer = drawer
         self.clock = clock
         self.plan = read_plan(scene)  # SessionError on a bad setup, before any thread starts
-        bake = scene.hapticfluid_bake
+        bake = roles.settings_of(scene)
         self.probe = bake.probe
         self.domain = bake.domain
         self.probe_name = self.probe.name
