@@ -366,9 +366,8 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
             for w in writer.finished():
                 written += 1
                 done = _progress(scene, w.frame, write_from, written, w.substeps, w.substeps, t0, True)
-                say(f"frame {w.frame}: {w.substeps} substeps, {w.step_s:.2f} s (files written beside the next "
-                    f"frame's steps in {w.write_s:.2f} s); {done.frames_done}/{scene.frame_count} done, "
-                    f"about {done.eta_s:.0f} s left")
+                say(f"frame {w.frame}: {w.substeps} substeps, {w.step_s:.2f} s; files {w.write_s:.2f} s on the writer "
+                    f"thread; {done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
                 if progress is not None:
                     progress(done)
 
