@@ -9,7 +9,7 @@ void PipelineSettings::validate() const {
   safety.validate();
 }
 
-ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), passivity_(s.passivity), safety_(s.safety) { s_.validate(); }
+ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), passivity_(s.passivity, s.safety.slew_rate_n_s), safety_(s.safety) { s_.validate(); }
 
 TickOutput ForcePipeline::tick(const TickInput& in) {
   TickOutput out;

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "common/error.h"
+#include "common/log_sink.h"
 #include "haptics/clock.h"
 #include "haptics/device_claim.h"
 #include "haptics/periodic_clock.h"
@@ -98,7 +98,7 @@ void HapticLoop::run() {
   if (s_.realtime) {
     scheduling_ = requestRealtimePriority(s_.realtime_priority);
     realtime_ = scheduling_.empty();
-    if (!scheduling_.empty()) std::fprintf(stderr, "hapticfluid: warning: %s\n", scheduling_.c_str());
+    if (!scheduling_.empty()) log::warning("hapticfluid.haptics", scheduling_);  // queued: never the GIL here
   } else {
     scheduling_ = "real-time priority not requested (realtime=False); the period may jitter under load";
   }

@@ -434,7 +434,11 @@ session on it fails to start; close() still stops it (the session then fails wit
         "current step.");
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
-  c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
+  c.def("stop", [](HapticSession& s, double timeout) {
+          FlushLogAfter flush;  // what the session's threads queued (hapticfluid.haptics, .fluid, ...)
+          py::gil_scoped_release release;
+          s.stop(timeout);
+        }, py::arg("timeout") = 10.0,
         "Force down to zero at slew_rate (max_force / slew_rate, at most 2 s) and both threads ended: waits at most\n"
         "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
@@ -449,7 +453,10 @@ session on it fails to start; close() still stops it (the session then fails wit
         return e.empty() ? py::object(py::none()) : py::object(py::str(e));
       },
       "The error that ended the session (device gone, solver failure), or None.");
-  c.def("stats", [](const HapticSession& s) { return statsDict(s.stats()); },
+  c.def("stats", [](const HapticSession& s) {
+          FlushLogAfter flush;  // what the session's threads queued so far
+          return statsDict(s.stats());
+        },
         "A dict: state, haptic_rate_hz, period/jitter/latency p50, p99, max and mean (ms), ticks,\n"
         "skipped_periods, force_frames, sim_rate_hz, sim_steps, sim_step_ms, sim_dt (s), stale_after\n"
         "(s: the age at which the latest force starts fading, from the measured simulation rate), realtime,\n"
@@ -545,6 +552,7 @@ session on it fails to start; close() still stops it (the session then fails wit
     return self;
   }, "Starts the session if it has not started.");
   c.def("__exit__", [](HapticSession& s, const py::object& exc_type, const py::object&, const py::object&) {
+    FlushLogAfter flush;
     py::gil_scoped_release release;
     if (!exc_type.is_none()) {
       try {

@@ -212,6 +212,7 @@ All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid ha
           cfg.params.pressure_solver = parsePressureSolver(pressure_solver);
           cfg.params.pressure_tolerance = pressure_tolerance;
           cfg.device = device;
+          FlushLogAfter flush;  // the GL context's note (software renderer)
           py::gil_scoped_release release;
           return std::make_unique<Simulation>(cfg);
         }),
@@ -508,19 +509,14 @@ Raises InvalidArgumentError if there is no mesh source or the pose is refused.
   c.def(
       "step",
       [](Simulation& s, double dt) {
-        session::StepReport r;
-        {
-          py::gil_scoped_release release;
-          r = s.step(dt);
-        }
-        // The simulation's once-only warning goes to Python logging (logger "hapticfluid").
-        if (!r.warning.empty()) py::module_::import("logging").attr("getLogger")("hapticfluid").attr("warning")(r.warning);
-        return r;
+        FlushLogAfter flush;  // the simulation's once-only warning, on logger "hapticfluid.fluid"
+        py::gil_scoped_release release;
+        return s.step(dt);
       },
       py::arg("dt"),
       "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
       "force reduction. Returns a StepReport; blocks until its force is read back. The first step whose\n"
-      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid' (once per simulation).");
+      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid.fluid' (once per simulation).");
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
   c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
         "Fluid at rest, no smoke, time 0; probe and settings kept.");

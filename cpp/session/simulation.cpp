@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/log_sink.h"
 #include "common/finite.h"
 #include "common/format.h"
 #include "fluid/grid_checks.h"
@@ -200,6 +201,7 @@ StepReport Simulation::step(double dt_in_s) {
                 std::to_string(r.pressure_iterations) + " iterations with relative residual " +
                 num(r.relative_residual) + ", above the tolerance " + num(in.params.pressure_tolerance) +
                 " (said once per simulation; StepReport.converged tells every step)";
+    log::warning("hapticfluid.fluid", r.warning);  // any thread (a HapticSession's too): queued
   }
   last_ = r;
   last_rho_g_ = in.rho_g;

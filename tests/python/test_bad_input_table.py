@@ -44,15 +44,7 @@ ALIASES = {"dt": ["time step"], "vertices": ["vertex"], "triangles": ["triangle"
            "times": ["waypoint"], "positions": ["waypoint"]}
 
 # Rows the code does not meet yet: test id -> why. Each is xfail(strict=True), so a fix shows.
-KNOWN_GAPS = {
-    "test_write_vdb_density[empty]": "an empty density grid is refused as 'resolution must be at least 1', "
-                                     "not naming density",
-    "test_scripted_device_from_csv[decreasing]": "ScriptedDevice::fromCsv reports the waypoint order without "
-                                                 "naming the CSV file (cpp/haptics, outside this task)",
-    "test_scene_dict[fluid.fluid_density-0]": "the scene parser passes fluid.fluid_density through unchecked; "
-                                              "the bake fails later, at Simulation(), naming 'fluid density'",
-    "test_scene_dict[fluid.fluid_density-1]": "as fluid.fluid_density-0 (a negative density)",
-}
+KNOWN_GAPS: dict = {}
 
 
 @pytest.fixture(autouse=True)

@@ -448,6 +448,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
             if v not in ("jacobi", "multigrid"):
                 raise _err("fluid.pressure_solver", f"must be 'jacobi' or 'multigrid', got {v!r}")
             fluid[k] = v
+        elif k == "fluid_density":
+            fluid[k] = _number("fluid.fluid_density", v, positive=True)  # kg/m^3
         elif k == "pressure_tolerance":
             fluid[k] = _number("fluid.pressure_tolerance", v, minimum=0.0)
         else:
