@@ -11,7 +11,7 @@ HF_PACKAGES=(
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-hypothesis python3-matplotlib python3-yaml
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
-  libusb-1.0-0-dev pkg-config clang libclang-rt-14-dev
+  libusb-1.0-0-dev pkg-config clang libclang-rt-dev
   blender xvfb xauth
   libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
