@@ -37,6 +37,7 @@ from typing import Dict, List, Optional, Tuple
 import hapticfluid as hf
 from hapticfluid.bench import engine, report
 from hapticfluid.bench.scene import SEED_DOMAIN, BenchScene
+from hapticfluid.bake.openvdb_python import import_openvdb
 
 FPS = 30
 # Rounds: Mantaflow then the engine, repeated; these shared machines run slower and faster by
@@ -73,12 +74,11 @@ def blender_env(blender: str) -> Dict[str, str]:
 
 
 def _grid_resolution(vdb_path: Path) -> Optional[Tuple[int, int, int]]:
-    """Mantaflow's grid from a cache file's metadata (None without pyopenvdb)."""
-    try:
-        import pyopenvdb  # type: ignore[import-not-found]
-    except ImportError:
+    """Mantaflow's grid from a cache file's metadata (None without OpenVDB's Python module)."""
+    openvdb = import_openvdb()
+    if openvdb is None:
         return None
-    for grid in pyopenvdb.readAllGridMetadata(str(vdb_path)):
+    for grid in openvdb.readAllGridMetadata(str(vdb_path)):
         if grid.name == "density":
             return tuple(int(n) for n in grid.metadata["file_base_resolution"])  # type: ignore[return-value]
     return None
@@ -223,7 +223,7 @@ def run(quick: bool = False, log=report.progress) -> dict:
         "rounds of each figure, ratios included (the median of the per-round ratios)",
     ]
     if manta["grid"] is None:
-        notes.append("Mantaflow's grid was not checked against its cache (no pyopenvdb); "
+        notes.append("Mantaflow's grid was not checked against its cache (no OpenVDB Python module); "
                      f"computed from resolution_max {res_max}: {label}")
     else:
         notes.append(f"Mantaflow's grid, read from its cache's file_base_resolution: {label}")
