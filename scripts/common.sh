@@ -1,6 +1,7 @@
 # Sourced by the README's commands: installs what is missing, then builds.
-# Debian packages; Python is Debian's /usr/bin/python3 (3.11), the interpreter Debian's Blender
-# 3.4 embeds (a pyenv python3 may come first on PATH: it is never used for the module).
+# Debian packages, the same names on Debian 12 (bookworm) and 13 (trixie); Python is Debian's
+# /usr/bin/python3 (3.11 on 12, 3.13 on 13), the interpreter Debian's Blender (3.4 on 12, 4.3 on
+# 13) embeds (a pyenv python3 may come first on PATH: it is never used for the module).
 set -euo pipefail
 
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
