@@ -2,7 +2,7 @@
 # Checks the README's commands on a fresh Debian 13 (trixie) in a chroot, from a Debian host.
 #
 #   sudo bash scripts/debian13_check.sh [--root DIR] [--ref REF] [--logs DIR] [--mirror URL]
-#                                       [--shell] [--] [COMMAND...]
+#                                       [--reuse] [--shell] [--] [COMMAND...]
 #
 # 1. Builds a minimal trixie tree in DIR (default /var/tmp/hf-trixie) with mmdebstrap
 #    (variant minbase, plus git and ca-certificates: what a user needs to clone), unless DIR
@@ -12,7 +12,8 @@
 #    resolv.conf, and unmounts all of them again on exit (also on Ctrl-C or an error).
 # 3. Clones REF (default: this checkout's HEAD, committed work only) of this repository afresh
 #    into /root/hapticfluid inside, with ../shared beside it (bind-mounted read-only from the
-#    host's ../shared when there is one, as the project's CI has it).
+#    host's ../shared when there is one, as the project's CI has it). `--reuse` instead moves the
+#    clone a previous run left to REF and keeps its build/ (to rerun after a fix; not fresh).
 # 4. Runs COMMAND in the clone as root, with a clean environment (HOME=/root, Debian's PATH,
 #    LANG=C.UTF-8, no DISPLAY): by default the README's two commands, `bash scripts/demo.sh`
 #    then `bash scripts/test.sh`, each one timed; they install what trixie lacks with apt
@@ -31,6 +32,7 @@ REF=HEAD
 LOGS=
 MIRROR=http://deb.debian.org/debian
 SHELL_ONLY=0
+REUSE=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --root) ROOT="$2"; shift 2 ;;
@@ -38,6 +40,7 @@ while [ $# -gt 0 ]; do
     --logs) LOGS="$2"; shift 2 ;;
     --mirror) MIRROR="$2"; shift 2 ;;
     --shell) SHELL_ONLY=1; shift ;;
+    --reuse) REUSE=1; shift ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     --) shift; break ;;
     -*) echo "error: unknown option '$1' (see --help)" >&2; exit 2 ;;
@@ -91,11 +94,18 @@ mnt "$ROOT/dev" --bind /dev
 mnt "$ROOT/dev/pts" --bind /dev/pts
 mnt "$ROOT/dev/shm" -t tmpfs -o mode=1777,nosuid,nodev shm
 cp -L /etc/resolv.conf "$ROOT/etc/resolv.conf"
+# An installed Debian has /etc/mtab -> ../proc/self/mounts; a minbase tree lacks it (Blender
+# then warns "could not get a list of mounted file-systems").
+[ -e "$ROOT/etc/mtab" ] || ln -s ../proc/self/mounts "$ROOT/etc/mtab"
 
 # ---- 3. a fresh clone, ../shared beside it ---------------------------------------------------
 clone="$ROOT/root/hapticfluid"
-rm -rf "$clone"
-git clone -q --no-hardlinks "$HF_ROOT" "$clone"
+if [ "$REUSE" = 1 ] && [ -d "$clone/.git" ]; then
+  git -C "$clone" fetch -q "$HF_ROOT" "$commit"
+else
+  rm -rf "$clone"
+  git clone -q --no-hardlinks "$HF_ROOT" "$clone"
+fi
 git -C "$clone" checkout -q --detach "$commit"
 echo "== $(stamp) clone: $(git -C "$clone" log -1 --format='%h %s' | cut -c1-100)"
 if [ -d "$HF_ROOT/../shared" ]; then
