@@ -101,7 +101,7 @@ cp -L /etc/resolv.conf "$ROOT/etc/resolv.conf"
 # ---- 3. a fresh clone, ../shared beside it ---------------------------------------------------
 clone="$ROOT/root/hapticfluid"
 if [ "$REUSE" = 1 ] && [ -d "$clone/.git" ]; then
-  git -C "$clone" fetch -q "$HF_ROOT" "$commit"
+  git -C "$clone" fetch -q "$HF_ROOT" "+refs/heads/*:refs/remotes/host/*"
 else
   rm -rf "$clone"
   git clone -q --no-hardlinks "$HF_ROOT" "$clone"
