@@ -25,7 +25,7 @@
 # project's 2-core machines (no GPU): the tree 2 minutes, the demo command ~15 minutes cold
 # (5 of them apt), the test command ~30 minutes more; see README's setup notes for the figures.
 set -euo pipefail
-
+{  # one compound command: bash reads it whole, so editing this file while it runs is safe
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ROOT=/var/tmp/hf-trixie
 REF=HEAD
@@ -141,3 +141,4 @@ for cmd in "${commands[@]}"; do
   [ "$rc" -eq 0 ] || { rc_all=$rc; tail -n 40 "$LOGS/$name.log" >&2; }
 done
 exit "$rc_all"
+}
