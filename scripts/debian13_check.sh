@@ -97,6 +97,13 @@ cp -L /etc/resolv.conf "$ROOT/etc/resolv.conf"
 # An installed Debian has /etc/mtab -> ../proc/self/mounts; a minbase tree lacks it (Blender
 # then warns "could not get a list of mounted file-systems").
 [ -e "$ROOT/etc/mtab" ] || ln -s ../proc/self/mounts "$ROOT/etc/mtab"
+# CA certificates added on the host (/usr/local/share/ca-certificates: e.g. a TLS-inspecting
+# proxy's) are trusted inside too, so pip reaches PyPI from the chroot as it does from the host.
+if compgen -G "/usr/local/share/ca-certificates/*.crt" >/dev/null && [ -x "$ROOT/usr/sbin/update-ca-certificates" ]; then
+  mkdir -p "$ROOT/usr/local/share/ca-certificates"
+  cp /usr/local/share/ca-certificates/*.crt "$ROOT/usr/local/share/ca-certificates/"
+  chroot "$ROOT" update-ca-certificates >/dev/null 2>&1 || echo "warning: update-ca-certificates failed in $ROOT" >&2
+fi
 
 # ---- 3. a fresh clone, ../shared beside it ---------------------------------------------------
 clone="$ROOT/root/hapticfluid"
