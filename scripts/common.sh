@@ -14,6 +14,7 @@ HF_PACKAGES=(
   libgtest-dev
   libusb-1.0-0-dev pkg-config clang libclang-rt-dev
   blender xvfb xauth
+  nodejs  # runs the Flamenco job compiler in tests/farm (18 on Debian 12, 20 on 13)
   libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
 
