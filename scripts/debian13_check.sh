@@ -21,9 +21,10 @@
 #    `--shell` opens a shell in the clone instead (same mounts).
 #
 # Needs root (chroot, mounts) and mmdebstrap (`apt-get install mmdebstrap` on the host; the
-# host's debian-archive-keyring must know trixie's keys: Debian 12's does). Time on the
-# project's 2-core machines (no GPU): the tree 2 minutes, the demo command ~15 minutes cold
-# (5 of them apt), the test command ~30 minutes more; see README's setup notes for the figures.
+# host's debian-archive-keyring must know trixie's keys: Debian 12's does). Time measured on
+# the project's 2-core machines (no GPU) under heavy load from other builds (load average ~28):
+# the tree 90 s, the demo command 35 minutes from the bare tree (apt 503 packages, 526 MB: ~13;
+# building _core: ~13), the test command 35 minutes more; README's setup notes have the results.
 set -euo pipefail
 {  # one compound command: bash reads it whole, so editing this file while it runs is safe
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
