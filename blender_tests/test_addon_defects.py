@@ -171,7 +171,8 @@ def command_line_failure(tmp):
     path = os.path.join(tmp, "no_domain.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
-    run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path, "--python-exit-code", "1",
+    run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", "--python-use-system-env", path,
+                          "--python-exit-code", "1",
                           "--python", script], capture_output=True, text=True, timeout=300)
     check(run.returncode == 1 and "give a mesh the Domain role" in run.stderr,
           f"bake_blend.py exits 1 when the bake fails (exit {run.returncode}): {run.stderr[-300:]}")

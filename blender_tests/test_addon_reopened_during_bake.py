@@ -61,7 +61,7 @@ def bake_blend_from_the_command_line():
         hapticfluid_blender.unregister()
 
         def run(*args):
-            return subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path,
+            return subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", "--python-use-system-env", path,
                                    "--python-exit-code", "1", "--python", script, "--", *args],
                                   capture_output=True, text=True, timeout=300)
 

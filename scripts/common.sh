@@ -1,6 +1,7 @@
 # Sourced by the README's commands: installs what is missing, then builds.
-# Debian packages; Python is Debian's /usr/bin/python3 (3.11), the interpreter Debian's Blender
-# 3.4 embeds (a pyenv python3 may come first on PATH: it is never used for the module).
+# Debian packages, the same names on Debian 12 (bookworm) and 13 (trixie); Python is Debian's
+# /usr/bin/python3 (3.11 on 12, 3.13 on 13), the interpreter Debian's Blender (3.4 on 12, 4.3 on
+# 13) embeds (a pyenv python3 may come first on PATH: it is never used for the module).
 set -euo pipefail
 
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -11,8 +12,9 @@ HF_PACKAGES=(
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-hypothesis python3-matplotlib python3-yaml
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
-  libusb-1.0-0-dev pkg-config clang libclang-rt-14-dev
+  libusb-1.0-0-dev pkg-config clang libclang-rt-dev
   blender xvfb xauth
+  nodejs  # runs the Flamenco job compiler in tests/farm (18 on Debian 12, 20 on 13)
   libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
 

@@ -21,17 +21,18 @@ esac
 hf_install_missing
 hf_build --target _core
 cd "$HF_ROOT"
+# Blender reads PYTHONPATH only with --python-use-system-env (Blender 4.3 on Debian 13, upstream builds).
 export PYTHONPATH="$HF_BUILD/python${PYTHONPATH:+:$PYTHONPATH}"
 if [ "$hf_live" = 1 ]; then
   echo "== live: Blender with the demo scene and the session running (Esc stops it; HF_DEMO_LIVE=0 for the headless demo)"
-  exec blender --factory-startup --python scripts/live_demo.py -- "$@"
+  exec blender --factory-startup --python-use-system-env --python scripts/live_demo.py -- "$@"
 fi
 /usr/bin/python3 -m hapticfluid demo "$@"
 mkdir -p out/demo
 echo "== bake: examples/bake_demo.json -> out/demo/bake_cache"
 /usr/bin/python3 -m hapticfluid bake examples/bake_demo.json --cache out/demo/bake_cache
 echo "== render: frame 44 with Cycles (CPU, 320x240, 16 samples) -> out/demo/render.png"
-blender --background --factory-startup --python-exit-code 1 --python scripts/render_bake.py -- \
+blender --background --factory-startup --python-use-system-env --python-exit-code 1 --python scripts/render_bake.py -- \
   out/demo/bake_cache 44 out/demo/render.png --density 60 >out/demo/render.log 2>&1 \
   || { tail -n 30 out/demo/render.log >&2; exit 1; }
 grep "rendered" out/demo/render.log

@@ -2,11 +2,12 @@
 sphere probe, the add-on registered from this source tree, and the live session started in the
 3D view (smoke drawn in the viewport, force arrow at the probe, stats in the sidebar).
 
-    blender --factory-startup --python scripts/live_demo.py -- [--device SIMULATED_FALCON]
-    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --enable-event-simulate \
+    blender --factory-startup --python-use-system-env --python scripts/live_demo.py -- [--device SIMULATED_FALCON]
+    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python-use-system-env --enable-event-simulate \
         --python scripts/live_demo.py -- --screenshot out/live_session.png --seconds 20
 
-The hapticfluid package must be importable (scripts/demo.sh puts build/python on PYTHONPATH).
+The hapticfluid package must be importable (scripts/demo.sh puts build/python on PYTHONPATH, which
+Blender reads only with --python-use-system-env).
 Devices: SIMULATED_FALCON (default: the Falcon driver on a simulated Falcon whose scripted hand
 sweeps the probe through the plume; --gesture rest, sweep or circle: hapticfluid.hand_gestures),
 MOUSE (grab the probe with G), TIMELINE (the probe's keyed sweep plays), FALCON (a real one).

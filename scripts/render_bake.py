@@ -1,6 +1,6 @@
 """Render one frame of a hapticfluid bake with Cycles on the CPU (used by scripts/demo.sh):
 
-    blender --background --factory-startup --python scripts/render_bake.py -- CACHE FRAME OUT.png \
+    blender --background --factory-startup --python-use-system-env --python scripts/render_bake.py -- CACHE FRAME OUT.png \
         [--size 320 240] [--samples 16] [--density 30]
 
 Reads the cache's manifest for the domain and frame range, shows the frames as a Volume with

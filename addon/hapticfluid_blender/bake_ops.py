@@ -153,7 +153,8 @@ class _BakeBase(_IdleOnly):
             bake_scene = scene_from_dict(data)
         except ImportError as exc:
             return self._refuse(settings, f"install the hapticfluid Python package (see README) or add it to "
-                                          f"PYTHONPATH: it is not importable in Blender ({exc})")
+                                          f"PYTHONPATH (read by Blender 4.x only with --python-use-system-env): it is not "
+                                          f"importable in Blender ({exc})")
         except (blender_scene.SceneError, ValueError) as exc:
             return self._refuse(settings, str(exc))
         job = _BakeJob(bake_scene, self.resume, context.scene.name)

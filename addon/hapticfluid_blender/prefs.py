@@ -9,7 +9,8 @@ def package_problem():
     try:
         import hapticfluid  # noqa: F401
     except ImportError as exc:
-        return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH: "
+        return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
+                f"(read by Blender 4.x only with --python-use-system-env): "
                 f"it is not importable ({exc})")
     return None
 

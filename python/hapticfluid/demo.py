@@ -331,7 +331,7 @@ def run_demo(
     say(f"grid:     {resolution[0]}x{resolution[1]}x{resolution[2]} cells of {h * 1000:.4g} mm, "
         f"domain {size[0]:g} x {size[1]:g} x {size[2]:g} m, {advection}, "
         f"{iterations} {'Jacobi sweeps' if solver == 'jacobi' else 'multigrid-CG iterations'}")
-    say(f"scene:    source r={src_radius:.3g} m at {tuple(round(c, 3) for c in src_centre)} "
+    say(f"scene:    source r={src_radius:.3g} m at ({', '.join(f'{c:.3g}' for c in src_centre)}) m "
         f"({scene.source_temperature:g} K, heat buoyancy {scene.heat_buoyancy:g} m/s^2/K), "
         f"probe r={radius:.3g} m at z={centre[2]:.3g} m sweeps x {centre[0] - amplitude:.3g}.."
         f"{centre[0] + amplitude:.3g} m from t={t_start:.3g} s, peak speed "

@@ -2,6 +2,7 @@
 // every IN packet, buffered reads, and reads that time out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <deque>
 #include <tuple>
 

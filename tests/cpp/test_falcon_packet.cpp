@@ -1,6 +1,7 @@
 // Falcon frame codec: known bytes, round trips, malformed frames, stream resynchronisation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "haptics/falcon/falcon_packet.h"

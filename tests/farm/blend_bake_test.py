@@ -52,7 +52,7 @@ def main(blender: str, addon: str) -> None:
     try:
         script = root / "make_blend.py"
         script.write_text(MAKE_BLEND.format(addon=addon, blend=str(root / "shot.blend")))
-        r = subprocess.run([blender, "--background", "--factory-startup", "--python-exit-code", "1",
+        r = subprocess.run([blender, "--background", "--factory-startup", "--python-use-system-env", "--python-exit-code", "1",
                             "--python", str(script)], capture_output=True, text=True, timeout=300)
         if r.returncode != 0 or not (root / "shot.blend").exists():
             fail(f"making the .blend failed:\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}")

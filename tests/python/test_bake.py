@@ -17,8 +17,11 @@ import hapticfluid as hf
 from hapticfluid.bake import (BakeError, Trajectory, bake, frame_path, list_frames, load_scene,
                               read_manifest, scene_from_dict)
 from hapticfluid.bake import cache as bake_cache
+from hapticfluid.bake.openvdb_python import import_openvdb, missing_reason
 
-vdb = pytest.importorskip("pyopenvdb")
+vdb = import_openvdb()
+if vdb is None:
+    pytest.skip(missing_reason(), allow_module_level=True)
 
 
 def read_grid(path, name, shape=None):

@@ -8,8 +8,11 @@ import pytest
 import hapticfluid as hf
 from hapticfluid import meshes
 from hapticfluid.bake import bake, frame_path, scene_from_dict
+from hapticfluid.bake.openvdb_python import import_openvdb, missing_reason
 
-vdb = pytest.importorskip("pyopenvdb")
+vdb = import_openvdb()
+if vdb is None:
+    pytest.skip(missing_reason(), allow_module_level=True)
 
 RES = 24
 SIZE = (0.6, 0.4, 0.4)  # m: 24 x 16 x 16 cells of 2.5 cm

@@ -3,9 +3,13 @@ settings up to its own frame), and a checkpoint from other settings names what d
 
 import numpy as np
 import pytest
-import pyopenvdb as vdb
 
 from hapticfluid.bake import BakeError, bake, frame_path, list_frames, scene_from_dict
+from hapticfluid.bake.openvdb_python import import_openvdb, missing_reason
+
+vdb = import_openvdb()
+if vdb is None:
+    pytest.skip(missing_reason(), allow_module_level=True)
 
 
 def per_frame_scene(cache, end, shift=0.0, **fluid):

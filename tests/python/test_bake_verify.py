@@ -14,8 +14,11 @@ import pytest
 from hapticfluid.bake import bake, frame_path, list_frames, read_manifest, scene_from_dict
 from hapticfluid.bake import cache as bake_cache
 from hapticfluid.bake import verify as bake_verify
+from hapticfluid.bake.openvdb_python import import_openvdb, missing_reason
 
-vdb = pytest.importorskip("pyopenvdb")
+vdb = import_openvdb()
+if vdb is None:
+    pytest.skip(missing_reason(), allow_module_level=True)
 
 FRAMES = 4
 

@@ -31,6 +31,15 @@ def quick_run(tmp_path_factory):
     path = out / "bench.json"
     proc = _bench("--quick", "--sections", "engine,readback,mantaflow", "--json", str(path),
                   "--plot", str(out / "plot.png"))
+    from hapticfluid.bench import mantaflow
+    if proc.returncode != 0 and mantaflow.EMBEDDED_PYTHON_ABORT in proc.stdout + proc.stderr:
+        # This Blender's Mantaflow cannot bake at all (Debian 13's Blender 4.3 on Python 3.13): the
+        # bench said so; the other sections are checked without it, the Mantaflow test skips.
+        assert "this Blender's Mantaflow cannot bake" in proc.stdout + proc.stderr, proc.stdout + proc.stderr
+        for p in out.iterdir():
+            p.unlink()
+        proc = _bench("--quick", "--sections", "engine,readback", "--json", str(path),
+                      "--plot", str(out / "plot.png"))
     assert proc.returncode == 0, proc.stdout + proc.stderr
     with open(path, encoding="utf-8") as f:
         return json.load(f), proc.stdout, out
@@ -51,7 +60,7 @@ def test_json_describes_the_machine_and_each_section(quick_run):
     assert machine["gl_renderer"] == hf.probe_device()["renderer"]
     assert machine["cpu_cores"] >= 1 and machine["cpu_model"]
     assert machine["date_utc"].startswith("20")
-    assert list(doc["sections"]) == ["engine", "readback", "mantaflow"]
+    assert list(doc["sections"]) in (["engine", "readback", "mantaflow"], ["engine", "readback"])
     for name, section in doc["sections"].items():
         report.check_section(name, section)  # raises if the format is wrong
         assert section["rows"], name
@@ -101,6 +110,8 @@ def test_readback_bytes_are_the_field_sizes(quick_run):
 
 
 def test_mantaflow_and_engine_ran_the_same_frames(quick_run):
+    if "mantaflow" not in quick_run[0]["sections"]:
+        pytest.skip("this Blender's Mantaflow cannot bake (Python 3.12+ aborts its start-up; see the bench's message)")
     all_rows = _rows(quick_run[0]["sections"]["mantaflow"])
     assert {r["comparison"] for r in all_rows} == {"step loop", "bake command"}
     rows = [r for r in all_rows if r["comparison"] == "step loop"]

@@ -42,6 +42,7 @@ from typing import Dict, List, Optional, Tuple
 import hapticfluid as hf
 from hapticfluid.bench import engine, report
 from hapticfluid.bench.scene import SEED_DOMAIN, BenchScene
+from hapticfluid.bake.openvdb_python import import_openvdb
 
 FPS = 30
 # Rounds: Mantaflow then the engine, repeated; these shared machines run slower and faster by
@@ -53,6 +54,11 @@ STEPS_PER_FRAME = 1  # Mantaflow's, with adaptive time stepping off (dt = frame 
 BLENDER_TIMEOUT_S = 1800
 
 SCENE_SCRIPT = Path(__file__).with_name("mantaflow_scene.py")
+# Mantaflow registers its Python module with PyImport_AppendInittab when a bake starts; Python
+# 3.12 and newer abort on that once the interpreter runs, so a Blender built against such a
+# Python (Debian 13's Blender 4.3 on Python 3.13; blender.org embeds 3.11 up to 5.0) dies on
+# every Mantaflow bake with this message. The section then fails saying so.
+EMBEDDED_PYTHON_ABORT = "PyImport_AppendInittab() may not be called after Py_Initialize()"
 COLUMNS = ["round", "solver", "grid", "frames", "steps/frame", "total s", "ms/frame", "steady ms/frame",
            "CPU ms/frame", "Mantaflow/this", "Mantaflow/this steady", "Mantaflow/this CPU"]
 
@@ -78,12 +84,11 @@ def blender_env(blender: str) -> Dict[str, str]:
 
 
 def _grid_resolution(vdb_path: Path) -> Optional[Tuple[int, int, int]]:
-    """Mantaflow's grid from a cache file's metadata (None without pyopenvdb)."""
-    try:
-        import pyopenvdb  # type: ignore[import-not-found]
-    except ImportError:
+    """Mantaflow's grid from a cache file's metadata (None without OpenVDB's Python module)."""
+    openvdb = import_openvdb()
+    if openvdb is None:
         return None
-    for grid in pyopenvdb.readAllGridMetadata(str(vdb_path)):
+    for grid in openvdb.readAllGridMetadata(str(vdb_path)):
         if grid.name == "density":
             return tuple(int(n) for n in grid.metadata["file_base_resolution"])  # type: ignore[return-value]
     return None
@@ -118,6 +123,11 @@ def run_mantaflow(scene: BenchScene, resolution_max: int, frames: int, workdir: 
                               cwd=workdir, env=blender_env(blender))
     except subprocess.TimeoutExpired:
         raise hf.HapticFluidError(f"Blender's Mantaflow bake took longer than {BLENDER_TIMEOUT_S} s") from None
+    if EMBEDDED_PYTHON_ABORT in proc.stdout + proc.stderr:
+        raise hf.HapticFluidError(f"this Blender's Mantaflow cannot bake: it aborts with '{EMBEDDED_PYTHON_ABORT}' "
+                                  f"(Blender {blender} embeds Python 3.12+, where Mantaflow's start-up is fatal); "
+                                  "use a Blender that embeds Python 3.11 (blender.org 4.2-5.0, Debian 12's 3.4) for "
+                                  "this section, or leave it out with --sections")
     if proc.returncode != 0 or not result_path.is_file():
         tail = (proc.stdout + proc.stderr).strip().splitlines()[-15:]
         raise hf.HapticFluidError(f"Blender's Mantaflow bake failed (exit {proc.returncode}):\n"
@@ -244,7 +254,7 @@ def run_step_loop(quick: bool = False, log=report.progress) -> dict:
         "rounds of each figure, ratios included (the median of the per-round ratios)",
     ]
     if manta["grid"] is None:
-        notes.append("Mantaflow's grid was not checked against its cache (no pyopenvdb); "
+        notes.append("Mantaflow's grid was not checked against its cache (no OpenVDB Python module); "
                      f"computed from resolution_max {res_max}: {label}")
     else:
         notes.append(f"Mantaflow's grid, read from its cache's file_base_resolution: {label}")

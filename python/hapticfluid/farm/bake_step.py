@@ -52,7 +52,8 @@ def bake_command_blend(blender: str, scene: Path, resolution: int, cache: Path) 
     setup = ("import sys, bpy; sys.path.insert(0, {parent!r}); import hapticfluid_blender as a; a.register(); "
              "a.properties.clear_stale_bake_state(); a.roles.settings_of(bpy.context.scene).cache_dir = {cache!r}"
              ).format(parent=str(folder.parent), cache=str(cache))
-    args = [blender, "--background", str(scene), "--python-exit-code", "1", "--python-expr", setup,
+    # --python-use-system-env: Blender 4.x reads PYTHONPATH (where hapticfluid may be) only with it.
+    args = [blender, "--background", str(scene), "--python-use-system-env", "--python-exit-code", "1", "--python-expr", setup,
             "--python", str(folder / "bake_blend.py"), "--", "--resolution", str(resolution)]
     return args + (["--resume"] if should_resume(cache) else [])
 

@@ -82,7 +82,7 @@ function compileJob(job) {
     for (const chunk of frameChunks(s.frames, s.chunk_size || 8)) {
         const render = author.Task(`render-${chunk}`, RENDER_TASK_TYPE);
         render.addCommand(withPythonPath(s, s.blender || "{blender}", [
-            "--background", "--factory-startup", "--python-exit-code", "1",
+            "--background", "--factory-startup", "--python-use-system-env", "--python-exit-code", "1",
             "--python-expr", "import hapticfluid.farm.render_chunk as r; r.main()", "--",
             "--root", root, "--samples", String(s.render_samples || 16),
             "--size", String(s.render_width || 320), String(s.render_height || 240),

@@ -1,6 +1,6 @@
 """The render task of a farm job: render a chunk of baked frames in one Blender session.
 
-    blender --background --factory-startup --python-exit-code 1 \
+    blender --background --factory-startup --python-use-system-env --python-exit-code 1 \
         --python-expr "import hapticfluid.farm.render_chunk as r; r.main()" -- \
         [--root ROOT] [--size W H] [--samples N] [--density D] CACHE FRAMES OUTDIR
 
