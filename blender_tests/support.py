@@ -205,13 +205,73 @@ def close_splash():
 
 
 def screenshot(path, kind=None):
-    """Save a PNG of the whole window, or of the largest area of ``kind``; return its path."""
+    """Save a PNG of the whole window, or of the largest area of ``kind``; return its path.
+
+    Blender 4.x reads the window's front buffer for the screenshot operators; under Xvfb with
+    Mesa 25's llvmpipe (Debian 13) that read gives an all-black image (Blender 3.4 with Mesa 22
+    reads the drawn window). A window is never all black (its header and panels are grey), so
+    then the area's main region is read from its own framebuffer instead (region_screenshot)."""
     with bpy.context.temp_override(window=window(), area=area(kind or "VIEW_3D")):
         if kind is None:
             bpy.ops.screen.screenshot(filepath=path)
         else:
             bpy.ops.screen.screenshot_area(filepath=path)
     check(os.path.getsize(path) > 1000, f"screenshot {path}")
+    if not png_rgb(path).any():
+        print(f"note: the screenshot operator gave a black image; {path} is read from the region's "
+              "framebuffer instead (Blender 4.x front-buffer read under Xvfb)", flush=True)
+        region_screenshot(path, kind)
+    return path
+
+
+def region_screenshot(path, kind=None):
+    """Save a PNG of the largest ``kind`` area's main region (VIEW_3D for None), read in a
+    POST_PIXEL draw callback of a forced redraw: what was drawn into the region up to then, draw
+    callbacks included. The PNG is the window's size (kind None) or the area's, the region at
+    its place and the rest black, so pixel coordinates match the screenshot operators'."""
+    import numpy as np
+
+    the_area = area(kind or "VIEW_3D")
+    the_region = next(r for r in the_area.regions if r.type == "WINDOW")
+    got = {}
+
+    def capture():
+        import gpu
+
+        if bpy.context.region != the_region or "rgba" in got:
+            return
+        w, h = the_region.width, the_region.height
+        buf = gpu.state.active_framebuffer_get().read_color(0, 0, w, h, 4, 0, 'FLOAT')
+        buf.dimensions = w * h * 4
+        got["rgba"] = np.array(buf, dtype=np.float32).reshape(h, w, 4)
+
+    space_type = type(the_area.spaces.active)
+    handle = space_type.draw_handler_add(capture, (), 'WINDOW', 'POST_PIXEL')
+    try:
+        the_area.tag_redraw()
+        with bpy.context.temp_override(window=window(), area=the_area, region=the_region):
+            bpy.ops.wm.redraw_timer(type='DRAW_WIN', iterations=1)
+    finally:
+        space_type.draw_handler_remove(handle, 'WINDOW')
+    check("rgba" in got, f"the {kind or 'VIEW_3D'} region was drawn for {path}")
+    if kind is None:
+        width, height, x0, y0 = window().width, window().height, the_region.x, the_region.y
+    else:
+        width, height = the_area.width, the_area.height
+        x0, y0 = the_region.x - the_area.x, the_region.y - the_area.y
+    image_rgba = np.zeros((height, width, 4), dtype=np.float32)
+    image_rgba[:, :, 3] = 1.0
+    rgba = got["rgba"]
+    h, w = min(rgba.shape[0], height - y0), min(rgba.shape[1], width - x0)
+    image_rgba[y0:y0 + h, x0:x0 + w, :3] = np.clip(rgba[:h, :w, :3], 0.0, 1.0)
+    image = bpy.data.images.new("hapticfluid_region_screenshot", width, height)
+    try:
+        image.pixels.foreach_set(image_rgba.reshape(-1))
+        image.filepath_raw = path
+        image.file_format = 'PNG'
+        image.save()
+    finally:
+        bpy.data.images.remove(image)
     return path
 
 
