@@ -221,7 +221,17 @@ def screenshot(path, kind=None):
         print(f"note: the screenshot operator gave a black image; {path} is read from the region's "
               "framebuffer instead (Blender 4.x front-buffer read under Xvfb)", flush=True)
         region_screenshot(path, kind)
+        OVERLAY_ONLY_SCREENSHOTS.add(path)
+    else:
+        OVERLAY_ONLY_SCREENSHOTS.discard(path)
     return path
+
+
+# Screenshots saved by region_screenshot: Blender 4.x draws Python draw callbacks into the
+# viewport's overlay layer (with the background, grid and outlines; the scene's depth is shared)
+# and blends it over the render engine's colour only when the region is put on screen, so in
+# these the objects' own shading (Solid mode's grey) is missing: black where an object is.
+OVERLAY_ONLY_SCREENSHOTS = set()
 
 
 def region_screenshot(path, kind=None):
