@@ -23,7 +23,7 @@ from support import (area as area_of, check, clear_objects, close_splash, cube, 
                      uv_sphere, window)
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import cache_bar, physics_panels  # noqa: E402
+from hapticfluid_blender import bake_ops, cache_bar, physics_panels  # noqa: E402
 
 FRAMES = 48
 OUT = out_dir("addon")
@@ -160,8 +160,16 @@ def step():
             hapticfluid_blender.register()
             s = settings(scene)
             check(not s.is_baking and "disabled" in s.status, f"enabled again: not baking, status {s.status!r}")
-            check(invoke(bpy.ops.hapticfluid.bake_resume) == {"RUNNING_MODAL"}, "Resume runs modal")
-            state["phase"] = "resuming"
+            try:  # Blender 4.3 crashed here: the ended bake's modal handler was still listed
+                refused = invoke(bpy.ops.hapticfluid.bake_resume) == {"CANCELLED"}
+            except RuntimeError as exc:  # the operator's error report
+                refused = "Try again in a moment" in str(exc)
+            check(refused, "Resume right after enabling again is refused until Blender dropped the ended bake")
+            state["phase"] = "resume_later"
+            return bake_ops.HANDLER_DROP_S + 0.1
+    elif phase == "resume_later":
+        check(invoke(bpy.ops.hapticfluid.bake_resume) == {"RUNNING_MODAL"}, "Resume runs modal")
+        state["phase"] = "resuming"
     elif phase == "resuming":
         s = settings(scene)
         if not s.is_baking:
