@@ -12,6 +12,7 @@ cancels and joins the worker (``shutdown``) and shows what finished.
 
 import logging
 import threading
+import time
 
 import bpy
 
@@ -116,11 +117,13 @@ def _finish_job(job, collection=None):
 # during a UI bake leaves one; shutdown() keeps the bake's timer ticking in its window for
 # HANDLER_DROP_S (at least two events there) and the bake operators refuse to start until then.
 HANDLER_DROP_S = 2.5 * TIMER_S
-_dropping = {"timers": []}  # event timers kept for the drop (main thread only)
+_dropping = {"timers": [], "until": 0.0}  # event timers kept for the drop, till when (main thread only)
 
 
 def handler_drop_pending():
     """Whether a modal bake ended by disabling the add-on may still be listed by its window."""
+    if _dropping["timers"] and time.monotonic() >= _dropping["until"]:
+        _end_handler_drop()  # the timer may not have run yet
     return bool(_dropping["timers"])
 
 
@@ -145,6 +148,7 @@ def shutdown():
             if not _dropping["timers"]:
                 bpy.app.timers.register(_end_handler_drop, first_interval=HANDLER_DROP_S)
             _dropping["timers"].append(job.timer)
+            _dropping["until"] = time.monotonic() + HANDLER_DROP_S
             wm.progress_end()
             job.timer = None
         _finish_job(job)
