@@ -19,8 +19,8 @@ import numpy as np
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 from mathutils import Euler
 
-from support import (OVERLAY_ONLY_SCREENSHOTS, area, check, clear_objects, cube, drive, on_exit, out_dir, png_rgb, region, screenshot as
-                     screenshot_to, uv_sphere, window)
+from support import (OVERLAY_ONLY_SCREENSHOTS, area, check, clear_objects, cube, drive, on_exit, out_dir, png_rgb,
+                     region, screenshot as screenshot_to, uv_sphere, window)
 
 from hapticfluid_blender import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
 from hapticfluid_blender import live_draw_geometry as geometry  # noqa: E402
