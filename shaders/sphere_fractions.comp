@@ -6,18 +6,17 @@
 // cross-sections, smooth functions of the sphere's position: with the sharp sphere the discrete
 // body's added mass changed by 1.5% within a cell (its cap passing face planes) and the force on a
 // body moving at constant speed rippled once per cell crossed. u_ramp_radius is chosen on the host
-// so the ramp's volume is the sphere's (SphereProbe::rampRadius). Fractions under MIN_OPEN go to 0
-// (a nearly covered face makes its cell's pressure row nearly singular) through a continuous
-// ramp: w for w >= 2 MIN_OPEN, 2 (w - MIN_OPEN) between, so no fraction ever jumps.
+// so the ramp's volume is the sphere's (SphereProbe::rampRadius). Fractions under u_min_open go
+// to 0 continuously (common.glsl's cutOffOpen).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
 
 layout(rgba32f, binding = 0) uniform writeonly image3D u_face_open;
 
 uniform vec3 u_centre;        // sphere centre, grid units
 uniform float u_ramp_radius;  // where the ramp is half covered, grid units
+uniform float u_min_open;     // obstacle::kMinOpenFraction
 
 const int SAMPLES = 12;
-const float MIN_OPEN = 0.01;
 
 float openFraction(ivec3 idx, int axis) {
   int b = (axis + 1) % 3;
@@ -39,9 +38,7 @@ float openFraction(ivec3 idx, int axis) {
       covered += clamp(outer - sqrt(dy2 + z * z), 0.0, 1.0);
     }
   }
-  float open = 1.0 - covered / float(SAMPLES * SAMPLES);
-  if (open >= 2.0 * MIN_OPEN) return min(open, 1.0);
-  return max(2.0 * (open - MIN_OPEN), 0.0);
+  return cutOffOpen(1.0 - covered / float(SAMPLES * SAMPLES), u_min_open);
 }
 
 void main() {

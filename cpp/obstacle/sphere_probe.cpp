@@ -14,6 +14,7 @@ SphereProbe::SphereProbe(const fluid::Grid& grid)
       fractions_("sphere_fractions.comp", gl::cellGroupDefines()) {
   program_.set("u_res", grid.res);
   fractions_.set("u_res", grid.res);
+  fractions_.set("u_min_open", kMinOpenFraction);
   program_.set("u_cell_size", grid.cell_size_m);
 }
 
