@@ -24,22 +24,32 @@ def max_divergence(sim, sphere=None):
         fluid = sim.cell_classes() < hf.CELL_BOUNDARY
         return float(np.abs(div[fluid]).max())
     centre, radius, velocity = sphere
-    fluxes = []
-    for axis, comp in enumerate((u, v, w)):
-        frac = sphere_open_fractions(sim, centre, radius, axis)
-        fluxes.append(frac * comp + (1.0 - frac) * velocity[axis])
-        fluxes.append(frac)
-    (fu, wu, fv, wv, fw, ww) = fluxes
+    fracs = [sphere_open_fractions(sim, centre, radius, axis) for axis in range(3)]
+    fu, fv, fw = (f * comp + (1.0 - f) * velocity[a] for a, (f, comp) in enumerate(zip(fracs, (u, v, w))))
     div = (fu[1:] - fu[:-1]) + (fv[:, 1:] - fv[:, :-1]) + (fw[:, :, 1:] - fw[:, :, :-1])
-    opened = [wu[1:-1] > 0, wv[:, 1:-1] > 0, ww[:, :, 1:-1] > 0]
-    fluid = np.zeros(div.shape, dtype=bool)
-    fluid[1:] |= opened[0]
-    fluid[:-1] |= opened[0]
-    fluid[:, 1:] |= opened[1]
-    fluid[:, :-1] |= opened[1]
-    fluid[:, :, 1:] |= opened[2]
-    fluid[:, :, :-1] |= opened[2]
-    return float(np.abs(div[fluid]).max())
+    return float(np.abs(div[_linked_cells(fracs)]).max())
+
+
+def _linked_cells(fracs):
+    """Cells with an open interior face (a pressure unknown) from the three faces' fractions."""
+    wu, wv, ww = (f > 0 for f in fracs)
+    fluid = np.zeros(tuple(np.asarray(wu.shape) - (1, 0, 0)), dtype=bool)
+    fluid[1:] |= wu[1:-1]
+    fluid[:-1] |= wu[1:-1]
+    fluid[:, 1:] |= wv[:, 1:-1]
+    fluid[:, :-1] |= wv[:, 1:-1]
+    fluid[:, :, 1:] |= ww[:, :, 1:-1]
+    fluid[:, :, :-1] |= ww[:, :, 1:-1]
+    return fluid
+
+
+def cells_with_unknowns(sim, centre_m, radius_m):
+    """Cells that hold a pressure unknown beside a sphere probe: with cut cells, those with an
+    open face (sphere_open_fractions), including cut cells whose centre is in the sphere; with
+    voxels, those whose centre is outside."""
+    if not sim.cut_cells:
+        return sim.cell_classes() < hf.CELL_BOUNDARY
+    return _linked_cells([sphere_open_fractions(sim, centre_m, radius_m, axis) for axis in range(3)])
 
 
 def sphere_open_fractions(sim, centre_m, radius_m, axis, samples=12, min_open=0.01):
