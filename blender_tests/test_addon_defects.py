@@ -17,28 +17,10 @@ from types import SimpleNamespace
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import SOURCE_DIR as SOURCE, bake_scene, check, cube, refused, settings
 
-import hapticfluid_blender  # noqa: E402
-from hapticfluid_blender import blender_scene, panels, prefs, properties  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
-
-
-def refused(op, *fragments):
-    """Run ``op`` (background mode raises an ERROR report); return its message."""
-    try:
-        op()
-    except RuntimeError as err:
-        text = str(err)
-        check(all(f in text for f in fragments), f"refused with {fragments}: {text}")
-        return text
-    raise AssertionError(f"not refused: expected {fragments}")
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
+from hapticfluid_blender import blender_scene, panels, physics_panels, prefs, properties  # noqa: E402
 
 
 class Recorder:
@@ -64,6 +46,9 @@ class Recorder:
     def row(self, **kw):
         return self._child("row", **kw)
 
+    def split(self, **kw):
+        return self._child("split", **kw)
+
     def box(self):
         return self._child("box")
 
@@ -77,7 +62,12 @@ class Recorder:
         self.log.append(("prop", {"name": name, **kw}, self))
 
     def operator(self, idname, **kw):
-        self.log.append(("operator", {"idname": idname, **kw}, self))
+        props = SimpleNamespace()
+        self.log.append(("operator", {"idname": idname, **kw, "props": props}, self))
+        return props
+
+    def operator_menu_enum(self, idname, prop, **kw):
+        self.log.append(("operator_menu_enum", {"idname": idname, "prop": prop, **kw}, self))
 
     def labels(self):
         return [kw["text"] for kind, kw, _ in self.log if kind == "label"]
@@ -88,37 +78,27 @@ class FakeRegion:
 
 
 class FakeContext:
-    def __init__(self):
+    def __init__(self, obj=None):
         self.scene = bpy.context.scene
+        self.object = obj
         self.region = FakeRegion()
         self.preferences = bpy.context.preferences
 
 
-def draw(panel_cls):
-    """Call the panel's draw with a stand-in self holding a Recorder as its layout."""
+def draw(panel_cls, obj=None):
+    """Call the panel's draw with a stand-in self holding a Recorder as its layout (``obj``: the
+    active object, for the Physics tab's panels)."""
     layout = Recorder()
     stand_in = SimpleNamespace(layout=layout)
-    stand_in._layout = lambda context: panels._SubPanel._layout(stand_in, context)
-    panel_cls.draw(stand_in, FakeContext())
+    stand_in._layout = lambda context: physics_panels._RolePanel._layout(stand_in, context)
+    panel_cls.draw(stand_in, FakeContext(obj))
     return layout
 
 
 def new_scene(cache_dir):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, location=(0.4, 0.5, 0.5))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=0)
-    probe.location = (0.55, 0.5, 0.5)
-    probe.keyframe_insert("location", frame=4)
-    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.1, location=(0.5, 0.5, 0.2))
-    source = bpy.context.active_object
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.source = domain, probe, source
-    s.resolution, s.frame_start, s.frame_end, s.substeps, s.pressure_iterations = 12, 1, 2, 1, 4
-    s.cache_dir = cache_dir
+    scene, s, _, _, _ = bake_scene(cache_dir, resolution=12, frames=(1, 2), probe_radius=0.1,
+                                   probe_path=((0, (0.4, 0.5, 0.5)), (4, (0.55, 0.5, 0.5))))
+    s.pressure_iterations = 4
     return scene, s
 
 
@@ -193,7 +173,7 @@ def command_line_failure(tmp):
     script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
     run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path, "--python-exit-code", "1",
                           "--python", script], capture_output=True, text=True, timeout=300)
-    check(run.returncode == 1 and "choose a domain object" in run.stderr,
+    check(run.returncode == 1 and "give a mesh the Domain role" in run.stderr,
           f"bake_blend.py exits 1 when the bake fails (exit {run.returncode}): {run.stderr[-300:]}")
     with open(os.path.join(SOURCE, "README.md"), encoding="utf-8") as f:
         readme = [line for line in f if "bake_blend.py" in line and line.startswith("blender ")]
@@ -203,11 +183,12 @@ def command_line_failure(tmp):
 
 def stale_flag_cleared_on_enable():
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    s = bpy.context.scene.hapticfluid_bake
+    s = settings()
+    s.domain = cube(1.0, (0.5, 0.5, 0.5))
     s.is_baking = True  # what disabling the add-on in the middle of a bake used to leave
     hapticfluid_blender.unregister()
     hapticfluid_blender.register()
-    s = bpy.context.scene.hapticfluid_bake
+    s = settings()
     check(not s.is_baking and "add-on was disabled" in s.status, f"enabling the add-on clears it: {s.status!r}")
     check(bpy.ops.hapticfluid.bake.poll(), "Bake is usable again")
 
@@ -274,24 +255,35 @@ def bake_cycle(tmp):
 
 
 def sub_panels():
-    for cls in panels.classes[1:]:
-        check(cls.bl_parent_id == "HAPTICFLUID_PT_bake" and hasattr(bpy.types, cls.bl_idname),
-              f"sub-panel {cls.bl_label} is registered under the bake panel")
-    fluid = draw(panels.HAPTICFLUID_PT_bake_fluid)
+    """The Physics tab's sub-panels (the domain left by bake_cycle is the active object's role)."""
+    domain = settings().domain
+    check(domain is not None, "a domain to draw the panels for")
+    expected = {"DOMAIN": ["Resolution", "Fluid", "Pressure Solver", "Cache", "Display"],
+                "PROBE": ["Shape", "Velocity Source"], "SOURCE": ["Emission"]}
+    found = {}
+    for cls in physics_panels.classes:
+        if getattr(cls, "bl_parent_id", None) == "HAPTICFLUID_PT_physics":
+            check(hasattr(bpy.types, cls.bl_idname) and cls.bl_context == "physics",
+                  f"sub-panel {cls.bl_label} is registered in the Physics tab")
+            found.setdefault(cls.role, []).append(cls.bl_label)
+    check(found == expected, f"the roles' sub-panels: {found}")
+    fluid = draw(physics_panels.HAPTICFLUID_PT_domain_fluid, domain)
     names = {kw["name"]: kw for kind, kw, _ in fluid.log if kind == "prop"}
-    props = bpy.context.scene.hapticfluid_bake.bl_rna.properties
-    check("kg/m³" in props["fluid_density"].name and "m/s²" in names["gravity"]["text"]
-          and "(K)" in props["source_temperature"].name and "(Pa)" in props["write_pressure"].name,
+    ui = properties.ui_name
+    check("kg/m³" in ui("fluid_density") and "m/s²" in names["gravity"]["text"]
+          and "(K)" in ui("source_temperature") and "(Pa)" in ui("write_pressure"),
           "units: kg/m³, m/s², K, Pa")
-    cache = draw(panels.HAPTICFLUID_PT_bake_cache)
+    cache = draw(physics_panels.HAPTICFLUID_PT_domain_cache, domain)
     headings = [kw.get("heading") for kind, kw, _ in cache.log if kind == "column"]
     check("Grids" in headings, f"the grid check boxes have a heading: {headings}")
-    sim = draw(panels.HAPTICFLUID_PT_bake_simulation)
-    frame_owners = {id(owner) for kind, kw, owner in sim.log
+    frame_owners = {id(owner) for kind, kw, owner in cache.log
                     if kind == "prop" and kw["name"] in ("frame_start", "frame_end")}
     check(len(frame_owners) == 1 and any(kind == "column" and id(child) in frame_owners
-                                         for kind, _kw, child in sim.log),
+                                         for kind, _kw, child in cache.log),
           "Start and End are one above the other (a column), readable at the default width")
+    resolution = draw(physics_panels.HAPTICFLUID_PT_domain_resolution, domain)
+    headings = [kw.get("heading") for kind, kw, _ in resolution.log if kind == "column"]
+    check("Time Steps" in headings, f"the substep check box has a heading: {headings}")
 
 
 def missing_package():

@@ -3,27 +3,21 @@ while a bake was running (is_baking set) and opened again has its Bake/Resume/Fr
 usable, with a status saying the bake was interrupted."""
 
 import os
-import sys
 import tempfile
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import SOURCE_DIR as SOURCE, check, settings as settings_of
 
 import hapticfluid_blender  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def main():
     hapticfluid_blender.register()
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    settings = bpy.context.scene.hapticfluid_bake
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
+    settings = settings_of()
+    settings.domain = bpy.context.active_object  # the Domain role: it holds the bake's state
     settings.is_baking = True  # what a file auto-saved in the middle of a bake holds
     settings.status = "baking..."
     check(not bpy.ops.hapticfluid.bake.poll(), "Bake is greyed out while is_baking is set")
@@ -31,7 +25,8 @@ def main():
         path = os.path.join(tmp, "saved_during_bake.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path)
         bpy.ops.wm.open_mainfile(filepath=path)
-        settings = bpy.context.scene.hapticfluid_bake
+        settings = settings_of()
+        check(settings.domain is not None and settings.domain.name == "Cube", "the domain keeps its role")
         check(not settings.is_baking, "reopening the file clears the stale is_baking")
         check("interrupted" in settings.status and "Resume" in settings.status,
               f"the status says what happened: {settings.status!r}")
@@ -53,7 +48,7 @@ def bake_blend_from_the_command_line():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     hapticfluid_blender.register()
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    settings = bpy.context.scene.hapticfluid_bake
+    settings = settings_of()
     settings.domain = bpy.context.active_object
     settings.frame_start, settings.frame_end, settings.substeps, settings.resolution = 1, 1, 1, 8
     settings.pressure_iterations = 2

@@ -6,35 +6,22 @@ report that starts with the fix and writes nothing."""
 import json
 import os
 import shutil
-import sys
 import tempfile
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import empty_file, check, cube, key_locations, set_roles, settings, uv_sphere
 
 import hapticfluid_blender  # noqa: E402
 
 
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
-
-
 def build_scene(cache_dir):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.12, location=(0.3, 0.5, 0.55))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=1)
-    probe.location = (0.65, 0.5, 0.55)
-    probe.keyframe_insert("location", frame=4)
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.probe_shape = domain, probe, "SPHERE"
+    scene = empty_file()
+    domain = cube(1.0, (0.5, 0.5, 0.5))
+    probe = uv_sphere(0.12, (0.3, 0.5, 0.55))
+    key_locations(probe, ((1, (0.3, 0.5, 0.55)), (4, (0.65, 0.5, 0.55))))
+    s = set_roles(scene, domain, probe)
+    s.probe_shape = "SPHERE"
     s.resolution, s.frame_start, s.frame_end, s.substeps = 16, 1, 4, 1
     s.cache_dir = cache_dir
     return scene
@@ -64,11 +51,11 @@ def main():
 
         refused("Set the Shared Root")  # empty by default
         farm.shared_root = root
-        scene.hapticfluid_bake.cache_dir = os.path.join(tmp, "local_cache")
+        settings(scene).cache_dir = os.path.join(tmp, "local_cache")
         refused("Choose a Cache Folder under the shared root")
         check(not os.path.exists(farm.job_dir), "nothing written when refused")
 
-        scene.hapticfluid_bake.cache_dir = os.path.join(root, "caches", "shot")
+        settings(scene).cache_dir = os.path.join(root, "caches", "shot")
         result = bpy.ops.hapticfluid.write_farm_job()
         check(result == {"FINISHED"}, f"Write Farm Job finished ({result})")
         job = farm.job_dir
@@ -84,10 +71,10 @@ def main():
                          "OutputDir": "renders/shot", "Resolution": 16, "Frames": "1-4", "ChunkSize": 3},
               f"OpenJD values relative to the shared root: {values}")
         with open(os.path.join(job, "flamenco_job.json"), encoding="utf-8") as f:
-            settings = json.load(f)["settings"]
-        check((settings["shared_root"], settings["scene_file"], settings["cache_dir"], settings["output_dir"])
+            flamenco = json.load(f)["settings"]
+        check((flamenco["shared_root"], flamenco["scene_file"], flamenco["cache_dir"], flamenco["output_dir"])
               == (root, "jobs/shot/hapticfluid_scene.json", "caches/shot", "renders/shot"),
-              f"Flamenco settings relative to the shared root: {settings}")
+              f"Flamenco settings relative to the shared root: {flamenco}")
         check(farm.submit_command.startswith(f"cd {root} && openjd run jobs/shot/template.yaml -p file://jobs/shot/parameters.json"),
               f"the submit command is shown: {farm.submit_command}")
 

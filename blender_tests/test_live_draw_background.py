@@ -6,22 +6,13 @@ arrow's length, cap, tip and winding, the colour ramp, the light's optical depth
 layout of the uploaded field."""
 
 import math
-import os
-import sys
 
 import bpy
 import numpy as np
 from mathutils import Vector
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
-
+from support import check
 from hapticfluid_blender import live_draw, live_draw_geometry as geometry  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def raises(call, word):
@@ -148,8 +139,36 @@ def field_layout():
           "texel (i, j, k) holds density, optical depth, temperature, 0 at 4 * (i + nx * (j + ny * k))")
 
 
+def probe_for_the_smoke():
+    """What the smoke's rays stop at: a mesh probe's corners as texels (a fine mesh by its box)."""
+    from hapticfluid import meshes
+
+    v, t = meshes.box((0.2, 0.4, 0.6))
+    texels = geometry.probe_triangle_texels(v, t)
+    check(texels.shape == (36, 4) and texels.dtype == np.float32 and (texels[:, 3] == 1.0).all()
+          and np.array_equal(texels[3 * 5 + 2, :3], v[t[5, 2]]), "one texel (x, y, z, 1) per triangle corner")
+    v, t = meshes.icosphere(4, 0.1)  # 5120 triangles: more than the shader loops over
+    texels = geometry.probe_triangle_texels(v, t)
+    check(len(t) > geometry.MAX_PROBE_TRIANGLES and texels.shape == (36, 4)
+          and np.allclose(texels[:, :3].min(axis=0), v.min(axis=0)) and np.allclose(texels[:, :3].max(axis=0),
+                                                                                    v.max(axis=0)),
+          "a finer mesh is stood in for by its local bounding box (12 triangles)")
+    check(math.isclose(geometry.sphere_radius_world(0.1, [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 3, 0], [0, 0, 0, 1]]),
+                       0.3), "a sphere's world radius: the largest column scale, as the engine")
+    drawer = live_draw.LiveDrawer()
+    check(raises(lambda: drawer.set_probe({"shape": "sphere", "radius": 0.0}), "radius"), "a zero radius is refused")
+    check(raises(lambda: drawer.set_probe({"shape": "cone"}), "shape"), "an unknown shape is refused")
+    check(raises(lambda: drawer.set_probe({"shape": "mesh", "vertices": [(0, 0, 0)], "triangles": [(0, 1, 2)]}),
+                 "triangles"), "triangles indexing missing vertices are refused")
+    check(raises(lambda: drawer.set_probe_matrix(np.zeros((4, 4))), "matrix_world"), "a singular matrix is refused")
+    drawer.set_probe({"shape": "sphere", "radius": 0.1})
+    drawer.set_probe_matrix(np.eye(4))
+    drawer.set_probe(None)
+
+
 background_no_ops()
 bad_values()
+probe_for_the_smoke()
 box_geometry()
 arrow_geometry()
 field_layout()

@@ -2,9 +2,11 @@
 
 Modal operators get no events in --background, so this drives the controller and the operator
 helpers (live_ops.start / tick / stop_all) directly: register and unregister twice; a session on
-the simulated Falcon moves the probe object to the device pose; in Mouse mode moving the object
-moves the probe (the fluid force opposes the motion, so it changes sign with the direction);
-Record keys the performed poses (replacing keys in that range); every bad setup gives a report
+the simulated Falcon moves the probe object to the device pose (and its scripted hand, Hand
+Gesture Sweep, sweeps it across the domain); in Mouse mode moving the object moves the probe (the
+fluid force opposes the motion, so it changes sign with the direction) and turning it turns the
+fluid's probe (the bake's pose: the same cells); Record keys the performed poses, location and
+rotation in the object's rotation mode (replacing keys in that range); every bad setup gives a report
 that starts with the fix; disabling the add-on, read_homefile and open_mainfile during a session
 stop it. Measures (prints, never asserts) simulation Hz, haptic Hz and latency at 32^3 and 48^3.
 Any failure raises, so Blender exits 1."""
@@ -18,31 +20,18 @@ import time
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
+from support import check, cube, empty_file, set_roles, settings
 
-import hapticfluid_blender  # noqa: E402
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message, flush=True)
 
 
 def new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1.2):
     """Empty file: a 1 m domain cube with its corner at the origin, a 0.2 m cube probe."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    domain.name = "Domain"
-    bpy.ops.mesh.primitive_cube_add(size=0.2, location=probe_at)
-    probe = bpy.context.active_object
-    probe.name = "Probe"
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe = domain, probe
+    scene = empty_file()
+    domain = cube(1.0, (0.5, 0.5, 0.5), "Domain")
+    probe = cube(0.2, probe_at, "Probe")
+    bake = set_roles(scene, domain, probe)
     bake.fluid_density = fluid_density
     bake.pressure_iterations = 20
     live = scene.hapticfluid_live
@@ -104,6 +93,22 @@ def simulated_falcon_moves_the_probe():
     check(session.state == "stopped" and not live_threads() and not live.is_running,
           "threads joined, session stopped")
     check(tuple(session.latest_force) == (0.0, 0.0, 0.0), "the force went to zero")
+
+
+def simulated_hand_sweeps_the_probe():
+    """Hand Gesture 'Sweep': the simulated hand moves the grip back and forth along x after
+    homing, and the probe object follows it across the domain."""
+    scene, _domain, probe = new_scene(probe_at=(0.5, 0.5, 0.5))
+    live = scene.hapticfluid_live
+    live.device = "SIMULATED_FALCON"
+    live.hand_gesture = "SWEEP"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    xs = []
+    run_for_seconds(run, 4.5, each=lambda: xs.append(probe.matrix_world.translation.x))
+    live_ops.stop_all()
+    # +-0.025 m of the Falcon's workspace mapped onto the 1 m domain (uniform fit): about +-0.3 m.
+    check(max(xs) > 0.7 and min(xs) < 0.3, f"the probe sweeps across the domain: x {min(xs):.3f} .. {max(xs):.3f} m")
 
 
 class RecordingDrawer:
@@ -242,9 +247,78 @@ def mouse_moves_the_probe_and_record_keys_it():
     check(controller.session.state == "stopped", "stopped")
 
 
+def mouse_turns_a_mesh_probe_and_record_keys_the_rotation():
+    """A box probe turned with R (here: its rotation set, as R does) turns in the fluid: the
+    simulation's probe transform is the object's matrix_world, the matrix the bake gives
+    set_probe_pose, and it covers the cells a bake-like pose covers. Record keys the turn in the
+    object's rotation mode (quaternion here)."""
+    import numpy as np
+    from mathutils import Quaternion
+
+    scene, _domain, probe = new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1000.0)
+    probe.scale = (1.3, 1.0, 0.7)  # kept from Start (the status says when it changes)
+    probe.rotation_mode = "QUATERNION"
+    probe.rotation_quaternion = (1.0, 0.0, 0.0, 0.0)
+    scene.render.fps, scene.render.fps_base = 24, 1.0
+    scene.hapticfluid_live.record_rate = 24.0
+    scene.frame_set(1)
+    bpy.context.view_layer.update()
+    scene.hapticfluid_live.device = "MOUSE"
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    c = run.controller
+    sim = c.engine.sim
+    c.start_recording()
+    performed = []
+    for k in range(1, 9):  # a quarter turn about a tilted axis over about a second
+        q = Quaternion((0.3, -0.2, 1.0), 0.2 * k)
+        probe.rotation_quaternion = q
+        bpy.context.view_layer.update()
+        performed.append(tuple(q))
+        run_for_seconds(run, 0.13)
+    steps = c.session.stats()["sim_steps"]
+    end = time.monotonic() + 30.0
+    while c.session.stats()["sim_steps"] < steps + 2 and time.monotonic() < end:
+        run_for_seconds(run, 0.1)  # a step that began after the last turn
+    world = np.array(probe.matrix_world)
+    got = np.array(sim.probe["transform"])
+    check(np.allclose(got, world, atol=2e-5), f"the fluid's probe turns with the object: {got.round(4)} vs {world.round(4)}")
+    live_cells = sim.cell_classes()  # of the session's latest step, which used the turned pose
+    n = c.stop_recording()
+    check(n >= 8, f"Record keyed the turn ({n} keys)")
+    fcurves = live_session.object_fcurves(probe)
+    keyed = [tuple(fcurves.find("rotation_quaternion", index=i).evaluate(fr) for i in range(4))
+             for fr in sorted({p.co.x for p in fcurves.find("rotation_quaternion", index=0).keyframe_points})]
+    check(fcurves.find("rotation_euler", index=0) is None, "keyed in the object's rotation mode (quaternion only)")
+    for q in performed:
+        check(any(max(abs(a - b) for a, b in zip(q, kq)) < 1e-5 for kq in keyed),
+              f"a key holds the performed rotation {tuple(round(v, 4) for v in q)}")
+    live_ops.stop_all()
+
+    # The pose the bake gives: the object's matrix_world (as performed: the keys now drive the
+    # object, at the current frame the first one) to set_mesh_probe / set_probe_pose.
+    import hapticfluid as hf
+    from hapticfluid_blender import blender_scene
+
+    shape = blender_scene.probe_shape_dict(probe, "MESH")
+    plan = c.plan
+    res = c.engine.resolution
+    h = (plan.domain_hi[0] - plan.domain_lo[0]) / res[0]
+    with hf.Simulation(resolution=res, domain_size=tuple(n * h for n in res), origin=plan.domain_lo,
+                       **plan.fluid) as bake:
+        bake.set_mesh_probe(np.asarray(shape["vertices"], np.float32), np.asarray(shape["triangles"], np.int32),
+                            world.tolist())
+        bake.step(0.01)
+        unturned = (live_cells != bake.cell_classes()).sum()
+        check(unturned == 0, f"the live probe covers the cells the bake's pose covers ({unturned} differ)")
+        bake.set_probe_pose([list(r) for r in c.start_matrix])
+        bake.step(0.01)
+        check((live_cells != bake.cell_classes()).any(), "... which the unturned probe does not")
+
+
 def timeline_drives_a_sphere_probe():
     scene, _domain, probe = new_scene(probe_at=(0.3, 0.5, 0.5))
-    scene.hapticfluid_bake.probe_shape = "SPHERE"
+    settings(scene).probe_shape = "SPHERE"
     probe.keyframe_insert("location", frame=1)
     probe.location.x = 0.7
     probe.keyframe_insert("location", frame=20)
@@ -309,8 +383,8 @@ def bad_setups():
             check(text.startswith(first), f"the report starts with the fix '{first}'")
 
     def no_domain(s, d, p):
-        s.hapticfluid_bake.domain = None
-    expect(no_domain, "domain", first="Choose a domain")
+        settings(s).domain = None
+    expect(no_domain, "Domain role", first="Give a mesh the Domain role")
 
     def rotated(s, d, p):
         d.rotation_euler = (0.0, 0.0, 0.3)
@@ -323,17 +397,17 @@ def bad_setups():
     expect(rotation_applied, "axis-aligned box", first="Make the domain")
 
     def no_probe(s, d, p):
-        s.hapticfluid_bake.probe = None
-    expect(no_probe, "probe", first="Choose a probe")
+        settings(s).probe = None
+    expect(no_probe, "Probe role", first="Give an object the Probe role")
 
     def not_a_mesh(s, d, p):
         bpy.ops.object.empty_add(location=(0.5, 0.5, 0.5))
-        s.hapticfluid_bake.probe = bpy.context.active_object
+        settings(s).probe = bpy.context.active_object
     expect(not_a_mesh, "not a mesh", "Sphere shape", first="Choose a mesh object")
 
     def open_mesh(s, d, p):
         bpy.ops.mesh.primitive_monkey_add(size=0.3, location=(0.5, 0.5, 0.5))
-        s.hapticfluid_bake.probe = bpy.context.active_object
+        settings(s).probe = bpy.context.active_object
     expect(open_mesh, "Fill Holes", "Recalculate Outside", first="Close the probe")
 
     def outside(s, d, p):
@@ -399,8 +473,8 @@ def measure():
     for res in (32, 48, 64):
         scene, _domain, probe = new_scene(fluid_density=1.2)
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, location=(0.5, 0.5, 0.15))
-        scene.hapticfluid_bake.source = bpy.context.active_object
-        scene.hapticfluid_bake.pressure_iterations = 40
+        settings(scene).source = bpy.context.active_object
+        settings(scene).pressure_iterations = 40
         scene.hapticfluid_live.resolution = res
         scene.hapticfluid_live.device = "MOUSE"
         run = live_ops.start(scene)
@@ -426,8 +500,10 @@ def measure():
 def main():
     register_twice()
     simulated_falcon_moves_the_probe()
+    simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()
+    mouse_turns_a_mesh_probe_and_record_keys_the_rotation()
     timeline_drives_a_sphere_probe()
     deleted_objects_and_device_errors_end_it()
     bad_setups()

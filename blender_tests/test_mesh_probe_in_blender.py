@@ -8,11 +8,7 @@ import bpy
 import numpy as np
 
 import hapticfluid as hf
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
+from support import check
 
 
 def object_mesh(obj):

@@ -2,88 +2,57 @@
 makes its Volume object at the first finished frame, in the active collection, and extends it
 as frames land; disabling the add-on in the middle of the bake cancels and joins the worker
 and shows the finished frames; enabling it again clears is_baking; Resume finishes the bake.
-Then the Properties editor (Scene tab) and the 3D viewport in Solid mode are screenshotted:
-the PNGs go to $HAPTICFLUID_OUT_DIR, else <HAPTICFLUID_SOURCE_DIR>/out/addon, and the smoke
-must cover a region of the viewport (pixels that change when the Volume is hidden).
+Then the Properties editor (Scene tab, then the Physics tab with the Domain's sub-panels), the
+3D viewport in Solid mode and the Timeline are screenshotted: the PNGs go to $HAPTICFLUID_OUT_DIR,
+else <HAPTICFLUID_SOURCE_DIR>/out/addon; the smoke must cover a region of the viewport (pixels
+that change when the Volume is hidden), the Timeline's cache bar must cover the baked frames'
+span in red while a setting differs from the bake's, in blue once it is set back (and nothing
+past its end), and every open sub-panel of the Domain must have been drawn.
 Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
 
 import os
-import shutil
-import sys
 import tempfile
 import threading
 import time
-import traceback
 
 import bpy
 
-SOURCE = os.environ["HAPTICFLUID_SOURCE_DIR"]
-sys.path.insert(0, os.path.join(SOURCE, "addon"))
-import hapticfluid_blender  # noqa: E402
+from support import (area as area_of, check, clear_objects, close_splash, cube, drive, fail, finish,
+                     frames_on_disk as frames_in, ico_sphere, invoke, key_locations, out_dir, png_rgb, redraw_all,
+                     region as region_of, remove_on_exit, screenshot as screenshot_to, set_roles, settings,
+                     uv_sphere, window)
+
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
+from hapticfluid_blender import cache_bar, physics_panels  # noqa: E402
 
 FRAMES = 48
-OUT = os.environ.get("HAPTICFLUID_OUT_DIR") or os.path.join(SOURCE, "out", "addon")
-TMP = tempfile.mkdtemp(prefix="hf_blender_display_")
+OUT = out_dir("addon")
+TMP = remove_on_exit(tempfile.mkdtemp(prefix="hf_blender_display_"))
 CACHE = os.path.join(TMP, "cache")
-state = {"phase": "start", "t0": time.time(), "durations": [], "waits": 0}
-
-
-def fail(message):
-    print("FAILED:", message, flush=True)
-    shutil.rmtree(TMP, ignore_errors=True)
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
-
-
-def window():
-    return bpy.context.window_manager.windows[0]
-
-
-def area_of(kind):
-    return next(a for a in window().screen.areas if a.type == kind)
+state = {"phase": "start", "t0": time.time(), "durations": [], "waits": 0, "drawn": set()}
 
 
 def setup():
+    record_panel_draws()
     hapticfluid_blender.register()
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        bpy.data.objects.remove(obj)
+    scene = clear_objects()
     fx = bpy.data.collections.new("FX")
     scene.collection.children.link(fx)
     bpy.context.view_layer.active_layer_collection = bpy.context.view_layer.layer_collection.children["FX"]
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, location=(0.3, 0.5, 0.6))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=0)
-    probe.location = (0.7, 0.5, 0.6)
-    probe.keyframe_insert("location", frame=FRAMES)
-    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.14, location=(0.5, 0.5, 0.22))
-    source = bpy.context.active_object
+    domain = cube(1.0, (0.5, 0.5, 0.5))
+    probe = uv_sphere(0.1, (0.3, 0.5, 0.6))
+    key_locations(probe, ((0, (0.3, 0.5, 0.6)), (FRAMES, (0.7, 0.5, 0.6))))
+    source = ico_sphere(0.14, (0.5, 0.5, 0.22))
     source.hide_set(True)  # the screenshots show the smoke, not the emitter
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.source = domain, probe, source
+    s = set_roles(scene, domain, probe, source)
     s.resolution, s.frame_start, s.frame_end, s.substeps = 24, 1, FRAMES, 2
     s.heat_buoyancy, s.source_temperature, s.source_density = 2.0, 10.0, 1.0
     s.cache_dir = CACHE
-    # close the splash screen before any modal operator listens for Esc
-    window().event_simulate(type="ESC", value="PRESS")
-    window().event_simulate(type="ESC", value="RELEASE")
-
-
-def invoke(op):
-    with bpy.context.temp_override(window=window(), area=area_of("VIEW_3D")):
-        return op("INVOKE_DEFAULT")
+    close_splash()
 
 
 def frames_on_disk():
-    folder = os.path.join(CACHE, "data")
-    return sorted(os.listdir(folder)) if os.path.isdir(folder) else []
+    return frames_in(CACHE)
 
 
 def bake_threads():
@@ -91,20 +60,12 @@ def bake_threads():
 
 
 def screenshot(kind, name):
-    os.makedirs(OUT, exist_ok=True)
-    path = os.path.join(OUT, name)
-    with bpy.context.temp_override(window=window(), area=area_of(kind)):
-        bpy.ops.screen.screenshot_area(filepath=path)
-    check(os.path.getsize(path) > 1000, f"screenshot {path}")
-    return path
+    return screenshot_to(os.path.join(OUT, name), kind)
 
 
 def pixels(path):
-    img = bpy.data.images.load(path)
-    px = list(img.pixels)
-    w, h = img.size
-    bpy.data.images.remove(img)
-    return px, w, h
+    rgb = png_rgb(path)
+    return rgb, rgb.shape[1], rgb.shape[0]
 
 
 def frame_viewport():
@@ -122,29 +83,57 @@ def frame_viewport():
     props.context = "SCENE"
 
 
-def redraw_all():
-    for area in window().screen.areas:
-        area.tag_redraw()
+def check_cache_bar(name, kind, is_bar_colour):
+    """Screenshot the Timeline; the bar must cover frames 1..FRAMES at its height, and the
+    pixels just past its end must not have its colour."""
+    scene = bpy.context.scene
+    check(cache_bar.baked_range(scene) == (1, FRAMES, kind), f"the cache bar's range: "
+                                                            f"{cache_bar.baked_range(scene)}")
+    timeline = area_of("DOPESHEET_EDITOR")
+    region = region_of("DOPESHEET_EDITOR")
+    rgb, w, h = pixels(screenshot("DOPESHEET_EDITOR", name))
+    check((w, h) == (timeline.width, timeline.height), f"the Timeline screenshot is its area ({w} x {h})")
+    x0, y0, x1, y1 = cache_bar.bar_rect(region, 1, FRAMES, bpy.context.preferences.system.ui_scale)
+    dx, dy = region.x - timeline.x, region.y - timeline.y  # the region inside the area's image
+    rows = range(int(y0) + dy + 1, int(y1) + dy - 1)
+    inside = [(x, y) for y in rows for x in range(int(x0) + dx + 2, int(x1) + dx - 2)]
+    past = [(x, y) for y in rows for x in range(int(x1) + dx + 6, min(int(x1) + dx + 60, w))]
+    share = sum(is_bar_colour(rgb[y, x]) for x, y in inside) / max(1, len(inside))
+    stray = sum(is_bar_colour(rgb[y, x]) for x, y in past)
+    check(len(inside) > 100 and share > 0.9,
+          f"the {kind} bar covers frames 1..{FRAMES} (x {x0:.0f}..{x1:.0f} px): {100 * share:.0f} % of "
+          f"{len(inside)} pixels have its colour")
+    check(past and stray == 0, f"nothing of the bar's colour past frame {FRAMES} ({stray} of {len(past)} pixels)")
 
 
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
+def record_panel_draws():
+    """Wrap the Physics tab panels' draw to note which ones Blender drew (before registering:
+    a registered class's draw must not be replaced)."""
+    def recording(draw, label):
+        def recorded(self, context):
+            state["drawn"].add(label)
+            draw(self, context)
+        return recorded
+
+    for cls in physics_panels.classes[1:]:
+        cls.draw = recording(cls.draw, cls.bl_label)
+
+
+def show_physics_tab():
+    """The domain active in the Physics tab."""
+    bpy.context.view_layer.objects.active = settings().domain
+    area_of("PROPERTIES").spaces.active.context = "PHYSICS"
+    redraw_all()
 
 
 def step():
-    if time.time() - state["t0"] > 400:
-        fail(f"timed out in phase {state['phase']}")
     phase = state["phase"]
     scene = bpy.context.scene
     if phase == "start":
         check(invoke(bpy.ops.hapticfluid.bake) == {"RUNNING_MODAL"}, "Bake invoked from the UI runs modal")
         state["phase"] = "baking"
     elif phase == "baking":
-        s = scene.hapticfluid_bake
+        s = settings(scene)
         if not s.is_baking:
             fail(f"the bake ended before the add-on could be disabled: {s.status}")
         vol = s.volume_object
@@ -165,15 +154,16 @@ def step():
             vol = bpy.data.objects.get("hapticfluid Smoke")
             check(vol is not None and vol.data.frame_duration == done,
                   f"the Volume shows the {done} finished frame(s)")
-            check(not scene.get("hapticfluid_bake", {}).get("is_baking", False),
+            domain = bpy.data.objects["Cube"]  # its settings, read as stored (the add-on is off)
+            check(not domain["hapticfluid"]["domain_settings"].get("is_baking", False),
                   "is_baking is cleared in the saved settings")
             hapticfluid_blender.register()
-            s = scene.hapticfluid_bake
+            s = settings(scene)
             check(not s.is_baking and "disabled" in s.status, f"enabled again: not baking, status {s.status!r}")
             check(invoke(bpy.ops.hapticfluid.bake_resume) == {"RUNNING_MODAL"}, "Resume runs modal")
             state["phase"] = "resuming"
     elif phase == "resuming":
-        s = scene.hapticfluid_bake
+        s = settings(scene)
         if not s.is_baking:
             check("finished" in s.status, f"Resume finished the bake: '{s.status}'")
             check(len(frames_on_disk()) == FRAMES and s.volume_object.data.frame_duration == FRAMES,
@@ -189,9 +179,8 @@ def step():
             redraw_all()
             return 0.2
         state["with_smoke"] = screenshot("VIEW_3D", "viewport_solid.png")
-        with bpy.context.temp_override(window=window()):
-            bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "window.png"))
-        scene.hapticfluid_bake.volume_object.hide_viewport = True
+        screenshot_to(os.path.join(OUT, "window.png"))
+        settings(scene).volume_object.hide_viewport = True
         redraw_all()
         state["phase"] = "shoot_without"
         state["waits"] = 0
@@ -204,14 +193,13 @@ def step():
         a, w, h = pixels(state["with_smoke"])
         b, w2, h2 = pixels(without)
         check((w, h) == (w2, h2), "both viewport screenshots have one size")
-        changed = sum(1 for i in range(0, len(a), 4)
-                      if max(abs(a[i + c] - b[i + c]) for c in range(3)) > 0.08)
+        changed = int((abs(a - b).max(axis=2) > 0.08).sum())
         share = changed / (w * h)
         check(share > 0.01, f"the smoke covers a visible region of the Solid viewport: {changed} of {w * h} pixels "
                             f"({100 * share:.1f} %)")
         # The panel, large: the 3D view becomes a Properties editor on the Scene tab, scrolled
         # down to the add-on's panel; a changed setting shows "cache out of date".
-        scene.hapticfluid_bake.vorticity = 0.9
+        settings(scene).vorticity = 0.9
         big = area_of("VIEW_3D")
         big.type = "PROPERTIES"  # its tabs exist after its first draw: the Scene tab is chosen then
         redraw_all()
@@ -219,7 +207,7 @@ def step():
         state["waits"] = 0
     elif phase == "scroll":
         state["waits"] += 1
-        big = max((a for a in window().screen.areas if a.type == "PROPERTIES"), key=lambda a: a.width * a.height)
+        big = area_of("PROPERTIES")
         region = next(r for r in big.regions if r.type == "WINDOW")
         if state["waits"] == 2:
             big.spaces.active.context = "SCENE"
@@ -229,18 +217,41 @@ def step():
         if state["waits"] < 12:
             redraw_all()
             return 0.2
-        os.makedirs(OUT, exist_ok=True)
-        path = os.path.join(OUT, "panel_scene_tab.png")
-        with bpy.context.temp_override(window=window(), area=big):
-            bpy.ops.screen.screenshot_area(filepath=path)
-        check(os.path.getsize(path) > 1000, f"screenshot {path}")
+        screenshot("PROPERTIES", "panel_scene_tab.png")
+        show_physics_tab()
+        state["phase"] = "physics"
+        state["waits"] = 0
+    elif phase == "physics":
+        state["waits"] += 1
+        big = area_of("PROPERTIES")
+        if state["waits"] == 2:
+            big.spaces.active.context = "PHYSICS"
+        if state["waits"] < 8:
+            redraw_all()
+            return 0.2
+        screenshot("PROPERTIES", "panel_physics_tab.png")
+        want = {"hapticfluid", "Resolution", "Fluid", "Cache", "Display"}  # Pressure Solver starts closed
+        check(want <= state["drawn"], f"the Physics tab drew the Domain's panels: {sorted(state['drawn'])}")
+        big.ui_type = "TIMELINE"  # the window's own Timeline is a few pixels high at 1024 x 768
+        state["phase"] = "timeline"
+        state["waits"] = 0
+    elif phase == "timeline":
+        state["waits"] += 1
+        if state["waits"] < 6:
+            redraw_all()
+            return 0.2
+        if "outdated" not in state:  # vorticity was changed for the Scene tab's shot
+            check_cache_bar("timeline_out_of_date.png", "outdated", lambda c: c[0] > 0.8 and c[0] - c[2] > 0.4)
+            state["outdated"] = True
+            settings(scene).vorticity = 0.4  # set back: up to date again
+            state["waits"] = 0
+            return 0.1
+        check_cache_bar("timeline_baked.png", "baked", lambda c: c[2] > 0.8 and c[2] - c[0] > 0.4)
         hapticfluid_blender.unregister()
-        shutil.rmtree(TMP, ignore_errors=True)
-        print("blender bake display test passed; screenshots in", OUT, flush=True)
-        bpy.ops.wm.quit_blender()
+        finish(f"blender bake display test passed; screenshots in {OUT}")
         return None
     return 0.1
 
 
 setup()
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 400, lambda: f"in phase {state['phase']}")

@@ -4,77 +4,39 @@ worker bakes, a simulated Esc cancels with the complete frames kept, and Resume 
 sequence. Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
 
 import os
-import shutil
-import sys
 import tempfile
 import time
-import traceback
 
 import bpy
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
-import hapticfluid_blender  # noqa: E402
+from support import (check, clear_objects, cube, drive, fail, finish, frames_on_disk as frames_in, invoke,
+                     key_locations, remove_on_exit, set_roles, settings, uv_sphere)
+
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 
 FRAMES = 40
-TMP = tempfile.mkdtemp(prefix="hf_blender_modal_")
+TMP = remove_on_exit(tempfile.mkdtemp(prefix="hf_blender_modal_"))
 CACHE = os.path.join(TMP, "cache")
 state = {"phase": "start", "t0": time.time(), "ticks_while_baking": 0, "cancelled_at": None}
 
 
-def fail(message):
-    print("FAILED:", message, flush=True)
-    shutil.rmtree(TMP, ignore_errors=True)
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
-
-
 def setup():
     hapticfluid_blender.register()
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.12, location=(0.3, 0.5, 0.55))
-    probe = bpy.context.active_object
-    probe.keyframe_insert("location", frame=1)
-    probe.location = (0.65, 0.5, 0.55)
-    probe.keyframe_insert("location", frame=FRAMES)
-    s = scene.hapticfluid_bake
-    s.domain, s.probe = domain, probe
+    scene = clear_objects()
+    domain = cube(1.0, (0.5, 0.5, 0.5))
+    probe = uv_sphere(0.12, (0.3, 0.5, 0.55))
+    key_locations(probe, ((1, (0.3, 0.5, 0.55)), (FRAMES, (0.65, 0.5, 0.55))))
+    s = set_roles(scene, domain, probe)
     s.resolution, s.frame_start, s.frame_end, s.substeps = 24, 1, FRAMES, 2
     s.cache_dir = CACHE
 
 
-def invoke(op):
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
-    with bpy.context.temp_override(window=win, area=area):
-        return op("INVOKE_DEFAULT")
-
-
 def frames_on_disk():
-    folder = os.path.join(CACHE, "data")
-    return sorted(os.listdir(folder)) if os.path.isdir(folder) else []
-
-
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
+    return frames_in(CACHE)
 
 
 def step():
-    s = bpy.context.scene.hapticfluid_bake
-    if time.time() - state["t0"] > 240:
-        fail(f"timed out in phase {state['phase']} (status: {s.status})")
+    s = settings()
     phase = state["phase"]
     if phase == "start":
         check(invoke(bpy.ops.hapticfluid.bake) == {"RUNNING_MODAL"}, "Bake invoked from the UI runs modal")
@@ -111,12 +73,10 @@ def step():
             check(s.volume_object is not None and s.volume_object.data.frame_duration == FRAMES,
                   "the Volume object shows the whole sequence")
             hapticfluid_blender.unregister()
-            shutil.rmtree(TMP, ignore_errors=True)
-            print("blender modal bake test passed", flush=True)
-            bpy.ops.wm.quit_blender()
+            finish("blender modal bake test passed")
             return None
     return 0.1
 
 
 setup()
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 240, lambda: f"in phase {state['phase']} (status: {settings().status})")

@@ -4,14 +4,14 @@ workspace box. Screenshots of the window before and after set_density/set_force 
 the domain's projected screen region (computed from its 8 corners) and along the arrow's
 projected segment. The PNGs are kept in <source>/out/live_draw*.png (HAPTICFLUID_SOURCE_DIR)
 to be looked at. Also checks: one texture upload per new array, gpu.state restored after the
-callback, remove() idempotent; prints the redraw rate at 32^3 and 64^3.
+callback, remove() idempotent; the smoke respects the scene's depth: a probe in front of the plume
+stays unveiled, one behind it is veiled by the smoke in front (live_draw_probe_*.png); prints the
+redraw rate at 32^3 and 64^3.
 Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
 
 import math
 import os
-import sys
 import time
-import traceback
 
 import bpy
 import gpu
@@ -19,11 +19,13 @@ import numpy as np
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 from mathutils import Euler
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
+from support import (area, check, clear_objects, cube, drive, on_exit, out_dir, png_rgb, region, screenshot as
+                     screenshot_to, uv_sphere, window)
+
 from hapticfluid_blender import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
 from hapticfluid_blender import live_draw_geometry as geometry  # noqa: E402
 
-OUT = os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "out")
+OUT = out_dir()
 LO, HI = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
 PROBE = (0.33, 0.5, 0.55)
 FORCE = (1.9, 0.5, 1.1)       # N
@@ -34,19 +36,8 @@ FPS_PLAN = ((32, False), (32, True), (64, False), (64, True), (0, False))
 SMOKE_DIFF = 0.06             # a smoke pixel differs from the empty view by this much (0..1 channel)
 state = {"phase": "start", "t0": time.time(), "wait_frames": 0}
 drawer = live_draw.LiveDrawer()
+on_exit(drawer.remove)  # the handler goes when a check fails
 seen_state = {}
-
-
-def fail(message):
-    print("FAILED:", message, flush=True)
-    drawer.remove()
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
 
 
 def plume(n):
@@ -62,22 +53,13 @@ def plume(n):
 
 
 def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return win, area, region
+    return window(), area(), region()
 
 
 def setup():
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
-    domain.name = "Domain"
-    domain.display_type = "WIRE"
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.08, location=PROBE)
-    bpy.context.active_object.name = "Probe"
+    clear_objects()
+    cube(1.0, (0.5, 0.5, 0.5), "Domain").display_type = "WIRE"
+    uv_sphere(0.08, PROBE, "Probe")
     win, area, region = view3d()
     space = area.spaces.active
     space.overlay.show_floor = True
@@ -108,21 +90,32 @@ def redraw():
 
 
 def screenshot(name):
-    path = os.path.join(OUT, name)
-    win, area, _ = view3d()
-    with bpy.context.temp_override(window=win, area=area):
-        bpy.ops.screen.screenshot(filepath=path)
-    image = bpy.data.images.load(path)
-    w, h = image.size
-    pixels = np.array(image.pixels[:], dtype=np.float32).reshape(h, w, 4)[:, :, :3]  # rows bottom-up
-    bpy.data.images.remove(image)
-    return pixels
+    return png_rgb(screenshot_to(os.path.join(OUT, name)))
 
 
 def project(point):
     _, area, region = view3d()
     xy = location_3d_to_region_2d(region, area.spaces.active.region_3d, point)
     return None if xy is None else (region.x + xy.x, region.y + xy.y)  # window pixels, origin bottom-left
+
+
+def place_probe(side):
+    """The probe sphere 0.22 m from the plume's axis towards the eye (side +1) or away from it (-1),
+    at mid height; the drawer told where it is, so the smoke's rays stop there."""
+    from mathutils import Vector
+
+    _, area, _ = view3d()
+    eye = area.spaces.active.region_3d.view_matrix.inverted().translation
+    axis = Vector((0.5, 0.5, 0.45))
+    towards = (eye - axis)
+    towards.z = 0.0
+    at = axis + side * 0.22 * towards.normalized()
+    probe = bpy.data.objects["Probe"]
+    probe.location = at
+    bpy.context.view_layer.update()
+    state["probe_at"] = tuple(at)
+    drawer.set_probe({"shape": "sphere", "radius": 0.08})
+    drawer.set_probe_matrix([list(row) for row in probe.matrix_world])
 
 
 def smoke_checks(before, after):
@@ -219,18 +212,8 @@ def measure_fps(n, upload_every_frame, seconds=3.0):
     state["phase"] = "fps"
 
 
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
-
-
 def step():
     now = time.time()
-    if now - state["t0"] > 420:
-        fail(f"timed out in phase {state['phase']}")
     if drawer.frames_drawn < state["wait_frames"]:  # let the view redraw (slow on a loaded llvmpipe)
         redraw()
         return 0.05
@@ -322,8 +305,42 @@ def step():
         red_minus_blue = float((base[:, :, 0] - base[:, :, 2]).mean())
         check(red_minus_blue > 0.1, f"show_temperature tints the hot column warm (red - blue = {red_minus_blue:.2f})")
         drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, False)
-        state["fps_results"] = []
-        measure_fps(*FPS_PLAN[0])
+        density, _ = plume(32)
+        drawer.set_density(density)
+        place_probe(+1.0)
+        state.update(phase="probe_base", wait_frames=drawer.frames_drawn + 3, side=+1.0, probe_results={})
+    elif phase == "probe_base":  # the probe without smoke: what it looks like unveiled
+        drawer.set_display(0.0, False)
+        state.update(phase="probe_empty", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "probe_empty":
+        side = state["side"]
+        state["probe_base_img"] = screenshot(f"live_draw_probe_{'front' if side > 0 else 'behind'}_empty.png")
+        drawer.set_display(live_draw.DEFAULT_DENSITY_SCALE_PER_M, False)
+        state.update(phase="probe_smoke", wait_frames=drawer.frames_drawn + 3)
+    elif phase == "probe_smoke":
+        side = state["side"]
+        name = "front" if side > 0 else "behind"
+        img = screenshot(f"live_draw_probe_{name}.png")
+        x, y = project(state["probe_at"])
+        patch = (slice(int(y) - 5, int(y) + 6), slice(int(x) - 5, int(x) + 6))
+        veil = float(np.abs(img[patch] - state["probe_base_img"][patch]).max(axis=2).mean())
+        state["probe_results"][name] = veil
+        print(f"probe {name} of the plume: smoke changes its pixels by {veil:.3f}", flush=True)
+        if side > 0:
+            check(veil < 0.04, f"the probe in front of the plume stays visible, not drawn over ({veil:.3f})")
+            place_probe(-1.0)
+            state.update(phase="probe_base", wait_frames=drawer.frames_drawn + 3, side=-1.0)
+        else:
+            check(veil > 0.1, f"the probe behind the plume is veiled by the smoke in front of it ({veil:.3f})")
+            px, py = project((0.5, 0.5, 0.3))
+            column = float(np.abs(img[int(py) - 4:int(py) + 5, int(px) - 4:int(px) + 5]
+                                  - state["before"][int(py) - 4:int(py) + 5, int(px) - 4:int(px) + 5]).max(axis=2).mean())
+            check(column > SMOKE_DIFF, f"the plume beside the probe is still drawn ({column:.3f})")
+            bpy.data.objects["Probe"].location = PROBE
+            bpy.context.view_layer.update()
+            drawer.set_probe(None)
+            state["fps_results"] = []
+            measure_fps(*FPS_PLAN[0])
     elif phase == "fps":
         n, seconds, every, frames0, uploads0, t0, density = state["fps"]
         if every:
@@ -360,6 +377,5 @@ def step():
     return 0.05
 
 
-os.makedirs(OUT, exist_ok=True)
 bpy.context.preferences.view.show_splash = False  # read before the splash opens; not saved (--factory-startup)
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 420, lambda: f"in phase {state['phase']}")

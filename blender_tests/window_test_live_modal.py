@@ -4,16 +4,14 @@ controller (stats and snapshots arrive, the UI stays live), Record keys the prob
 stops it; a Mouse-mode session stops on a right-click in the viewport, a third on the Stop
 operator; quitting with a fourth running exits cleanly. Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
 
-import os
-import sys
 import threading
 import time
-import traceback
 
 import bpy
 
-sys.path.insert(0, os.path.join(os.environ["HAPTICFLUID_SOURCE_DIR"], "addon"))
-import hapticfluid_blender  # noqa: E402
+from support import check, cube, drive, fail, invoke, region, set_roles, settings, uv_sphere, window
+
+import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops  # noqa: E402
 
 try:
@@ -25,48 +23,20 @@ except ImportError:
 state = {"phase": "start", "t0": time.time(), "phase_t": time.time(), "ticks": 0}
 
 
-def fail(message):
-    print("FAILED:", message, flush=True)
-    os._exit(1)
-
-
-def check(condition, message):
-    if not condition:
-        fail(message)
-    print("ok:", message, flush=True)
-
-
 def setup():
     hapticfluid_blender.register()
     scene = bpy.context.scene
     for obj in list(scene.objects):
         if obj.type == "MESH":
             bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.5, 0.5, 0.5))
-    domain = bpy.context.active_object
+    domain = cube(1.0, (0.5, 0.5, 0.5))
     domain.display_type = "WIRE"
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, location=(0.4, 0.5, 0.5))
-    probe = bpy.context.active_object
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.06, location=(0.5, 0.5, 0.12))
-    source = bpy.context.active_object
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe, bake.source = domain, probe, source
+    bake = set_roles(scene, domain, uv_sphere(0.1, (0.4, 0.5, 0.5)), uv_sphere(0.06, (0.5, 0.5, 0.12)))
     bake.pressure_iterations = 20
     live = scene.hapticfluid_live
     live.device = "SIMULATED_FALCON"
     live.auto_resolution = False
     live.resolution = 16
-
-
-def view3d():
-    win = bpy.context.window_manager.windows[0]
-    return win, next(a for a in win.screen.areas if a.type == "VIEW_3D")
-
-
-def invoke(op):
-    win, area = view3d()
-    with bpy.context.temp_override(window=win, area=area):
-        return op("INVOKE_DEFAULT")
 
 
 def next_phase(name):
@@ -88,19 +58,9 @@ def ended(phase_name):
     return gone
 
 
-def tick():
-    try:
-        return step()
-    except Exception:
-        traceback.print_exc()
-        fail("exception in the test timer")
-
-
 def step():
     scene = bpy.context.scene
     live = scene.hapticfluid_live
-    if time.time() - state["t0"] > 400:
-        fail(f"timed out in phase {state['phase']} (status: {live.status})")
     phase = state["phase"]
     elapsed = time.time() - state["phase_t"]
     if phase == "start":
@@ -124,12 +84,12 @@ def step():
         if len(recording.samples) >= 5:  # ticks are slow while Xvfb's llvmpipe redraws: count samples
             n = len(recording.samples)
             check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record again ends it")
-            probe = scene.hapticfluid_bake.probe
+            probe = settings(scene).probe
             from hapticfluid_blender import live_session
 
             fc = live_session.object_fcurves(probe).find("location", index=0)
             check(fc is not None and len(fc.keyframe_points) == n, f"one key per recorded tick ({n})")
-            win, _area = view3d()
+            win = window()
             win.event_simulate(type="ESC", value="PRESS")
             win.event_simulate(type="ESC", value="RELEASE")
             next_phase("esc")
@@ -149,9 +109,8 @@ def step():
     elif phase == "mouse":
         run = running()
         if run is not None and run.controller.state == "running" and run.controller.ticks >= 5:
-            win, area = view3d()
-            region = next(r for r in area.regions if r.type == "WINDOW")
-            x, y = region.x + region.width // 2, region.y + region.height // 2
+            win, view = window(), region()
+            x, y = view.x + view.width // 2, view.y + view.height // 2
             win.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
             win.event_simulate(type="RIGHTMOUSE", value="PRESS", x=x, y=y)
             win.event_simulate(type="RIGHTMOUSE", value="RELEASE", x=x, y=y)
@@ -187,4 +146,4 @@ def step():
 
 
 setup()
-bpy.app.timers.register(tick, first_interval=1.0)
+drive(step, 400, lambda: f"in phase {state['phase']} (status: {bpy.context.scene.hapticfluid_live.status})")

@@ -7,7 +7,8 @@ sphere probe, the add-on registered from this source tree, and the live session 
         --python scripts/live_demo.py -- --screenshot out/live_session.png --seconds 20
 
 The hapticfluid package must be importable (scripts/demo.sh puts build/python on PYTHONPATH).
-Devices: SIMULATED_FALCON (default: the Falcon driver on a simulated Falcon with a scripted hand),
+Devices: SIMULATED_FALCON (default: the Falcon driver on a simulated Falcon whose scripted hand
+sweeps the probe through the plume; --gesture rest, sweep or circle: hapticfluid.hand_gestures),
 MOUSE (grab the probe with G), TIMELINE (the probe's keyed sweep plays), FALCON (a real one).
 Stop with Esc or right-click in the viewport, or Stop in the sidebar. --screenshot PATH saves the
 window to PATH after --seconds of running and quits (the README's picture, under xvfb-run).
@@ -35,6 +36,12 @@ def parse_args():
                                      description="Open the hapticfluid live demo scene and start the session.")
     parser.add_argument("--device", choices=DEVICES, default="SIMULATED_FALCON",
                         help="what moves the probe (default: SIMULATED_FALCON)")
+    try:
+        from hapticfluid.hand_gestures import NAMES as gestures
+    except ImportError:  # the add-on reports the missing package when the session starts
+        gestures = ("rest", "sweep")
+    parser.add_argument("--gesture", choices=gestures, default="sweep",
+                        help="what the simulated Falcon's hand does (SIMULATED_FALCON; default: sweep)")
     parser.add_argument("--screenshot", metavar="PATH",
                         help="save a screenshot of the window to PATH (.png) after --seconds, then quit")
     parser.add_argument("--seconds", type=float, default=20.0,
@@ -90,8 +97,10 @@ def build_scene():
     probe.location = (0.72, 0.5, 0.55)
     probe.keyframe_insert("location", frame=120)
     scene.frame_start, scene.frame_end, scene.frame_current = 1, 120, 1
-    bake = scene.hapticfluid_bake
-    bake.domain, bake.probe, bake.source = domain, probe, source
+    from hapticfluid_blender import roles
+
+    for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):
+        roles.assign(scene, role, obj)  # the Physics tab's roles (scene.hapticfluid_bake is the pre-roles one)
     return domain, probe
 
 
@@ -122,12 +131,14 @@ def show_hapticfluid_tab(window, area):
         window.event_simulate(type="WHEELDOWNMOUSE", value="PRESS", x=x, y=y, ctrl=True)
 
 
-def start(device):
+def start(device, gesture):
     scene = bpy.context.scene
     if not hasattr(bpy.ops.hapticfluid, "live_start") or not hasattr(scene, "hapticfluid_live"):
         log.error("this add-on has no live session (hapticfluid.live_start): the scene is built, nothing runs")
         return None
     scene.hapticfluid_live.device = device
+    if device == "SIMULATED_FALCON":
+        scene.hapticfluid_live.hand_gesture = gesture.upper()
     window, area = frame_view()
     region = next(r for r in area.regions if r.type == "WINDOW")
     with bpy.context.temp_override(window=window, area=area, region=region):
@@ -151,7 +162,7 @@ def main():
     hapticfluid_blender.register()
     build_scene()
     # The window and its 3D view exist once the event loop runs: start from a timer.
-    bpy.app.timers.register(lambda: start(args.device), first_interval=0.5)
+    bpy.app.timers.register(lambda: start(args.device, args.gesture), first_interval=0.5)
     if args.screenshot:
         t_end = time.monotonic() + 0.5 + args.seconds
         bpy.app.timers.register(lambda: screenshot_and_quit(args.screenshot, t_end), first_interval=1.0)

@@ -1,7 +1,8 @@
 """hapticfluid for Blender: touch the smoke live (3D View > Sidebar > hapticfluid) and bake a
 probe's animation into an OpenVDB smoke cache.
 
-The add-on is a thin layer: properties describe the bake, operators turn them into a
+Objects get their roles (Domain, Probe, Smoke Source) in Properties > Physics > hapticfluid, as
+with Mantaflow. The add-on is a thin layer: properties describe the bake, operators turn them into a
 ``hapticfluid.bake`` scene on Blender's main thread and run the bake on a worker thread that
 never touches ``bpy``; the result is a Volume object that Cycles renders. It needs the
 ``hapticfluid`` Python package (with its native module) importable from Blender's Python.
@@ -12,25 +13,31 @@ bl_info = {
     "author": "hapticfluid developers",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "3D View > Sidebar > hapticfluid; Properties > Scene > hapticfluid Bake",
+    "location": "Properties > Physics > hapticfluid (roles); Properties > Scene > hapticfluid; "
+                "3D View > Sidebar > hapticfluid",
     "description": "Touchable GPU smoke: bake a probe's motion to an OpenVDB volume sequence",
     "category": "Physics",
 }
 
-from . import bake_ops, farm_ops, live_ops, live_panel, live_props, panels, prefs, properties  # noqa: E402  (bl_info first)
+from . import bake_ops, cache_bar, farm_ops, legacy, live_ops, live_panel, live_props, panels, physics_panels, \
+    prefs, properties  # noqa: E402  (bl_info first)
 
 classes = (
-    properties.HapticFluidBakeSettings,
+    *properties.classes,
+    legacy.HapticFluidBakeSettings,
     bake_ops.HAPTICFLUID_OT_bake,
     bake_ops.HAPTICFLUID_OT_bake_resume,
     bake_ops.HAPTICFLUID_OT_bake_free,
     *panels.classes,
+    *physics_panels.classes,
     prefs.HapticFluidPreferences,
     farm_ops.HAPTICFLUID_OT_write_farm_job,
     live_props.HapticFluidLiveSettings,
     *live_ops.classes,
     *live_panel.classes,
 )
+
+_LOAD_HANDLERS = (legacy.migrate_on_load, properties.clear_stale_bake_state, live_props.clear_stale_live_state)
 
 
 def register():
@@ -41,12 +48,16 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.attach()
+    legacy.attach()
     live_props.attach()
-    for handler in (properties.clear_stale_bake_state, live_props.clear_stale_live_state):
+    physics_panels.attach()
+    cache_bar.attach()
+    for handler in _LOAD_HANDLERS:  # in order: a migrated is_baking is cleared next
         if handler not in bpy.app.handlers.load_post:
             bpy.app.handlers.load_post.append(handler)
-    try:  # re-enabled after a bake was cut short: no bake of ours runs now
-        properties.clear_stale_bake_state()
+    try:  # a file opened while the add-on was disabled: move its old settings onto the objects
+        legacy.migrate()
+        properties.clear_stale_bake_state()  # re-enabled after a bake was cut short: none runs now
     except AttributeError:  # bpy.data is not readable while Blender starts; load_post clears it then
         pass
     live_ops.register()
@@ -60,10 +71,13 @@ def unregister():
 
     live_ops.unregister()  # ends running live sessions and removes their draw handlers first
     bake_ops.shutdown()  # cancels and joins running bakes, shows what finished
-    for handler in (properties.clear_stale_bake_state, live_props.clear_stale_live_state):
+    for handler in _LOAD_HANDLERS:
         if handler in bpy.app.handlers.load_post:
             bpy.app.handlers.load_post.remove(handler)
+    cache_bar.detach()
+    physics_panels.detach()
     live_props.detach()
+    legacy.detach()
     properties.detach()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -4,7 +4,7 @@
         -- [--resume] [--resolution N] [--save]
 
 Registers the add-on (from this folder) if needed, bakes with the scene's hapticfluid settings
-(domain, probe, source, frames, cache folder), and with --save stores the .blend with the Volume
+(the objects' roles: domain with the bake settings and cache folder, probe, source), and with --save stores the .blend with the Volume
 object pointing at the frames. Exits non-zero when the bake fails (1) or an argument is bad (2);
 keep --python-exit-code 1 so that an error Blender catches around the script also exits 1.
 """
@@ -29,19 +29,20 @@ def main(argv):
         sys.path.insert(0, addon_parent)
     import hapticfluid_blender
 
-    if not hasattr(bpy.types.Scene, "hapticfluid_bake"):
+    if not hasattr(bpy.types.Object, "hapticfluid"):
+        # registered after the .blend loaded, so its load handlers did not run: register() itself
+        # moves an older file's scene settings onto the objects and clears a stale is_baking
         hapticfluid_blender.register()
-        # registered after the .blend loaded, so its load handler did not run: a file saved
-        # during a bake would still say one is running and refuse to bake
-        hapticfluid_blender.properties.clear_stale_bake_state()
     scene = bpy.context.scene
+    settings = hapticfluid_blender.roles.settings_of(scene)
     if args.resolution is not None:
-        prop = type(scene.hapticfluid_bake).bl_rna.properties["resolution"]
+        prop = hapticfluid_blender.properties.HapticFluidDomainSettings.bl_rna.properties["resolution"]
         if not prop.hard_min <= args.resolution <= prop.hard_max:  # Blender would clamp it silently
             print(f"bake_blend.py: --resolution must be between {prop.hard_min} and {prop.hard_max}, "
                   f"got {args.resolution}", file=sys.stderr)
             return 2
-        scene.hapticfluid_bake.resolution = args.resolution
+        if settings.domain is not None:  # else the bake refuses: no domain
+            settings.resolution = args.resolution
     logging.basicConfig(level=logging.INFO, format="%(message)s")  # the bake's line per frame
     op = bpy.ops.hapticfluid.bake_resume if args.resume else bpy.ops.hapticfluid.bake
     try:
@@ -49,7 +50,7 @@ def main(argv):
     except RuntimeError as exc:  # in background mode an ERROR report is raised, not returned
         print(f"bake_blend.py: {exc}", file=sys.stderr)
         return 1
-    print("hapticfluid:", scene.hapticfluid_bake.status)
+    print("hapticfluid:", settings.status)
     if "FINISHED" not in result:
         return 1
     if args.save:

@@ -15,7 +15,7 @@ import threading
 
 import bpy
 
-from . import blender_scene, properties, volume
+from . import blender_scene, properties, roles, volume
 
 TIMER_S = 0.2
 log = logging.getLogger(__name__)
@@ -59,7 +59,7 @@ class _BakeJob:
 
     def settings(self):
         scene = bpy.data.scenes.get(self.scene_name)
-        return scene, (scene.hapticfluid_bake if scene is not None else None)
+        return scene, (roles.settings_of(scene) if scene is not None else None)
 
 
 _jobs = []  # running bakes (main thread only), so that disabling the add-on can end them
@@ -70,7 +70,7 @@ def _show_volume(scene, job, last_frame, collection=None):
     display as it was (restored by Free) and show it as a wire frame."""
     from hapticfluid.bake import frame_path
 
-    settings = scene.hapticfluid_bake
+    settings = roles.settings_of(scene)
     bake_scene = job.scene
     first = str(frame_path(bake_scene.cache_dir, bake_scene.frame_start))
     if settings.cache_dir.startswith("//") and bpy.data.filepath:
@@ -132,8 +132,9 @@ class _IdleOnly:
 
     @classmethod
     def poll(cls, context):
-        s = getattr(context.scene, "hapticfluid_bake", None)
-        return s is not None and not s.is_baking
+        if context.scene is None or not hasattr(bpy.types.Object, "hapticfluid"):
+            return False
+        return not roles.settings_of(context.scene).is_baking
 
 
 class _BakeBase(_IdleOnly):
@@ -143,7 +144,7 @@ class _BakeBase(_IdleOnly):
     def _start(self, context):
         """Main thread: scene -> bake scene, then the worker. Returns the job or None (reported,
         and written to the status line so that it does not keep the previous bake's text)."""
-        settings = context.scene.hapticfluid_bake
+        settings = roles.settings_of(context.scene)
         try:
             import hapticfluid  # noqa: F401  (a clear error if the package is missing)
             from hapticfluid.bake import scene_from_dict
@@ -167,7 +168,8 @@ class _BakeBase(_IdleOnly):
         return job
 
     def _refuse(self, settings, message):
-        settings.status = f"bake not started: {message}"
+        if settings.domain is not None:  # else there is no domain to hold a status
+            settings.status = f"bake not started: {message}"
         self.report({"ERROR"}, message)
         return None
 
@@ -222,7 +224,7 @@ class _BakeBase(_IdleOnly):
             if last is not None and last != job.shown_last:  # the frames show up as they land
                 _show_volume(scene, job, last, self._collection)
         for area in context.screen.areas if context.screen else ():
-            if area.type in ("PROPERTIES", "VIEW_3D"):
+            if area.type in ("PROPERTIES", "VIEW_3D", "DOPESHEET_EDITOR"):  # the last: the timeline's cache bar
                 area.tag_redraw()
         if job.thread.is_alive():
             return {"RUNNING_MODAL"}
@@ -259,7 +261,11 @@ class HAPTICFLUID_OT_bake_free(_IdleOnly, bpy.types.Operator):
         return context.window_manager.invoke_confirm(self, event)
 
     def execute(self, context):
-        settings = context.scene.hapticfluid_bake
+        settings = roles.settings_of(context.scene)
+        if settings.domain is None:
+            self.report({"ERROR"}, f"Give a mesh the Domain role ({roles.PHYSICS_PATH}): Free deletes the cache of the "
+                                   "scene's domain, and no object has that role")
+            return {"CANCELLED"}
         try:
             from hapticfluid.bake import BakeError, free_cache
 

@@ -8,6 +8,8 @@ import os
 
 import bpy
 
+from . import source_mesh
+
 
 class SceneError(Exception):
     """The Blender scene cannot be baked; the message says what to change."""
@@ -110,8 +112,11 @@ def _mesh_arrays(obj):
 
 def domain_box(settings):
     """The domain's world box (lo, hi), m, after the checks the bake and the live session share."""
+    if settings.problem:  # settings: roles.settings_of(scene); a role held twice (Shift+D copies it)
+        raise SceneError(settings.problem)
     if settings.domain is None:
-        raise SceneError("choose a domain object (its bounding box is the simulated box)")
+        raise SceneError("give a mesh the Domain role (Properties > Physics > hapticfluid): its bounding box is the "
+                         "simulated box, and no object in the scene has that role")
     domain = settings.domain
     is_box_turn, angle = _turn(domain.matrix_world)
     if not is_box_turn:  # a box turned by anything but 90 degrees has a larger world box than itself
@@ -143,15 +148,12 @@ def fluid_dict(scene, settings):
 
 
 def source_dict(settings):
-    """The smoke emitter (centre, radius in m, density, temperature) or None."""
-    if settings.source is None:
-        return None
-    src = settings.source
-    data = {"centre": list(src.matrix_world.translation), "radius": 0.5 * max(src.dimensions),
-            "density": settings.source_density, "temperature": settings.source_temperature}
-    if data["radius"] <= 0.0:  # an empty: use its display size
-        data["radius"] = src.empty_display_size * max(src.matrix_world.to_scale())
-    return data
+    """The smoke emitter at the current frame, or None: a mesh object's volume (source_mesh), or
+    a sphere (centre, radius in m) for an Empty; with density and temperature."""
+    try:
+        return source_mesh.source_dict(settings)
+    except source_mesh.SourceError as exc:
+        raise SceneError(str(exc)) from None
 
 
 def probe_shape_dict(probe, shape):
@@ -188,23 +190,38 @@ def scene_dict(scene, settings):
         },
     }
     source = source_dict(settings)
+    moving = [obj for obj in (settings.probe, settings.source if source and "matrix" in source else None) if obj]
+    keys = _sample_keys(scene, moving, settings.frame_start - 1, settings.frame_end)
     if source is not None:
+        if "matrix" in source:  # a mesh source moves with its animation, as the probe does
+            del source["matrix"]
+            source["keys"] = keys[settings.source.name]
         data["source"] = source
     if settings.probe is not None:
         probe = settings.probe
         shape = probe_shape_dict(probe, settings.probe_shape)
-        keys = []
-        current = scene.frame_current
-        try:
-            for frame in range(settings.frame_start - 1, settings.frame_end + 1):
-                scene.frame_set(frame)
-                keys.append({"frame": frame, "matrix": [list(row) for row in probe.matrix_world]})
-        finally:
-            scene.frame_set(current)
+        probe_keys = keys[probe.name]
         if shape["shape"] == "sphere":
-            _check_sphere_fits(probe, shape["radius"], keys, lo, hi, settings.resolution)
-        data["probe"] = {**shape, "keys": keys}
+            _check_sphere_fits(probe, shape["radius"], probe_keys, lo, hi, settings.resolution)
+        data["probe"] = {**shape, "keys": probe_keys}
     return data
+
+
+def _sample_keys(scene, objects, first, last):
+    """{object name: [{"frame", "matrix"}, ...]}: each object's matrix_world at every frame from
+    first to last, in one pass of frame_set; the current frame is restored afterwards."""
+    keys = {obj.name: [] for obj in objects}
+    if not objects:
+        return keys
+    current = scene.frame_current
+    try:
+        for frame in range(first, last + 1):
+            scene.frame_set(frame)
+            for obj in objects:
+                keys[obj.name].append({"frame": frame, "matrix": [list(row) for row in obj.matrix_world]})
+    finally:
+        scene.frame_set(current)
+    return keys
 
 
 def _check_sphere_fits(probe, local_radius, keys, lo, hi, resolution):

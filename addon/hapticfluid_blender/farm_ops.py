@@ -14,7 +14,7 @@ import os
 import bpy
 from bpy.props import EnumProperty, IntProperty, PointerProperty, StringProperty
 
-from . import blender_scene
+from . import blender_scene, roles
 
 SCENE_FILE = "hapticfluid_scene.json"
 
@@ -69,7 +69,7 @@ def write_job(scene) -> dict:
     from hapticfluid.farm import FarmJob, write_flamenco_job, write_openjd_job
     from hapticfluid.files import atomic_write
 
-    settings, farm = scene.hapticfluid_bake, scene.hapticfluid_farm
+    settings, farm = roles.settings_of(scene), scene.hapticfluid_farm
     if not farm.shared_root.strip():
         raise ValueError("Set the Shared Root (the folder every farm worker mounts) in the Farm box: it is empty")
     root = _folder(farm.shared_root, "shared root")

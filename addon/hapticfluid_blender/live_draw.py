@@ -50,12 +50,17 @@ class LiveDrawer:
         self._dirty = False
         self._force = None                      # (origin_m, force_n, max_force_n)
         self._workspace = None                  # (lo_m, hi_m)
+        # The probe the smoke's rays stop at: ("sphere", radius_local) or ("mesh", texels), its matrix_world
+        self._probe = None
+        self._probe_matrix = None
+        self._probe_dirty = False
         self.density_scale = DEFAULT_DENSITY_SCALE_PER_M
         self.show_temperature = False
         self._temperature_ref_k = 0.0
         # GPU objects, made in the draw callback only
         self._gpu = None
         self._texture = None                    # RGBA32F 3D texture (pack_field)
+        self._probe_texture = None              # RGBA32F 2D texture of the mesh probe's corners
         self._texture_has_temperature = False
         self._buffers = {}
         self._failed = False
@@ -89,6 +94,8 @@ class LiveDrawer:
             self._redraw()
         self._gpu = None
         self._texture = None
+        self._probe_texture = None
+        self._probe_dirty = self._probe is not None
         self._offscreens = {}
         self._buffers = {}
         if self._density is not None:
@@ -137,6 +144,33 @@ class LiveDrawer:
             raise ValueError(f"max_force_n must be a positive number of newtons, got {max_force_n!r}")
         self._force = (origin, force, float(max_force_n))
         self._redraw()
+
+    def set_probe(self, shape):
+        """The probe the smoke stops at (drawn in front of the smoke behind it, under the smoke in
+        front of it): blender_scene.probe_shape_dict's dict ({"shape": "sphere", "radius": m} or
+        {"shape": "mesh", "vertices": local m, "triangles": indices}), or None (no probe)."""
+        if shape is None:
+            self._probe = None
+        elif shape.get("shape") == "sphere":
+            radius = float(shape.get("radius", -1.0))
+            if not (math.isfinite(radius) and radius > 0.0):
+                raise ValueError(f"shape radius must be a positive number of metres, got {shape.get('radius')!r}")
+            self._probe = ("sphere", radius)
+        elif shape.get("shape") == "mesh":
+            self._probe = ("mesh", geometry.probe_triangle_texels(shape["vertices"], shape["triangles"]))
+        else:
+            raise ValueError(f"shape must be a probe shape dict ('sphere' or 'mesh'), got {shape.get('shape')!r}")
+        self._probe_dirty = True
+        self._redraw()
+
+    def set_probe_matrix(self, matrix_world):
+        """The probe's matrix_world (4x4 rows, m; invertible) where the smoke's rays stop."""
+        m = np.asarray(matrix_world, dtype=np.float64)
+        if m.shape != (4, 4) or not np.isfinite(m).all() or abs(np.linalg.det(m[:3, :3])) < 1e-12:
+            raise ValueError(f"matrix_world must be a finite invertible 4x4 matrix, got {m.tolist()!r}")
+        if self._probe_matrix is None or not np.array_equal(m, self._probe_matrix):
+            self._probe_matrix = m
+            self._redraw()
 
     def set_workspace_box(self, lo_m, hi_m_or_None):
         """The haptic device's workspace in the world (m) as a wire box; hi None hides it."""
@@ -207,6 +241,28 @@ class LiveDrawer:
         self._dirty = False
         self.uploads += 1
 
+    def _probe_uniforms(self, shader):
+        """The probe's uniforms and triangle texture for _RAY_GLSL (a 1-texel dummy without a mesh)."""
+        from mathutils import Matrix
+
+        if self._probe_dirty or self._probe_texture is None:
+            texels = self._probe[1] if self._probe is not None and self._probe[0] == "mesh" else np.zeros((1, 4))
+            self._probe_texture = live_draw_gpu.probe_texture(texels)
+            self._probe_dirty = False
+        kind, count, sphere, inv = 0.0, 0.0, (0.0, 0.0, 0.0, 0.0), np.eye(4)
+        if self._probe is not None and self._probe_matrix is not None:
+            m = self._probe_matrix
+            if self._probe[0] == "sphere":
+                kind = 1.0
+                sphere = (*m[:3, 3], geometry.sphere_radius_world(self._probe[1], m))
+            else:
+                kind, count = 2.0, float(len(self._probe[1]) // 3)
+                inv = np.linalg.inv(m)
+        shader.uniform_float("probe_inv", Matrix(inv.tolist()))
+        shader.uniform_float("probe_sphere", sphere)
+        shader.uniform_float("probe_params", (kind, count, 0.0, 0.0))
+        shader.uniform_sampler("probe_tris", self._probe_texture)
+
     def _draw_smoke(self):
         import gpu
         from gpu_extras.batch import batch_for_shader
@@ -228,15 +284,20 @@ class LiveDrawer:
         corners = geometry.box_corners(self._lo, self._hi)
         batch = batch_for_shader(shader, 'TRIS', {"pos": corners}, indices=geometry.BOX_TRIANGLES)
 
-        def march():
-            gpu.state.depth_test_set('NONE')
+        def ray_uniforms(program):
+            program.bind()
+            program.uniform_float("ModelViewProjectionMatrix", rv3d.perspective_matrix)
+            program.uniform_float("box_lo", (*self._lo, 0.0))
+            program.uniform_float("box_hi", (*self._hi, 0.0))
+            program.uniform_float("eye", eye)
+            self._probe_uniforms(program)
+
+        def march(depth_test):
+            # Depth-tested against the scene where the smoke's own depth is known (see _RAY_GLSL).
+            gpu.state.depth_test_set(depth_test)
             gpu.state.depth_mask_set(False)
             gpu.state.face_culling_set('FRONT')  # back faces: where each ray leaves the box
-            shader.bind()
-            shader.uniform_float("ModelViewProjectionMatrix", rv3d.perspective_matrix)
-            shader.uniform_float("box_lo", (*self._lo, 0.0))
-            shader.uniform_float("box_hi", (*self._hi, 0.0))
-            shader.uniform_float("eye", eye)
+            ray_uniforms(shader)
             shader.uniform_float("params", (self.density_scale, temp_ref, 0.0, 0.0))
             shader.uniform_sampler("field_tex", self._texture)
             batch.draw(shader)
@@ -245,7 +306,7 @@ class LiveDrawer:
         region = bpy.context.region
         if self.smoke_pixel_scale >= 1.0 or region is None:
             gpu.state.blend_set('ALPHA_PREMULT')
-            march()
+            march('LESS_EQUAL')
             return
         size = (max(1, math.ceil(region.width * self.smoke_pixel_scale)),
                 max(1, math.ceil(region.height * self.smoke_pixel_scale)))
@@ -257,14 +318,17 @@ class LiveDrawer:
         with offscreen.bind():
             gpu.state.active_framebuffer_get().clear(color=(0.0, 0.0, 0.0, 0.0))
             gpu.state.blend_set('NONE')  # one back face per pixel: premultiplied colour as is
-            march()
+            march('NONE')  # the offscreen has no scene depth: the composite tests it
         composite = self._gpu["composite"]
-        quad = batch_for_shader(composite, 'TRI_FAN', {"pos": ((-1, -1), (1, -1), (1, 1), (-1, 1))})
+        faces = batch_for_shader(composite, 'TRIS', {"pos": corners}, indices=geometry.BOX_TRIANGLES)
         gpu.state.blend_set('ALPHA_PREMULT')
-        gpu.state.depth_test_set('NONE')
-        composite.bind()
+        gpu.state.depth_test_set('LESS_EQUAL')
+        gpu.state.depth_mask_set(False)
+        gpu.state.face_culling_set('FRONT')
+        ray_uniforms(composite)
         composite.uniform_sampler("image", offscreen.texture_color)
-        quad.draw(composite)
+        faces.draw(composite)
+        gpu.state.face_culling_set('NONE')
 
     def _draw_workspace(self):
         import gpu

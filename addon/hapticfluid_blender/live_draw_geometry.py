@@ -149,3 +149,30 @@ def pack_field(density, temperature, cell_height_m):
     if temperature is not None:
         packed[..., 2] = temperature.transpose(2, 1, 0)
     return packed
+
+
+# The smoke's ray stops at the probe: a mesh probe is intersected triangle by triangle in the
+# fragment shader, up to this many triangles; a finer one by its local bounding box's 12.
+MAX_PROBE_TRIANGLES = 1024
+
+
+def probe_triangle_texels(vertices, triangles):
+    """A mesh probe's triangles for the smoke shader: float32 (3 * n, 4), one texel per corner
+    (local x, y, z, 1), n <= MAX_PROBE_TRIANGLES; above that the local bounding box's 12
+    triangles (the ray then stops at the box: conservative, the probe stays visible)."""
+    v = np.asarray(vertices, dtype=np.float32).reshape(-1, 3)
+    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    if len(v) == 0 or len(t) == 0:
+        raise ValueError("vertices and triangles must describe at least one triangle")
+    if t.min() < 0 or t.max() >= len(v):
+        raise ValueError(f"triangles index vertices 0..{len(v) - 1}, got {t.min()}..{t.max()}")
+    if len(t) > MAX_PROBE_TRIANGLES:
+        v = np.asarray(box_corners(tuple(v.min(axis=0)), tuple(v.max(axis=0))), dtype=np.float32)
+        t = np.asarray(BOX_TRIANGLES, dtype=np.int64)
+    corners = v[t.reshape(-1)]
+    return np.concatenate([corners, np.ones((len(corners), 1), np.float32)], axis=1).astype(np.float32)
+
+
+def sphere_radius_world(radius_local, matrix):
+    """A sphere probe's radius in the world: the engine's rule (the largest column scale)."""
+    return radius_local * max(math.sqrt(sum(matrix[r][c] ** 2 for r in range(3))) for c in range(3))

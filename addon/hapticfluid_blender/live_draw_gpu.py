@@ -25,6 +25,104 @@ void main()
 }
 """
 
+# Shared by the smoke and the composite: the eye ray through a back-face fragment, where it
+# enters and leaves the box, where it first meets the probe (analytic sphere, or each triangle of
+# the mesh in its local frame: probe_inv is world -> local, a ray's t is the same there), and the
+# window depth of the point where the smoke along it ends. The fragment writes that depth and is
+# depth-tested against the scene (LESS_EQUAL, no depth write): anything nearer than the smoke's
+# end (an object in front of the domain, the probe) hides the whole ray, and the march itself stops
+# at the probe, so the smoke in front of the probe is drawn over it and the probe over what is
+# behind it. DEPTH_BIAS_M (towards the eye) keeps the ray that ends on the probe's surface in front
+# of the probe's own rasterized depth.
+_RAY_GLSL = """
+void view_ray(out vec3 origin, out vec3 dir)
+{
+  vec3 size = box_hi.xyz - box_lo.xyz;
+  if (eye.w > 0.5) {
+    origin = eye.xyz;
+    dir = normalize(world_pos - eye.xyz);
+  }
+  else {
+    dir = normalize(eye.xyz);
+    origin = world_pos - dir * (2.0 * length(size));
+  }
+}
+
+vec2 box_span(vec3 origin, vec3 dir)
+{
+  vec3 inv = 1.0 / dir;
+  vec3 t0 = (box_lo.xyz - origin) * inv, t1 = (box_hi.xyz - origin) * inv;
+  vec3 tmin3 = min(t0, t1), tmax3 = max(t0, t1);
+  return vec2(max(max(max(tmin3.x, tmin3.y), tmin3.z), 0.0), min(min(tmax3.x, tmax3.y), tmax3.z));
+}
+
+float probe_hit(vec3 origin, vec3 dir, float t_max)
+{
+  float best = t_max;
+  int kind = int(probe_params.x + 0.5);
+  if (kind == 1) {
+    vec3 oc = origin - probe_sphere.xyz;
+    float b = dot(oc, dir);
+    float c = dot(oc, oc) - probe_sphere.w * probe_sphere.w;
+    float h = b * b - c;
+    if (h >= 0.0) {
+      float t = -b - sqrt(h);
+      if (t < 0.0) {
+        t = -b + sqrt(h);
+      }
+      if (t >= 0.0 && t < best) {
+        best = t;
+      }
+    }
+  }
+  else if (kind == 2) {
+    vec3 o = (probe_inv * vec4(origin, 1.0)).xyz;
+    vec3 d = mat3(probe_inv) * dir;
+    int n = int(probe_params.y + 0.5);
+    for (int i = 0; i < n; i++) {
+      vec3 a = texelFetch(probe_tris, ivec2(3 * i, 0), 0).xyz;
+      vec3 e1 = texelFetch(probe_tris, ivec2(3 * i + 1, 0), 0).xyz - a;
+      vec3 e2 = texelFetch(probe_tris, ivec2(3 * i + 2, 0), 0).xyz - a;
+      vec3 pv = cross(d, e2);
+      float det = dot(e1, pv);
+      if (abs(det) < 1e-12) {
+        continue;
+      }
+      float inv_det = 1.0 / det;
+      vec3 tv = o - a;
+      float u = dot(tv, pv) * inv_det;
+      if (u < 0.0 || u > 1.0) {
+        continue;
+      }
+      vec3 qv = cross(tv, e1);
+      float v = dot(d, qv) * inv_det;
+      if (v < 0.0 || u + v > 1.0) {
+        continue;
+      }
+      float t = dot(e2, qv) * inv_det;
+      if (t >= 0.0 && t < best) {
+        best = t;
+      }
+    }
+  }
+  return best;
+}
+
+float window_depth(vec3 p)
+{
+  vec4 clip = ModelViewProjectionMatrix * vec4(p, 1.0);
+  return clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+}
+
+/* The march's end along the ray (box exit or probe) and its biased window depth. */
+float smoke_end(vec3 origin, vec3 dir, float t_in, float t_out, out float depth)
+{
+  float t_end = probe_hit(origin, dir, t_out);
+  depth = window_depth(origin + dir * max(t_end - DEPTH_BIAS_M, t_in));
+  return t_end;
+}
+"""
+
 # Drawn on the box's back faces: each fragment is where its eye ray leaves the box. The ray is
 # marched from where it enters (or from the eye, inside the box) with jittered steps; the field is
 # interpolated trilinearly by texture() where this Blender's sampler filters linearly (probed once,
@@ -59,19 +157,12 @@ void main()
 {
   vec3 lo = box_lo.xyz, hi = box_hi.xyz, size = hi - lo;
   vec3 dir, origin;
-  if (eye.w > 0.5) {
-    origin = eye.xyz;
-    dir = normalize(world_pos - eye.xyz);
-  }
-  else {
-    dir = normalize(eye.xyz);
-    origin = world_pos - dir * (2.0 * length(size));
-  }
-  vec3 inv = 1.0 / dir;
-  vec3 t0 = (lo - origin) * inv, t1 = (hi - origin) * inv;
-  vec3 tmin3 = min(t0, t1), tmax3 = max(t0, t1);
-  float t_in = max(max(max(tmin3.x, tmin3.y), tmin3.z), 0.0);
-  float t_out = min(min(tmax3.x, tmax3.y), tmax3.z);
+  view_ray(origin, dir);
+  vec2 span = box_span(origin, dir);
+  float t_in = span.x;
+  float depth;
+  float t_out = smoke_end(origin, dir, span.x, span.y, depth);
+  gl_FragDepth = depth;
 
   vec3 cell = size / vec3(textureSize(field_tex, 0));
   float dt = STEP_FRACTION * min(min(cell.x, cell.y), cell.z);
@@ -120,21 +211,43 @@ def builtin_shader(*names):
     raise RuntimeError(f"none of the built-in shaders {names} exists in this Blender")
 
 
-def volume_shader(hardware_filter=False):
+# World metres the smoke's depth is moved towards the eye (see _RAY_GLSL).
+DEPTH_BIAS_M = 1e-3
+
+
+def _ray_info(name):
+    """Create-info with what _RAY_GLSL reads: the box, the eye, the probe, the back-face vertex."""
     import gpu
 
-    iface = gpu.types.GPUStageInterfaceInfo("hapticfluid_smoke_iface")
+    iface = gpu.types.GPUStageInterfaceInfo(name)
     iface.smooth('VEC3', "world_pos")
     info = gpu.types.GPUShaderCreateInfo()
     info.push_constant('MAT4', "ModelViewProjectionMatrix")
+    info.push_constant('MAT4', "probe_inv")     # probe world -> local (mesh probes)
     info.push_constant('VEC4', "box_lo")
     info.push_constant('VEC4', "box_hi")
-    info.push_constant('VEC4', "eye")      # xyz: eye (w = 1, perspective) or view direction (w = 0)
-    info.push_constant('VEC4', "params")   # x: extinction 1/m per unit density, y: temperature ref K
-    info.sampler(0, 'FLOAT_3D', "field_tex")  # RGBA: density, optical depth above, temperature, 0
+    info.push_constant('VEC4', "eye")           # xyz: eye (w = 1, perspective) or view direction (w = 0)
+    info.push_constant('VEC4', "probe_sphere")  # centre (m), radius (m)
+    info.push_constant('VEC4', "probe_params")  # x: 0 no probe, 1 sphere, 2 mesh; y: mesh triangles
+    info.sampler(1, 'FLOAT_2D', "probe_tris")   # mesh corners (local m), 3 texels per triangle
     info.vertex_in(0, 'VEC3', "pos")
     info.vertex_out(iface)
     info.fragment_out(0, 'VEC4', "FragColor")
+    # gl_FragDepth is written as plain GLSL: Blender's Python create-info has no depth-write
+    # declaration up to 5.x (taken if a later one offers it). 208 bytes of push constants: above
+    # Vulkan's guaranteed 128, which Blender 4.x+ prints a note about and serves from a buffer.
+    if hasattr(info, "depth_write"):
+        info.depth_write('ANY')
+    info.define("DEPTH_BIAS_M", f"{DEPTH_BIAS_M:.6f}")
+    return info
+
+
+def volume_shader(hardware_filter=False):
+    import gpu
+
+    info = _ray_info("hapticfluid_smoke_iface")
+    info.push_constant('VEC4', "params")   # x: extinction 1/m per unit density, y: temperature ref K
+    info.sampler(0, 'FLOAT_3D', "field_tex")  # RGBA: density, optical depth above, temperature, 0
     info.define("MAX_STEPS", str(MAX_STEPS))
     info.define("LIT_COLOR", "vec3(%.3f, %.3f, %.3f)" % SMOKE_LIT_RGB)
     info.define("SHADOW_COLOR", "vec3(%.3f, %.3f, %.3f)" % SMOKE_SHADOW_RGB)
@@ -142,22 +255,24 @@ def volume_shader(hardware_filter=False):
     if hardware_filter:
         info.define("HARDWARE_FILTER", "1")
     info.vertex_source(_VOLUME_VERT)
-    info.fragment_source(_VOLUME_FRAG)
+    info.fragment_source(_RAY_GLSL + _VOLUME_FRAG)
     return gpu.shader.create_from_info(info)
 
 
-_COMPOSITE_VERT = """
-void main()
-{
-  uv = pos * 0.5 + 0.5;
-  gl_Position = vec4(pos, 0.0, 1.0);
-}
-"""
-
+# The software path's composite is drawn on the box's back faces too, so each fragment can test
+# the depth where its own full-resolution ray's smoke ends (the march's offscreen has no scene depth).
 # Bilinear by hand (texelFetch): the offscreen texture's sampler state is not ours to set either.
 _COMPOSITE_FRAG = """
 void main()
 {
+  vec3 origin, dir;
+  view_ray(origin, dir);
+  vec2 span = box_span(origin, dir);
+  float depth;
+  smoke_end(origin, dir, span.x, span.y, depth);
+  gl_FragDepth = depth;
+  vec4 clip = ModelViewProjectionMatrix * vec4(world_pos, 1.0);
+  vec2 uv = 0.5 * clip.xy / clip.w + 0.5;
   ivec2 n = textureSize(image, 0);
   vec2 g = uv * vec2(n) - 0.5;
   vec2 f = fract(g);
@@ -173,16 +288,19 @@ void main()
 def composite_shader():
     import gpu
 
-    iface = gpu.types.GPUStageInterfaceInfo("hapticfluid_composite_iface")
-    iface.smooth('VEC2', "uv")
-    info = gpu.types.GPUShaderCreateInfo()
+    info = _ray_info("hapticfluid_composite_iface")
     info.sampler(0, 'FLOAT_2D', "image")
-    info.vertex_in(0, 'VEC2', "pos")
-    info.vertex_out(iface)
-    info.fragment_out(0, 'VEC4', "FragColor")
-    info.vertex_source(_COMPOSITE_VERT)
-    info.fragment_source(_COMPOSITE_FRAG)
+    info.vertex_source(_VOLUME_VERT)
+    info.fragment_source(_RAY_GLSL + _COMPOSITE_FRAG)
     return gpu.shader.create_from_info(info)
+
+
+def probe_texture(texels):
+    """A 2D RGBA32F texture (3 * triangles x 1) of live_draw_geometry.probe_triangle_texels."""
+    import gpu
+
+    flat = np.ascontiguousarray(texels, dtype=np.float32).reshape(-1)
+    return gpu.types.GPUTexture((len(texels), 1), format='RGBA32F', data=gpu.types.Buffer('FLOAT', flat.size, flat))
 
 
 def smoke_pixel_scale():

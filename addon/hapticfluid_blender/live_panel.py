@@ -8,6 +8,7 @@ import textwrap
 
 import bpy
 
+from . import roles
 from .prefs import package_problem
 
 # Average width of a sidebar character in pixels at UI scale 1 (Blender's default font at 11 pt):
@@ -40,6 +41,15 @@ def narrow_label_row(layout, owner, name, text):
     split.prop(owner, name, text="")
 
 
+def narrow_label_text(layout, text, value):
+    """Like narrow_label_row, with a read-only value (an object holding a role)."""
+    split = layout.split(factor=LABEL_FACTOR)
+    label = split.column()
+    label.alignment = "RIGHT"
+    label.label(text=text)
+    split.label(text=value)
+
+
 def ms_text(value_ms):
     """'1146 ms', '12.3 ms', '0.412 ms': three significant digits up to 1 s."""
     return f"{value_ms:.0f} ms" if value_ms >= 100.0 else f"{value_ms:.3g} ms"
@@ -65,7 +75,7 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
 
     def draw(self, context):
         live = context.scene.hapticfluid_live
-        bake = context.scene.hapticfluid_bake
+        bake = roles.settings_of(context.scene)
         layout = self.layout
         layout.use_property_split = True
         problem = package_problem()
@@ -73,14 +83,19 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
             wrapped_label(layout, context, problem, icon="ERROR")
             return
         col = layout.column()
-        for owner, name, text in ((bake, "domain", "Domain"), (bake, "probe", "Probe"), (bake, "probe_shape", "Shape"),
-                                  (bake, "source", "Source"), (live, "device", "Device")):
-            narrow_label_row(col, owner, name, text)
+        for name, text in (("domain", "Domain"), ("probe", "Probe"), ("source", "Source")):  # set in the Physics tab
+            obj = getattr(bake, name)
+            narrow_label_text(col, text, obj.name if obj is not None else "(none)")
+        if bake.probe is not None:
+            narrow_label_row(col, bake.probe.hapticfluid.probe_settings, "probe_shape", "Shape")
+        narrow_label_row(col, live, "device", "Device")
         if live.device == "FALCON":
             narrow_label_row(col, live, "firmware_path", "Firmware")
+        if live.device == "SIMULATED_FALCON":
+            narrow_label_row(col, live, "hand_gesture", "Hand")
         if live.device in ("MOUSE", "TIMELINE") and bake.probe_shape == "MESH":
-            wrapped_label(layout, context, "The probe follows the object's location; its rotation stays as at "
-                                           "Start (see the Device tooltip)", icon="INFO")
+            wrapped_label(layout, context, "The probe follows the object's location and rotation; its scale "
+                                           "stays as at Start (see the Device tooltip)", icon="INFO")
         row = layout.row(align=True)
         row.scale_y = 1.3
         if live.is_running:

@@ -1,6 +1,7 @@
 """The live session's settings and read-only stats, stored on the scene as ``scene.hapticfluid_live``.
 
-The domain, probe and smoke source are the bake's (``scene.hapticfluid_bake``): one set of roles.
+The domain, probe and smoke source are the objects holding those roles (Physics tab, read through
+``roles.settings_of(scene)``), the same for the bake and the live session.
 Defaults of the haptic settings come from the engine (``hapticfluid.haptic_session_defaults()``),
 so the add-on and the Python API behave alike; without the package the properties register with
 no default (no session can start then, and the panel says why).
@@ -23,18 +24,28 @@ def _engine_defaults():
 _DEFAULTS = _engine_defaults()
 
 
+def _gesture_items():
+    """The simulated hand's gestures (hapticfluid.hand_gestures): (IDENTIFIER, Name, description)."""
+    try:
+        from hapticfluid import hand_gestures
+
+        described = hand_gestures.DESCRIPTIONS
+    except ImportError:
+        described = {"rest": "The hand rests at the middle of the workspace"}
+    return tuple((name.upper(), name.capitalize(), text) for name, text in described.items())
+
+
 def _default(name):
     return {"default": _DEFAULTS[name]} if _DEFAULTS.get(name) is not None else {}
 
 
-# Why only the location follows in Mouse and Timeline mode (also docs/ARCHITECTURE.md, Live session).
-ROTATION_NOTE = ("Only the object's location drives the fluid: the fluid's probe keeps the rotation and scale it "
-                 "had at Start, because the session's device pose is a position (a Falcon's grip has no "
-                 "orientation) and the engine's haptic session moves the probe's origin only")
+# What follows the object in Mouse and Timeline mode (also docs/ARCHITECTURE.md, Live session).
+ROTATION_NOTE = ("The object's location and rotation drive the fluid; its scale stays what it was at Start "
+                 "(a scale change applies at the next Start)")
 DEVICE_ITEMS = (
-    ("MOUSE", "Mouse / Transform", "No device: the probe object's location drives the fluid; grab it (G) or "
-                                   "move it any way Blender allows. " + ROTATION_NOTE),
-    ("TIMELINE", "Timeline", "The probe's animated location drives the fluid while the timeline plays. "
+    ("MOUSE", "Mouse / Transform", "No device: the probe object's transform drives the fluid; grab it (G), "
+                                   "turn it (R) or move it any way Blender allows. " + ROTATION_NOTE),
+    ("TIMELINE", "Timeline", "The probe's animation drives the fluid while the timeline plays. "
                              + ROTATION_NOTE),
     ("FALCON", "Falcon", "A Novint Falcon: the probe follows its grip and the force goes to the handle"),
     ("SIMULATED_FALCON", "Simulated Falcon", "The Falcon driver on a simulated Falcon held by a simulated hand "
@@ -79,6 +90,9 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     prediction: BoolProperty(name="Prediction",
                              description="Update the force between simulation frames with a fitted drag model",
                              **_default("prediction"))
+    hand_gesture: EnumProperty(name="Hand Gesture", items=_gesture_items(), default="REST",
+                               description="What the simulated hand does with the Simulated Falcon's grip after "
+                                           "homing (the probe follows it)")
     firmware_path: StringProperty(name="Falcon Firmware", subtype="FILE_PATH", default="",
                                   description="Novint's firmware file (nvent_firmware.bin), uploaded when the Falcon "
                                               "runs none (after power-on); empty: it must already run")

@@ -23,7 +23,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import bpy
 
-from . import blender_scene
+from . import blender_scene, roles
 
 log = logging.getLogger(__name__)
 
@@ -55,6 +55,7 @@ class LivePlan:
     max_force: float                   # N
     firmware: Optional[str] = None
     show_temperature: bool = False
+    hand_gesture: str = "rest"         # the simulated Falcon's hand (hapticfluid.hand_gestures)
 
 
 @dataclass
@@ -85,7 +86,7 @@ def _sentence(text: str) -> str:
 def read_plan(scene) -> LivePlan:
     """Main thread: the scene's roles and settings -> LivePlan, or SessionError (fix first)."""
     _import_hf()  # the first thing to fix if it fails
-    bake = scene.hapticfluid_bake
+    bake = roles.settings_of(scene)
     live = scene.hapticfluid_live
     try:
         lo, hi = blender_scene.domain_box(bake)
@@ -95,7 +96,7 @@ def read_plan(scene) -> LivePlan:
         raise SessionError(f"Give the domain '{bake.domain.name}' a volume: its bounding box is flat")
     probe = bake.probe
     if probe is None:
-        raise SessionError("Choose a probe object (hapticfluid sidebar > Probe): the object that pushes the smoke")
+        raise SessionError(f"Give an object the Probe role ({roles.PHYSICS_PATH}): the object that pushes the smoke")
     if probe.name not in scene.objects:
         raise SessionError(f"Link the probe '{probe.name}' into this scene: it is not in scene '{scene.name}'")
     try:
@@ -134,7 +135,7 @@ def read_plan(scene) -> LivePlan:
         source=blender_scene.source_dict(bake), probe_shape=shape,
         probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
         auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
-        firmware=firmware, show_temperature=live.show_temperature)
+        firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower())
 
 
 def _box_text(lo, hi) -> str:
@@ -175,8 +176,15 @@ class _Engine:
         self.resolution = cells
         if plan.source is not None:
             s = plan.source
-            self.sim.set_smoke_source(tuple(s["centre"]), s["radius"], density=s["density"],
-                                      temperature=s["temperature"])
+            if s.get("shape") == "mesh":  # held where it is at Start
+                import numpy as np
+
+                self.sim.set_smoke_source_mesh(np.asarray(s["vertices"], dtype=np.float32),
+                                               np.asarray(s["triangles"], dtype=np.int32), s["matrix"],
+                                               density=s["density"], temperature=s["temperature"])
+            else:
+                self.sim.set_smoke_source(tuple(s["centre"]), s["radius"], density=s["density"],
+                                          temperature=s["temperature"])
         shape = plan.probe_shape
         matrix = plan.probe_matrix
         try:
@@ -210,7 +218,7 @@ class _Engine:
             self.workspace_box = (tuple(float(min(a[i], b[i])) for i in range(3)),
                                   tuple(float(max(a[i], b[i])) for i in range(3)))
         if plan.mode in HOST_MODES:  # the first pose the haptic thread reads is the object's
-            self.device.push_pose(tuple(matrix[r][3] for r in range(3)))
+            self.device.push_pose(tuple(matrix[r][3] for r in range(3)), orientation=probe_rotation(matrix))
         self.session.start()
 
     @staticmethod
@@ -218,7 +226,9 @@ class _Engine:
         if plan.mode in HOST_MODES:
             return hf.host_device(max_force=plan.max_force)
         if plan.mode == "SIMULATED_FALCON":
-            return hf.open_simulated_falcon(max_force=plan.max_force)
+            from hapticfluid import hand_gestures
+
+            return hf.open_simulated_falcon(max_force=plan.max_force, **hand_gestures.falcon_args(plan.hand_gesture))
         try:
             # No homing wait: the session commands no force until the user has homed it.
             return hf.open_falcon(firmware=plan.firmware, home=False, max_force=plan.max_force)
@@ -282,7 +292,7 @@ class LiveController:
         self.drawer = drawer
         self.clock = clock
         self.plan = read_plan(scene)  # SessionError on a bad setup, before any thread starts
-        bake = scene.hapticfluid_bake
+        bake = roles.settings_of(scene)
         self.probe = bake.probe
         self.domain = bake.domain
         self.probe_name = self.probe.name
@@ -352,8 +362,10 @@ class LiveController:
         now = self.clock()
         self.ticks += 1
         latest = session.latest()
-        if self.plan.mode in HOST_MODES:
-            self.engine.device.push_pose(tuple(self.probe.matrix_world.translation))
+        if self.plan.mode in HOST_MODES:  # location and rotation: the probe turns with the object
+            m = self.probe.matrix_world
+            self.engine.device.push_pose(tuple(m.translation), orientation=probe_rotation(m))
+            self._check_scale(m)
         else:
             self._follow_device(latest)
         self._update_drawer(latest)
@@ -370,6 +382,12 @@ class LiveController:
         if self.drawer is not None:
             self.drawer.set_domain(self.plan.domain_lo, self.plan.domain_hi)
             self.drawer.set_workspace_box(*(self.engine.workspace_box or (None, None)))
+            self.drawer.set_probe(self.plan.probe_shape)  # the smoke's rays stop at the probe
+            self.drawer.set_probe_matrix([list(row) for row in self.probe.matrix_world])
+        # The smoke is drawn inside the domain and hidden by anything in front of it (the scene's
+        # depth): a solid domain would hide it all, so it is drawn as wire, as the bake does.
+        if self.domain.display_type in ("SOLID", "TEXTURED"):
+            self.domain.display_type = "WIRE"
 
     def _lost_object(self) -> Optional[str]:
         for obj, name, role in ((self.probe, self.probe_name, "probe"), (self.domain, self.domain_name, "domain")):
@@ -380,6 +398,18 @@ class LiveController:
             if not linked:
                 return f"Start the session again with a {role}: the {role} '{name}' was deleted"
         return None
+
+    def _check_scale(self, matrix):
+        """The session keeps the probe's scale from Start; a scale changed since says so in the status."""
+        start = [self.start_matrix.col[c].to_3d().length for c in range(3)]
+        now = [matrix.col[c].to_3d().length for c in range(3)]
+        changed = any(abs(a - b) > 1e-4 * max(a, b) for a, b in zip(start, now))
+        note = "; the probe's new scale applies at the next Start"
+        status = self.live.status
+        if changed and not status.endswith(note):
+            self.live.status = status + note
+        elif not changed and status.endswith(note):
+            self.live.status = status[:-len(note)]
 
     def _follow_device(self, latest):
         from mathutils import Vector
@@ -404,6 +434,7 @@ class LiveController:
                 self._display = display
                 self.drawer.set_display(*display)
             self.force_origin = tuple(self.probe.matrix_world.translation)
+            self.drawer.set_probe_matrix([list(row) for row in self.probe.matrix_world])
             self.drawer.set_force(self.force_origin, self.hand_force_world(latest), self.plan.max_force)
 
     def hand_force_world(self, latest) -> Tuple[float, float, float]:
@@ -499,6 +530,20 @@ class LiveController:
             pass
         if self.report:
             log.warning("hapticfluid live session ended: %s", self.report)
+
+
+def probe_rotation(matrix) -> Tuple[float, float, float, float]:
+    """The rotation of a probe's matrix_world (rows or a mathutils Matrix) as a quaternion
+    (w, x, y, z), by the engine's rule (HapticSession::probeRotation): Gram-Schmidt on the x, then
+    y column, z = x cross y, so a scaled or mirrored matrix gives the same proper rotation there
+    and here; the engine keeps the rest as the probe's scale."""
+    from mathutils import Matrix, Vector
+
+    cols = [Vector([matrix[r][c] for r in range(3)]) for c in range(2)]
+    x = cols[0].normalized()
+    y = (cols[1] - cols[1].dot(x) * x).normalized()
+    q = Matrix((x, y, x.cross(y))).transposed().to_quaternion()
+    return (q.w, q.x, q.y, q.z)
 
 
 def write_keys(obj, rotation_path, samples):

@@ -1,10 +1,12 @@
-"""The bake panel (Properties editor > Scene tab) and its sub-panels, by topic, with units."""
+"""The bake's panels: the domain's bake controls (shared by the Physics tab and the Scene tab),
+and the Scene tab's summary (which objects hold which role, the bake buttons, the farm job). The
+role's settings are in the Physics tab (physics_panels.py)."""
 
 import textwrap
 
 import bpy
 
-from . import farm_ops, prefs, properties
+from . import farm_ops, prefs, properties, roles
 
 CHAR_WIDTH_PX = 7  # about one character of the UI font at scale 1, for wrapping long text
 
@@ -22,12 +24,50 @@ def wrapped_label(layout, context, text, icon="NONE"):
     return col
 
 
+def draw_problems(layout, context, s):
+    """The missing package and a role held twice, fix first; True if any was drawn."""
+    found = [p for p in (prefs.package_problem(), s.problem) if p]
+    for problem in found:
+        wrapped_label(layout.box(), context, problem[:1].upper() + problem[1:], icon="ERROR")
+    return bool(found)
+
+
+def draw_bake(layout, context, s):
+    """Bake / Resume / Free, the read-only progress while baking, 'cache out of date', the status
+    line; ``s`` is ``roles.settings_of(scene)`` (with a domain)."""
+    row = layout.row(align=True)
+    row.scale_y = 1.2
+    row.operator("hapticfluid.bake", icon="RENDER_ANIMATION")
+    row.operator("hapticfluid.bake_resume", icon="PLAY")
+    row.operator("hapticfluid.bake_free", icon="TRASH")
+    if s.is_baking:
+        text = f"Baking {100 * s.progress:.0f} % (Esc cancels)"
+        if hasattr(layout, "progress"):  # Blender 4.0+
+            layout.progress(factor=s.progress, text=text)
+        else:  # a read-only bar: the property greyed out, not a slider to drag
+            bar = layout.row()
+            bar.use_property_split = False
+            bar.enabled = False
+            bar.prop(s.domain.hapticfluid.domain_settings, "progress", text=text, slider=True)
+    else:
+        changed = properties.changed_cache_inputs(context.scene, s)
+        if changed:
+            wrapped_label(layout.box(), context,
+                          "Bake again (or set them back): the cache is out of date, changed since the bake: "
+                          + ", ".join(changed), icon="ERROR")
+    if s.status:
+        failed = s.status.startswith(("bake failed", "bake not started"))
+        wrapped_label(layout, context, s.status, icon="ERROR" if failed else "INFO")
+
+
 def _settings_poll(context):
-    return context.scene is not None and hasattr(context.scene, "hapticfluid_bake")
+    return context.scene is not None and hasattr(bpy.types.Object, "hapticfluid")
 
 
 class HAPTICFLUID_PT_bake(bpy.types.Panel):
-    bl_label = "hapticfluid Bake"
+    """The Scene tab's summary: who holds which role, and the domain's bake controls."""
+
+    bl_label = "hapticfluid"
     bl_idname = "HAPTICFLUID_PT_bake"
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
@@ -38,154 +78,38 @@ class HAPTICFLUID_PT_bake(bpy.types.Panel):
         return _settings_poll(context)
 
     def draw(self, context):
-        s = context.scene.hapticfluid_bake
+        s = roles.settings_of(context.scene)
         layout = self.layout
-        problem = prefs.package_problem()
-        if problem:
-            wrapped_label(layout.box(), context, problem, icon="ERROR")
-        layout.use_property_split = True
-        col = layout.column()
-        col.prop(s, "domain")
-        col.prop(s, "probe")
-        col.prop(s, "probe_shape")
-        col.prop(s, "source")
-        row = layout.row(align=True)
-        row.scale_y = 1.2
-        row.operator("hapticfluid.bake", icon="RENDER_ANIMATION")
-        row.operator("hapticfluid.bake_resume", icon="PLAY")
-        row.operator("hapticfluid.bake_free", icon="TRASH")
-        if s.is_baking:
-            text = f"Baking {100 * s.progress:.0f} % (Esc cancels)"
-            if hasattr(layout, "progress"):  # Blender 4.0+
-                layout.progress(factor=s.progress, text=text)
-            else:  # a read-only bar: the property greyed out, not a slider to drag
-                bar = layout.row()
-                bar.use_property_split = False
-                bar.enabled = False
-                bar.prop(s, "progress", text=text, slider=True)
-        else:
-            changed = properties.changed_cache_inputs(context.scene, s)
-            if changed:
-                wrapped_label(layout.box(), context,
-                              "Bake again (or set them back): the cache is out of date, changed since the bake: "
-                              + ", ".join(changed), icon="ERROR")
-        if s.status:
-            failed = s.status.startswith(("bake failed", "bake not started"))
-            wrapped_label(layout, context, s.status, icon="ERROR" if failed else "INFO")
+        draw_problems(layout, context, s)
+        col = layout.column(align=True)
+        for attr, role in roles.ROLE_ATTRS.items():
+            obj = getattr(s, attr)
+            split = col.split(factor=0.4)
+            split.label(text=roles.label(role))
+            split.label(text=obj.name if obj is not None else "(none)",
+                        icon="OBJECT_DATA" if obj is not None else "BLANK1")
+        if s.domain is None:
+            wrapped_label(layout, context, f"Give a mesh the Domain role in {roles.PHYSICS_PATH} (the role's "
+                                           "settings are there): no object in this scene has it", icon="INFO")
+            return
+        draw_bake(layout, context, s)
 
 
-class _SubPanel:
+class HAPTICFLUID_PT_bake_farm(bpy.types.Panel):
+    bl_label = "Farm"
+    bl_idname = "HAPTICFLUID_PT_bake_farm"
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "scene"
     bl_parent_id = "HAPTICFLUID_PT_bake"
+    bl_options = {"DEFAULT_CLOSED"}
 
     @classmethod
     def poll(cls, context):
         return _settings_poll(context)
 
-    def _layout(self, context):
-        self.layout.use_property_split = True
-        self.layout.use_property_decorate = False
-        return self.layout.column(), context.scene.hapticfluid_bake
-
-
-class HAPTICFLUID_PT_bake_simulation(_SubPanel, bpy.types.Panel):
-    bl_label = "Simulation"
-    bl_idname = "HAPTICFLUID_PT_bake_simulation"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "resolution")
-        frames = col.column(align=True)  # one per line: readable at the default width
-        frames.prop(s, "frame_start", text="Frame Start")
-        frames.prop(s, "frame_end", text="End")
-        col.prop(s, "adaptive_substeps")
-        if s.adaptive_substeps:
-            col.prop(s, "cfl")
-            col.prop(s, "max_substeps")
-        else:
-            col.prop(s, "substeps")
-
-
-class HAPTICFLUID_PT_bake_fluid(_SubPanel, bpy.types.Panel):
-    bl_label = "Fluid"
-    bl_idname = "HAPTICFLUID_PT_bake_fluid"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "fluid_density")
-        scene = context.scene
-        col.prop(scene, "use_gravity", text="Scene Gravity")
-        sub = col.column()
-        sub.active = scene.use_gravity
-        sub.prop(scene, "gravity", text="Gravity (m/s²)")
-        col.prop(s, "open_top")
-        col.prop(s, "vorticity")
-        col.prop(s, "heat_buoyancy")
-        col.prop(s, "smoke_dissipation")
-        col.prop(s, "heat_dissipation")
-
-
-class HAPTICFLUID_PT_bake_source(_SubPanel, bpy.types.Panel):
-    bl_label = "Smoke Source"
-    bl_idname = "HAPTICFLUID_PT_bake_source"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.active = s.source is not None
-        col.prop(s, "source_density")
-        col.prop(s, "source_temperature")
-
-
-class HAPTICFLUID_PT_bake_pressure(_SubPanel, bpy.types.Panel):
-    bl_label = "Pressure Solver"
-    bl_idname = "HAPTICFLUID_PT_bake_pressure"
-    bl_options = {"DEFAULT_CLOSED"}
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "pressure_solver", text="Solver")
-        col.prop(s, "pressure_iterations", text="Iterations")
-        col.prop(s, "pressure_tolerance", text="Tolerance")
-
-
-class HAPTICFLUID_PT_bake_cache(_SubPanel, bpy.types.Panel):
-    bl_label = "Cache"
-    bl_idname = "HAPTICFLUID_PT_bake_cache"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "cache_dir")
-        grids = col.column(heading="Grids", align=True)
-        grids.label(text="Density (always)")
-        grids.prop(s, "write_velocity")
-        grids.prop(s, "write_pressure")
-        files = col.column(heading="Files")
-        files.prop(s, "half_float")
-        col.prop(s, "compression")
-        col.prop(s, "tolerance")
-
-
-class HAPTICFLUID_PT_bake_display(_SubPanel, bpy.types.Panel):
-    bl_label = "Display"
-    bl_idname = "HAPTICFLUID_PT_bake_display"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "density_scale")
-        col.prop(s, "volume_object")
-
-
-class HAPTICFLUID_PT_bake_farm(_SubPanel, bpy.types.Panel):
-    bl_label = "Farm"
-    bl_idname = "HAPTICFLUID_PT_bake_farm"
-    bl_options = {"DEFAULT_CLOSED"}
-
     def draw(self, context):
         farm_ops.draw(self.layout, context)
 
 
-classes = (HAPTICFLUID_PT_bake, HAPTICFLUID_PT_bake_simulation, HAPTICFLUID_PT_bake_fluid, HAPTICFLUID_PT_bake_source,
-           HAPTICFLUID_PT_bake_pressure, HAPTICFLUID_PT_bake_cache, HAPTICFLUID_PT_bake_display,
-           HAPTICFLUID_PT_bake_farm)
+classes = (HAPTICFLUID_PT_bake, HAPTICFLUID_PT_bake_farm)

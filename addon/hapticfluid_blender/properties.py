@@ -1,33 +1,46 @@
-"""The bake's settings, stored on the scene as ``scene.hapticfluid_bake``."""
+"""The roles and their settings, stored on the objects: ``object.hapticfluid.role`` (Domain,
+Probe, Smoke Source) and one settings group per role (``domain_settings`` holds the bake's
+settings, its cache and status; ``probe_settings``; ``source_settings``). Read them through
+``roles.settings_of(scene)``; the scene-level layout of older files is in ``legacy.py``."""
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from . import volume
+from . import source_mesh, volume
 
 
-def _is_mesh(_self, obj):
-    return obj.type == "MESH"
+ROLE_ITEMS = (
+    ("NONE", "None", "No hapticfluid role"),
+    ("DOMAIN", "Domain", "The simulated box (this mesh's world bounding box); holds the bake's settings and cache"),
+    ("PROBE", "Probe", "The object whose motion pushes the fluid (baked from its animation, or moved live)"),
+    ("SOURCE", "Smoke Source", "The object marking where smoke and heat are emitted"),
+)
+ROLE_LABELS = {key: name for key, name, _ in ROLE_ITEMS}
 
 
-class HapticFluidBakeSettings(bpy.types.PropertyGroup):
-    domain: PointerProperty(
-        name="Domain", type=bpy.types.Object, poll=_is_mesh,
-        description="Mesh whose world-space bounding box is the simulated box (it must not be rotated)")
-    probe: PointerProperty(
-        name="Probe", type=bpy.types.Object,
-        description="Object whose animation (matrix_world per frame) moves the probe (its mesh, or a sphere: "
-                    "see Probe Shape)")
+class HapticFluidProbeSettings(bpy.types.PropertyGroup):
+    """The probe's settings, on the object holding the Probe role."""
+
     probe_shape: EnumProperty(
         name="Probe Shape", default="MESH",
         items=(("MESH", "Mesh", "The probe object's own closed mesh (modifiers applied, at the current frame), "
                                 "moved rigidly by its animation"),
                ("SPHERE", "Sphere", "A sphere of half the object's largest local extent, scaled with the object")),
         description="What the probe pushes the fluid with")
-    source: PointerProperty(
-        name="Smoke Source", type=bpy.types.Object,
-        description="Object marking the smoke emitter: its location is the centre, half its largest "
-                    "dimension the radius (m); empty for no emitter")
+
+
+class HapticFluidSourceSettings(bpy.types.PropertyGroup):
+    """The smoke source's settings, on the object holding the Smoke Source role."""
+
+    source_density: FloatProperty(name="Source Density", default=1.0, min=0.0, max=1000.0,
+                                  description="Smoke concentration held in the emitter (dimensionless)")
+    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, min=0.0, max=10000.0,
+                                      description="Temperature above ambient held in the emitter (K)")
+
+
+class HapticFluidDomainSettings(bpy.types.PropertyGroup):
+    """The bake's settings, its cache and its status, on the object holding the Domain role."""
+
     resolution: IntProperty(
         name="Resolution", default=64, min=8, max=1024, soft_max=256,
         description="Cells along the domain's longest edge (bake resolution, independent of the "
@@ -74,10 +87,6 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
                                      description="Rate the smoke fades (1/s)")
     heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, min=0.0, max=1000.0,
                                     description="Rate the heat fades (1/s)")
-    source_density: FloatProperty(name="Source Density", default=1.0, min=0.0, max=1000.0,
-                                  description="Smoke concentration held in the emitter")
-    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, min=0.0, max=10000.0,
-                                      description="Temperature above ambient held in the emitter (K)")
     pressure_solver: EnumProperty(
         name="Pressure Solver", default="JACOBI",
         items=(("JACOBI", "Jacobi", "Fixed Jacobi sweeps: cheap per sweep, converges slowly"),
@@ -113,18 +122,47 @@ class HapticFluidBakeSettings(bpy.types.PropertyGroup):
                                      description="The domain's hide_render before the bake")
 
 
+def _role_changed(self, context):
+    from . import roles
+
+    roles.check_new_role(self.id_data, self.role)
+    source_mesh.sync_render_visibility()  # a smoke source is hidden from renders while it is one
+
+
+class HapticFluidObjectSettings(bpy.types.PropertyGroup):
+    """An object's hapticfluid role and the settings of each role (``object.hapticfluid``); the
+    settings of a role stay when the role is removed, and come back with it."""
+
+    role: EnumProperty(name="Type", items=ROLE_ITEMS, default="NONE", update=_role_changed,
+                       description="The object's hapticfluid role; a scene has at most one object per role")
+    domain_settings: PointerProperty(type=HapticFluidDomainSettings, name="Domain Settings",
+                                     description="The bake's settings (used while the object is the Domain)")
+    probe_settings: PointerProperty(type=HapticFluidProbeSettings, name="Probe Settings",
+                                    description="The probe's settings (used while the object is the Probe)")
+    source_settings: PointerProperty(type=HapticFluidSourceSettings, name="Smoke Source Settings",
+                                     description="The source's settings (used while the object is the Smoke Source)")
+
+
+# Registration order: the groups an object's settings point to first.
+classes = (HapticFluidProbeSettings, HapticFluidSourceSettings, HapticFluidDomainSettings, HapticFluidObjectSettings)
+
+INTERRUPTED_NOTE = ("the last bake was interrupted (Blender closed or the add-on was disabled during it); Resume "
+                    "continues after its last complete frame")
+
+
 @bpy.app.handlers.persistent
 def clear_stale_bake_state(_filepath=None):
     """load_post handler. is_baking is saved with the .blend, so a file saved (or auto-saved)
     during a bake and reopened after Blender closed or crashed would keep it set, greying out
     Bake, Resume and Free for good. No bake of a file just opened can be running in this
     Blender: clear it and say how to continue."""
-    for scene in bpy.data.scenes:
-        settings = getattr(scene, "hapticfluid_bake", None)
-        if settings is not None and settings.is_baking:
+    for obj in bpy.data.objects:
+        if not obj.is_property_set("hapticfluid"):  # (reading it would store an empty group)
+            continue
+        settings = obj.hapticfluid.domain_settings
+        if settings.is_baking:
             settings.is_baking = False
-            settings.status = ("the last bake was interrupted (Blender closed or the add-on was disabled during "
-                               "it); Resume continues after its last complete frame")
+            settings.status = INTERRUPTED_NOTE
 
 
 # Settings the cache depends on (frame_end is not one: raising it and pressing Resume extends
@@ -134,22 +172,33 @@ CACHE_SETTINGS = ("probe_shape", "resolution", "frame_start", "substeps", "adapt
                   "fluid_density", "open_top", "vorticity", "heat_buoyancy", "smoke_dissipation", "heat_dissipation",
                   "source_density", "source_temperature", "pressure_solver", "pressure_iterations",
                   "pressure_tolerance")
+# The roles as cache_inputs names them (the names the scene-level pointers had before roles, so a
+# cache baked then and migrated is not out of date).
+ROLE_INPUT_NAMES = {"domain": "Domain", "probe": "Probe", "source": "Smoke Source"}
+
+
+def ui_name(key):
+    """The UI name of a setting of any role (units included), e.g. 'Fluid Density (kg/m³)'."""
+    for cls in (HapticFluidDomainSettings, HapticFluidProbeSettings, HapticFluidSourceSettings):
+        if key in cls.__annotations__:
+            return cls.bl_rna.properties[key].name
+    raise KeyError(key)
 
 
 def cache_inputs(scene, settings):
     """What the cache is made from, cheap enough for a panel's draw: the settings above (by their
     UI names), the objects' names, the domain's and the source's world placement and size (both
-    read at the current frame by the bake), gravity and frame rate. The probe counts by its name
-    only: its animation is read with frame_set on every frame, too slow for a draw, and its
-    placement at the current frame changes as the timeline plays."""
+    read at the current frame by the bake), gravity and frame rate. The probe and the smoke source
+    count by their names only: their animation is read with frame_set on every frame, too slow
+    for a draw, and their placement at the current frame changes as the timeline plays.
+    ``settings`` is ``roles.settings_of(scene)``."""
     out = {}
     for key in CACHE_SETTINGS:
         value = getattr(settings, key)
-        out[settings.bl_rna.properties[key].name] = round(value, 9) if isinstance(value, float) else value
-    for key in ("domain", "probe", "source"):
+        out[ui_name(key)] = round(value, 9) if isinstance(value, float) else value
+    for key, name in ROLE_INPUT_NAMES.items():
         obj = getattr(settings, key)
-        name = settings.bl_rna.properties[key].name
-        if obj is None or key == "probe":
+        if obj is None or key in ("probe", "source"):  # animated: read per frame by the bake
             out[name] = None if obj is None else obj.name
             continue
         out[name] = [obj.name, [round(v, 6) for row in obj.matrix_world for v in row],
@@ -180,8 +229,8 @@ def changed_cache_inputs(scene, settings):
 
 
 def attach():
-    bpy.types.Scene.hapticfluid_bake = PointerProperty(type=HapticFluidBakeSettings)
+    bpy.types.Object.hapticfluid = PointerProperty(type=HapticFluidObjectSettings)
 
 
 def detach():
-    del bpy.types.Scene.hapticfluid_bake
+    del bpy.types.Object.hapticfluid

@@ -64,12 +64,22 @@ void validate(const SmokeSource& s, const Grid& g) {
   for (int a = 0; a < 3; ++a) requireFinite(s.centre_m[a], "smoke source centre (m)");
   requireFinite(s.radius_m, "smoke source radius (m)");
   if (s.radius_m <= 0.0f) throw InvalidArgument("smoke source radius must be > 0 m, got " + num(s.radius_m));
-  requireInRange(s.density, 0.0f, kMaxFactor, "smoke source density", "(concentration)");
-  requireInRange(s.temperature_k, 0.0f, kMaxTemperature, "smoke source temperature", "K above ambient");
+  validateSourceValues(s.density, s.temperature_k, s.emission);
   const glm::vec3 lo = g.origin_m, hi = g.origin_m + g.sizeM();
   if (glm::any(glm::lessThan(s.centre_m + s.radius_m, lo)) || glm::any(glm::greaterThan(s.centre_m - s.radius_m, hi))) {
     throw InvalidArgument("smoke source lies entirely outside the domain; move its centre inside the box");
   }
+}
+
+void validateSourceValues(float density, float temperature_k, SourceEmission emission) {
+  if (emission != SourceEmission::Hold && emission != SourceEmission::Rate) {
+    throw InvalidArgument("smoke source emission must be Hold or Rate");
+  }
+  const bool rate = emission == SourceEmission::Rate;
+  requireInRange(density, 0.0f, kMaxFactor, "smoke source density",
+                 rate ? "(concentration per second)" : "(concentration)");
+  requireInRange(temperature_k, 0.0f, kMaxTemperature, "smoke source temperature",
+                 rate ? "K per second" : "K above ambient");
 }
 
 }  // namespace hf::fluid

@@ -33,14 +33,22 @@ struct FluidParams {
   bool cut_cells = true;
 };
 
-// Smoke emitter: a sphere where smoke concentration and temperature are held at least at
-// the given values.
+// How a smoke source (sphere or mesh, emitter/mesh_source.h) changes the cells it covers, with
+// c its coverage of the cell (0..1; a sphere covers a cell whose centre it holds, c = 1):
+//   Hold: smoke and heat are raised to at least c x the source's values (density: a
+//         concentration, temperature: K above ambient);
+//   Rate: c x the values are added per second (density: concentration per second,
+//         temperature: K per second), so a source of volume V adds density x V x dt each step.
+enum class SourceEmission { Hold, Rate };
+
+// Smoke emitter: a sphere that emits smoke and heat in the cells whose centre it holds.
 struct SmokeSource {
   bool enabled = false;
   glm::vec3 centre_m{0.0f};   // world position, m
   float radius_m = 0.0f;      // m
-  float density = 1.0f;       // smoke concentration (dimensionless)
-  float temperature_k = 0.0f; // K above ambient
+  float density = 1.0f;       // smoke concentration (Hold), per second (Rate)
+  float temperature_k = 0.0f; // K above ambient (Hold), K/s (Rate)
+  SourceEmission emission = SourceEmission::Hold;
 };
 
 }  // namespace hf::fluid

@@ -152,7 +152,7 @@ void FluidSolver::advectScalarPair(float dt_s, float smoke_decay, float heat_dec
   advect_pair_.dispatch(grid_.res);
 }
 
-void FluidSolver::applySources(const SmokeSource& s) {
+void FluidSolver::applySources(const SmokeSource& s, float dt_s) {
   if (!s.enabled) return;
   const glm::vec3 c = grid_.toGrid(s.centre_m);
   const float r = s.radius_m / grid_.cell_size_m;
@@ -170,6 +170,8 @@ void FluidSolver::applySources(const SmokeSource& s) {
   sources_.set("u_radius", r);
   sources_.set("u_density_value", s.density);
   sources_.set("u_temperature_value", s.temperature_k);
+  sources_.set("u_rate", s.emission == SourceEmission::Rate ? 1 : 0);
+  sources_.set("u_dt", dt_s);
   sources_.dispatch(extent);
 }
 

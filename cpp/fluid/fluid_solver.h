@@ -26,7 +26,7 @@ class FluidSolver {
   FluidFields& fields() { return fields_; }
 
   void advect(float dt_s, const FluidParams& p);
-  void applySources(const SmokeSource& source);
+  void applySources(const SmokeSource& source, float dt_s);  // the sphere source (dt for Rate)
   void applyForces(float dt_s, const FluidParams& p);  // buoyancy + vorticity confinement
   void enforceBoundaries(const FluidParams& p);        // walls and solid faces
   void computeDivergence(float dt_s, const FluidParams& p);

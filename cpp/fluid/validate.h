@@ -25,5 +25,8 @@ inline constexpr float kMaxProbeSpin = 1e4f;      // rad/s
 
 void validate(const FluidParams& params);
 void validate(const SmokeSource& source, const Grid& grid);
+// A source's values, shared by the sphere and the mesh source: density 0..kMaxFactor,
+// temperature 0..kMaxTemperature (K, or per second with SourceEmission::Rate).
+void validateSourceValues(float density, float temperature_k, SourceEmission emission);
 
 }  // namespace hf::fluid

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/log_sink.h"
 #include "gl/device_choice.h"
 #include "gl/gl_check.h"
 
@@ -215,6 +216,8 @@ EglContext::EglContext(const std::string& request_arg) {
   info_.device_index = choice.device.index;
   info_.software = choice.software;
   info_.warning = choice.warning;
+  // Info, not a warning: the software renderer is the expected device on a machine with no GPU.
+  if (!info_.warning.empty()) log::info("hapticfluid.gl", info_.warning);
   info_.memory_bytes = queryMemoryBytes(info_.software);
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info_.max_3d_texture_size);
   GLint ssbo_block = 0;

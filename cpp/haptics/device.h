@@ -10,6 +10,7 @@
 #include <string>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace hf::haptics {
 
@@ -33,6 +34,10 @@ struct DeviceState {
   std::uint32_t buttons = 0;              // bit i = button i pressed
   bool homed = false;                     // false: no force may be commanded yet
   double time_s = 0.0;                    // steady-clock time of the reading
+  // A 6-DoF pose (the host device fed a Blender object's rotation); the Falcon has none (3-DoF).
+  bool has_orientation = false;
+  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  // unit quaternion (w, x, y, z), device frame
+  glm::vec3 angular_velocity_rad_s{0.0f};         // device frame, rad/s
 };
 
 class Device {

@@ -9,7 +9,7 @@ void PipelineSettings::validate() const {
   safety.validate();
 }
 
-ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), passivity_(s.passivity), safety_(s.safety) { s_.validate(); }
+ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), passivity_(s.passivity, s.safety.slew_rate_n_s), safety_(s.safety) { s_.validate(); }
 
 TickOutput ForcePipeline::tick(const TickInput& in) {
   TickOutput out;
@@ -56,9 +56,11 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.force_n = out.passive_n;
   safe.dt_s = in.dt_s;
   safe.force_age_s = in.have_force ? out.force_age_s : 0.0;
+  safe.sim_rate_hz = in.have_force ? in.force.sim_rate_hz : 0.0;
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  out.stale_after_s = safety_.staleAfter();
   if (!safe.homed || !safe.enabled) filter_.reset();
   return out;
 }

@@ -45,6 +45,7 @@ struct TickOutput {
   glm::vec3 commanded_n{0.0f};        // after safety, device N
   double cutoff_hz = 0.0;
   double force_age_s = 0.0;
+  double stale_after_s = 0.0;         // the age at which this force starts fading (staleAfterS), s
 };
 
 class ForcePipeline {

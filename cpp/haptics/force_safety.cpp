@@ -30,6 +30,14 @@ void SafetySettings::validate() const {
                           " s (a larger value turns the fade of a stale force off), got " +
                           std::to_string(stale_after_s));
   }
+  if (!std::isfinite(stale_periods) || stale_periods < 1.0 || stale_periods > kMaxStalePeriods) {
+    throw InvalidArgument("stale_periods must be between 1 and " + std::to_string(kMaxStalePeriods) +
+                          " simulation periods, got " + std::to_string(stale_periods));
+  }
+  if (!std::isfinite(stale_after_max_s) || stale_after_max_s <= 0.0 || stale_after_max_s > kMaxStaleS) {
+    throw InvalidArgument("stale_after_max must be > 0 s and at most " + std::to_string(kMaxStaleS) +
+                          " s (a stalled simulation's force must still fade), got " + std::to_string(stale_after_max_s));
+  }
   if (!std::isfinite(fade_s) || fade_s <= 0.0 || fade_s > kMaxStaleS) {
     throw InvalidArgument("fade_time must be > 0 s and at most " + std::to_string(kMaxStaleS) + " s, got " +
                           std::to_string(fade_s));
@@ -57,7 +65,13 @@ double staleFactor(double age_s, double stale_after_s, double fade_s) {
   return std::clamp(1.0 - (age_s - stale_after_s) / fade_s, 0.0, 1.0);
 }
 
+double staleAfterS(const SafetySettings& s, double sim_rate_hz) {
+  if (!(std::isfinite(sim_rate_hz) && sim_rate_hz > 0.0)) return s.stale_after_s;
+  return std::clamp(s.stale_periods / sim_rate_hz, s.stale_after_s, std::max(s.stale_after_s, s.stale_after_max_s));
+}
+
 glm::vec3 ForceSafety::apply(const SafetyInput& in) {
+  stale_after_s_ = staleAfterS(s_, in.sim_rate_hz);
   const float max_step_n =
       std::isfinite(in.dt_s) && in.dt_s > 0.0 ? s_.slew_rate_n_s * static_cast<float>(in.dt_s) : 0.0f;
   if (!in.homed) {  // the encoders are not zeroed: nothing, at once
@@ -76,7 +90,7 @@ glm::vec3 ForceSafety::apply(const SafetyInput& in) {
     return last_;
   }
   ramp_time_s_ += in.dt_s;
-  const double scale = rampFactor(ramp_time_s_, s_.ramp_s) * staleFactor(in.force_age_s, s_.stale_after_s, s_.fade_s);
+  const double scale = rampFactor(ramp_time_s_, s_.ramp_s) * staleFactor(in.force_age_s, stale_after_s_, s_.fade_s);
   const glm::vec3 target = clampMagnitude(static_cast<float>(scale) * in.force_n, s_.max_force_n);
   last_ = clampMagnitude(slewLimit(last_, target, max_step_n), s_.max_force_n);
   return last_;

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace hf::haptics {
 
@@ -12,6 +13,9 @@ struct PoseFrame {           // haptic thread -> simulation thread, every haptic
   glm::vec3 velocity_m_s{0.0f};
   double time_s = 0.0;       // when the device was read
   bool homed = false;
+  bool has_orientation = false;                   // the device reports one (6-DoF)
+  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  // the probe's world rotation (unit quaternion)
+  glm::vec3 angular_velocity_rad_s{0.0f};         // world frame, rad/s
 };
 
 struct ForceFrame {          // simulation thread -> haptic thread, every simulation step

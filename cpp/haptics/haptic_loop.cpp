@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "common/error.h"
+#include "common/log_sink.h"
 #include "haptics/clock.h"
 #include "haptics/device_claim.h"
 #include "haptics/periodic_clock.h"
@@ -98,7 +98,7 @@ void HapticLoop::run() {
   if (s_.realtime) {
     scheduling_ = requestRealtimePriority(s_.realtime_priority);
     realtime_ = scheduling_.empty();
-    if (!scheduling_.empty()) std::fprintf(stderr, "hapticfluid: warning: %s\n", scheduling_.c_str());
+    if (!scheduling_.empty()) log::warning("hapticfluid.haptics", scheduling_);  // queued: never the GIL here
   } else {
     scheduling_ = "real-time priority not requested (realtime=False); the period may jitter under load";
   }
@@ -148,6 +148,11 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   pose.velocity_m_s = map.velocityToDomain(state.velocity_m_s);
   pose.time_s = now_s;
   pose.homed = state.homed;
+  pose.has_orientation = state.has_orientation;
+  if (state.has_orientation) {
+    pose.orientation = map.orientationToDomain(state.orientation);
+    pose.angular_velocity_rad_s = map.angularVelocityToDomain(state.angular_velocity_rad_s);
+  }
   poses_.write(pose);
 
   TickInput in;

@@ -24,9 +24,30 @@ HostDevice::HostDevice(float max_force_n, bool extrapolate) : extrapolate_(extra
   last_force_.write(glm::vec3(0.0f));
 }
 
-void HostDevice::pushPose(const glm::vec3& position_m) { pushPose(position_m, monotonicNowS()); }
+void HostDevice::pushPose(const glm::vec3& position_m) { push(position_m, nullptr, monotonicNowS()); }
 
-void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
+void HostDevice::pushPose(const glm::vec3& position_m, double time_s) { push(position_m, nullptr, time_s); }
+
+void HostDevice::pushPose(const glm::vec3& position_m, const glm::quat& orientation) {
+  push(position_m, &orientation, monotonicNowS());
+}
+
+void HostDevice::pushPose(const glm::vec3& position_m, const glm::quat& orientation, double time_s) {
+  push(position_m, &orientation, time_s);
+}
+
+void HostDevice::push(const glm::vec3& position_m, const glm::quat* orientation, double time_s) {
+  glm::quat unit(1.0f, 0.0f, 0.0f, 0.0f);
+  if (orientation) {
+    const glm::dquat q(*orientation);
+    const double norm = glm::length(q);
+    if (!std::isfinite(norm) || !(norm > 1e-6)) {
+      throw InvalidArgument("host device: push_pose orientation must be a finite, nonzero quaternion (w, x, y, z), got (" +
+                            std::to_string(q.w) + ", " + std::to_string(q.x) + ", " + std::to_string(q.y) + ", " +
+                            std::to_string(q.z) + ")");
+    }
+    unit = glm::quat(q / norm);
+  }
   if (!allFinite(position_m) || !std::isfinite(time_s)) {
     throw InvalidArgument("host device: push_pose needs a finite position (m) and time (s)");
   }
@@ -57,6 +78,27 @@ void HostDevice::pushPose(const glm::vec3& position_m, double time_s) {
                             "their own sample times (s), at least a microsecond apart");
     }
     next.interval_s = dt;
+    if (orientation && previous_.has_orientation) {
+      // The rotation from the previous push to this one, shortest arc, as an angular velocity
+      // (world frame): axis * angle / dt.
+      glm::dquat d = glm::dquat(unit) * glm::conjugate(glm::dquat(previous_.orientation));
+      if (d.w < 0.0) d = -d;
+      const glm::dvec3 axis(d.x, d.y, d.z);
+      const double s = glm::length(axis);
+      if (s > 0.0) {
+        const double angle = 2.0 * std::atan2(s, d.w);
+        next.angular_velocity_rad_s = glm::vec3(axis * (angle / (s * dt)));
+        if (!allFinite(next.angular_velocity_rad_s)) {
+          throw InvalidArgument("host device: push_pose times " + std::to_string(previous_.time_s) + " s and " +
+                                std::to_string(time_s) + " s are too close for a finite angular velocity; push "
+                                "poses at their own sample times (s), at least a microsecond apart");
+        }
+      }
+    }
+  }
+  if (orientation) {
+    next.has_orientation = true;
+    next.orientation = unit;
   }
   previous_ = next;
   latest_.write(next);
@@ -78,6 +120,16 @@ DeviceState HostDevice::stateFrom(const Push& p, double elapsed_s) const {
   s.velocity_m_s = p.velocity_m_s;
   const double ahead = extrapolate_ ? std::clamp(elapsed_s, 0.0, std::min(p.interval_s, kMaxExtrapolationS)) : 0.0;
   s.position_m = p.position_m + p.velocity_m_s * static_cast<float>(ahead);
+  if (p.has_orientation) {
+    s.has_orientation = true;
+    s.angular_velocity_rad_s = p.angular_velocity_rad_s;
+    s.orientation = p.orientation;
+    const float spin = glm::length(p.angular_velocity_rad_s);
+    if (ahead > 0.0 && spin > 0.0) {
+      s.orientation = glm::normalize(glm::angleAxis(spin * static_cast<float>(ahead), p.angular_velocity_rad_s / spin) *
+                                     p.orientation);
+    }
+  }
   return s;
 }
 

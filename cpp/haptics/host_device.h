@@ -3,6 +3,10 @@
 // typically once per frame at 24-60 Hz. The velocity is the finite difference of the two latest
 // pushes (their own time stamps); read() extrapolates the position along it for at most one push
 // interval, so the 1 kHz loop sees a smooth path and a stalled host holds still.
+// A push may carry an orientation (a unit quaternion: the object's rotation): the device is then
+// 6-DoF (DeviceState::has_orientation), its angular velocity the rotation between the two latest
+// pushes over their time (shortest arc), and read() turns it along that for as long as it moves
+// the position.
 // pushPose() may be called from any thread (pushers take turns under a mutex); read(), on the
 // haptic thread, takes no lock: the latest push comes through a Mailbox.
 #include <atomic>
@@ -34,6 +38,9 @@ class HostDevice : public Device {
   // that does not increase.
   void pushPose(const glm::vec3& position_m, double time_s);
   void pushPose(const glm::vec3& position_m);  // sampled now (monotonic clock)
+  // With an orientation (w, x, y, z; normalised here): finite and not zero, else InvalidArgument.
+  void pushPose(const glm::vec3& position_m, const glm::quat& orientation, double time_s);
+  void pushPose(const glm::vec3& position_m, const glm::quat& orientation);
   std::uint64_t pushes() const { return latest_.version(); }
   glm::vec3 lastForce() const;
 
@@ -44,11 +51,15 @@ class HostDevice : public Device {
  private:
   struct Push;
   DeviceState stateFrom(const Push& p, double elapsed_s) const;
+  void push(const glm::vec3& position_m, const glm::quat* orientation, double time_s);
 
   struct Push {
     bool valid = false;
     glm::vec3 position_m{0.0f};
     glm::vec3 velocity_m_s{0.0f};
+    bool has_orientation = false;
+    glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 angular_velocity_rad_s{0.0f};
     double time_s = 0.0;        // the caller's time stamp
     double arrival_s = 0.0;     // monotonic clock when it arrived
     double interval_s = 0.0;    // since the push before (0 for the first)

@@ -21,6 +21,18 @@
 //              beyond the bounded damper). Below the velocity dead-band nothing is applied
 //              (alpha would be huge on noise); the excess stays observed and is removed once
 //              the hand moves. A device that reports no maximum damping is observed only.
+// Slew-aware (given the safety stage's slew rate S): the safety stage changes the force by at
+// most S dt per period, so a correction asked for now arrives late; at a high gain the push kept
+// while it slews in was enough to keep a hand swinging. So the controller plans around it:
+//   - it checks the force the device will actually hold this period, slewLimit(held, wanted),
+//     not the wanted one;
+//   - it counts the energy still to come while a push p along the motion is slewed back to zero,
+//     p^2 |v| / (2 S'), S' = kPlanSlewFraction S (margin for a speed that grows meanwhile and for
+//     the sideways share of the step): the budget is E + p |v| dt + p^2 |v| / (2 S') <= 0, so the
+//     push is taken back while the stored dissipation can still pay for the unwinding;
+//   - through the slew step, the change along the motion goes first (a sideways change of the
+//     wanted force does not use up the step that takes the push back).
+// With no slew limit (S = 0) it is the plain controller above: the same damping, to the bit.
 // It sits before the safety stage: clamp and slew limit stay the last word on |F|. The pipeline
 // hands it the wanted force already clamped to max_force (the force the device can deliver), and
 // the final clamp only scales the result, which keeps the sign of its power. Whatever safety
@@ -33,6 +45,9 @@
 #include <glm/glm.hpp>
 
 namespace hf::haptics {
+
+// The controller plans the unwinding of a push with this fraction of the safety stage's slew rate.
+inline constexpr double kPlanSlewFraction = 0.5;
 
 struct PassivitySettings {
   bool enabled = true;                    // false: observe only (no damping)
@@ -62,7 +77,8 @@ struct PassivityState {                   // published to the host (trivially co
 
 class PassivityController {
  public:
-  explicit PassivityController(const PassivitySettings& s);
+  // slew_rate_n_s: the safety stage's slew limit after this controller (N/s, >= 0; 0: none).
+  explicit PassivityController(const PassivitySettings& s, float slew_rate_n_s = 0.0f);
 
   // One haptic period. wanted_n: the force this period wants (device frame, N, before safety);
   // position_m, velocity_m_s: this period's device reading; held_n: the force the device held
@@ -73,12 +89,17 @@ class PassivityController {
                   const glm::vec3& held_n, double dt_s);
   void reset();
   const PassivityState& state() const { return st_; }
-  bool acted() const { return st_.alpha_n_s_m > 0.0 || st_.cut_n > 0.0; }  // this period
+  bool acted() const { return acted_; }  // this period: damped, cut or slewed the push back first
   const PassivitySettings& settings() const { return s_; }
 
  private:
+  double unwindEnergy(double push_n, double speed_m_s) const;              // J still to come
+  double allowedPush(double energy_j, double speed_m_s, double dt_s) const;  // N along the motion
+
   PassivitySettings s_;
+  float slew_rate_n_s_ = 0.0f;
   PassivityState st_;
+  bool acted_ = false;
   bool have_position_ = false;
   glm::dvec3 last_position_m_{0.0};
 };

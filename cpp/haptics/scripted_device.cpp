@@ -106,7 +106,11 @@ std::shared_ptr<ScriptedDevice> ScriptedDevice::fromCsv(const std::string& path,
     positions.emplace_back(static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(v[3]));
   }
   if (times.empty()) throw InvalidArgument("scripted device: " + path + " holds no t,x,y,z rows");
-  return std::make_shared<ScriptedDevice>(std::move(times), std::move(positions), loop, max_force_n);
+  try {
+    return std::make_shared<ScriptedDevice>(std::move(times), std::move(positions), loop, max_force_n);
+  } catch (const InvalidArgument& e) {  // the waypoints' own checks (order, spacing): name the file
+    throw InvalidArgument(path + ": " + e.what());
+  }
 }
 
 glm::vec3 ScriptedDevice::segmentVelocity(std::size_t i) const {

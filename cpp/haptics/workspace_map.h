@@ -3,8 +3,11 @@
 //   domain position = offset + scale * device position     (per axis; a negative scale flips it)
 //   domain velocity = scale * device velocity
 //   device force    = force_gain * sign(scale) * fluid force (device N per fluid N)
+//   domain rotation = S R S with S = diag(sign(scale)) (a rotation: the map's mirror on both
+//                     sides; scale's size does not turn anything), angular velocity det(S) S w
 // The force keeps its direction in the user's hand: an axis the map flips is flipped back.
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace hf::haptics {
 
@@ -17,6 +20,16 @@ struct WorkspaceMap {
   glm::vec3 positionToDomain(const glm::vec3& p) const { return offset_m + scale * p; }
   glm::vec3 velocityToDomain(const glm::vec3& v) const { return scale * v; }
   glm::vec3 forceToDevice(const glm::vec3& f) const { return force_gain * glm::sign(scale) * f; }
+  glm::quat orientationToDomain(const glm::quat& q) const {
+    const glm::vec3 s = glm::sign(scale);
+    // S R S for a diagonal S of signs: the quaternion's vector part picks up det(S) S.
+    const float det = s.x * s.y * s.z;
+    return glm::quat(q.w, det * s.x * q.x, det * s.y * q.y, det * s.z * q.z);
+  }
+  glm::vec3 angularVelocityToDomain(const glm::vec3& w) const {
+    const glm::vec3 s = glm::sign(scale);
+    return (s.x * s.y * s.z) * s * w;
+  }
 };
 
 }  // namespace hf::haptics

@@ -48,7 +48,9 @@ void checkView(const DenseView& v, const glm::ivec3& expected, const char* what)
 
 void checkFrame(const VdbFrame& f, const VdbWriteOptions& o) {
   if (glm::any(glm::lessThan(f.resolution, glm::ivec3(1)))) {
-    throw InvalidArgument("resolution must be at least 1 on every axis, got " + shapeText(f.resolution));
+    // The resolution is the density array's shape: say so, naming the array the caller passed.
+    throw InvalidArgument("density must have at least 1 cell on every axis (the grid's resolution), got shape " +
+                          shapeText(f.resolution));
   }
   if (!std::isfinite(f.voxel_size_m) || f.voxel_size_m <= 0.0f) {
     throw InvalidArgument("voxel size must be a positive finite length (m), got " + num(f.voxel_size_m));

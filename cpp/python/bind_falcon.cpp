@@ -2,8 +2,10 @@
 // Argument conversion, docstrings and GIL release only.
 #include <pybind11/stl.h>
 
+#include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "haptics/device.h"
@@ -118,8 +120,14 @@ void addFalcon(py::module_& m) {
   m.def(
       "open_simulated_falcon",
       [](std::optional<py::bytes> firmware_bytes, bool home, double homing_timeout, float max_force,
-         double hand_mass, double hand_stiffness, double hand_damping, std::optional<long> unplug_after) -> DevicePtr {
+         double hand_mass, double hand_stiffness, double hand_damping, std::optional<long> unplug_after,
+         std::optional<std::vector<std::array<double, 4>>> hand_path, bool hand_loop) -> DevicePtr {
         haptics::falcon::SimulatedFalconOptions sim;
+        if (hand_path) {
+          std::vector<haptics::falcon::HandWaypoint> waypoints;
+          for (const auto& r : *hand_path) waypoints.push_back({r[0], glm::dvec3(r[1], r[2], r[3])});
+          sim.handPath = haptics::falcon::scriptedHand(std::move(waypoints), hand_loop);
+        }
         FalconOptions o = falconOptions(home, homing_timeout, max_force);
         if (firmware_bytes) {
           const std::string bytes = *firmware_bytes;
@@ -140,7 +148,8 @@ void addFalcon(py::module_& m) {
       },
       py::arg("firmware_bytes") = py::none(), py::arg("home") = true, py::arg("homing_timeout") = 10.0,
       py::arg("max_force") = 8.0f, py::arg("hand_mass") = 0.15, py::arg("hand_stiffness") = 300.0,
-      py::arg("hand_damping") = 12.0, py::arg("unplug_after") = py::none(),
+      py::arg("hand_damping") = 12.0, py::arg("unplug_after") = py::none(), py::arg("hand_path") = py::none(),
+      py::arg("hand_loop") = false,
       "The whole Falcon driver on a simulated Falcon (no hardware): a FalconDevice.\n"
       "firmware_bytes: None: the firmware is already running; bytes: the simulated DSP waits in its\n"
       "  bootloader and the driver uploads these bytes, echo-checked, as for a real Falcon.\n"
@@ -150,7 +159,12 @@ void addFalcon(py::module_& m) {
       "  workspace centre; a force F moves it about F / hand_stiffness. Simulated time advances\n"
       "  1 ms per read(). max_force in N.\n"
       "unplug_after: the simulated cable is pulled after this many packets (homing takes ~200):\n"
-      "  read() then raises HapticFluidError, write_force() and close() do nothing harmful.");
+      "  read() then raises HapticFluidError, write_force() and close() do nothing harmful.\n"
+      "hand_path: None (the hand rests at the workspace centre after homing) or waypoints\n"
+      "  (t, x, y, z): times in s from the end of the homing gesture (0.6 s), increasing, and where the\n"
+      "  hand pulls the grip (m, device frame, within about 0.04 m of the workspace centre), linearly\n"
+      "  between them; hand_loop: start over at the first waypoint after the last (else hold it).\n"
+      "  hapticfluid.hand_gestures has ready-made ones.");
 }
 
 }  // namespace hf::python

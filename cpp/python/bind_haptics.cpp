@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "haptics/device.h"
+#include "haptics/clock.h"
 #include "haptics/device_claim.h"
 #include "haptics/host_device.h"
 #include "haptics/null_device.h"
@@ -72,6 +73,7 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["sim_step_ms"] = s.sim_step_ms;
   d["sim_dt"] = s.sim_dt_s;
   d["snapshots"] = s.snapshots;
+  d["stale_after"] = s.stale_after_s;
   d["force_gain"] = s.force_gain;
   d["force_gain_reason"] = s.force_gain_reason;
   const haptics::PassivityState& p = s.haptic.passivity;
@@ -133,8 +135,10 @@ prediction: update the force between frames with a fitted local drag model F0 + 
 max_force: bound on the commanded force (N), at most the device's maximum; None = that maximum.
 slew_rate: largest change of the commanded force (N/s).
 ramp_time: force ramps in linearly over this long after start/resume/homing (s).
-stale_after, fade_time: a simulation force older than stale_after (s) fades to zero over
-  fade_time (s).
+stale_after, stale_periods, stale_after_max, fade_time: a simulation force starts fading when it
+  is older than stale_periods of the simulation's measured periods, at least stale_after (s) and
+  at most stale_after_max (s: a stalled simulation's force still fades), and reaches zero
+  fade_time (s) later; stats()['stale_after'] is the threshold in use.
 rate: haptic loop rate (Hz, 100..10000).
 sim_dt: fixed simulation step (s), stepped as fast as the GPU goes; 0 = real time: each step
   advances the smoothed wall time per step, within [min_sim_dt, max_sim_dt], and waits for
@@ -194,6 +198,15 @@ void addHaptics(py::module_& m) {
       .def_readonly("buttons", &DeviceState::buttons, "Bit i set: button i pressed.")
       .def_readonly("homed", &DeviceState::homed, "False: no force may be commanded yet.")
       .def_readonly("time", &DeviceState::time_s, "Time of the reading (s, time.monotonic() clock).")
+      .def_property_readonly(
+          "orientation",
+          [](const DeviceState& s) -> py::object {
+            if (!s.has_orientation) return py::none();
+            return py::make_tuple(s.orientation.w, s.orientation.x, s.orientation.y, s.orientation.z);
+          },
+          "The handle's rotation as a unit quaternion (w, x, y, z), or None for a 3-DoF device.")
+      .def_property_readonly("angular_velocity", [](const DeviceState& s) { return vec3Array(s.angular_velocity_rad_s); },
+                             "Angular velocity (rad/s, device frame; zeros for a 3-DoF device).")
       .def("__repr__", [](const DeviceState& s) {
         return "DeviceState(position=(" + std::to_string(s.position_m.x) + ", " + std::to_string(s.position_m.y) +
                ", " + std::to_string(s.position_m.z) + ") m, homed=" + (s.homed ? "True" : "False") + ")";
@@ -246,14 +259,23 @@ session on it fails to start; close() still stops it (the session then fails wit
       m, "HostDevice", "A handle whose pose the host pushes each frame; made by host_device().")
       .def(
           "push_pose",
-          [](haptics::HostDevice& d, const Vec3& position, std::optional<double> time) {
-            if (time) d.pushPose(toVec3(position), *time);
-            else d.pushPose(toVec3(position));
+          [](haptics::HostDevice& d, const Vec3& position, std::optional<double> time,
+             std::optional<std::array<float, 4>> orientation) {
+            const double t = time ? *time : haptics::monotonicNowS();
+            if (orientation) {
+              const auto& q = *orientation;
+              d.pushPose(toVec3(position), glm::quat(q[0], q[1], q[2], q[3]), t);
+            } else {
+              d.pushPose(toVec3(position), t);
+            }
           },
-          py::arg("position"), py::arg("time") = py::none(),
+          py::arg("position"), py::arg("time") = py::none(), py::arg("orientation") = py::none(),
+          py::call_guard<py::gil_scoped_release>(),
           "Set the handle's position (m, device frame) sampled at `time` (s, increasing; default now\n"
-          "on time.monotonic()). The velocity is estimated from successive pushes. Never blocks the\n"
-          "haptic thread.")
+          "on time.monotonic()). The velocity is estimated from successive pushes. orientation: None\n"
+          "(a 3-DoF handle) or the rotation as a quaternion (w, x, y, z), normalised here: the\n"
+          "session's probe then turns with it (its scale stays the one it started with) and its\n"
+          "angular velocity is estimated from successive pushes. Never blocks the haptic thread.")
       .def_property_readonly("pushes", &haptics::HostDevice::pushes, "Poses pushed so far.")
       .def("state_after", &haptics::HostDevice::stateAfter, py::arg("elapsed"),
            "The DeviceState `elapsed` seconds after the latest push arrived (no clock involved).")
@@ -308,6 +330,8 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["slew_rate"] = p.safety.slew_rate_n_s;
         d["ramp_time"] = p.safety.ramp_s;
         d["stale_after"] = p.safety.stale_after_s;
+        d["stale_periods"] = p.safety.stale_periods;
+        d["stale_after_max"] = p.safety.stale_after_max_s;
         d["fade_time"] = p.safety.fade_s;
         d["rate"] = defaults.loop.rate_hz;
         d["sim_dt"] = defaults.sim_dt_s;
@@ -328,7 +352,7 @@ session on it fails to start; close() still stops it (the session then fails wit
                     const py::object& workspace_offset, std::optional<float> force_gain, std::optional<float> probe_radius,
                     const std::string& filter, double bandwidth_ratio, bool prediction,
                     std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
-                    double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
+                    double stale_periods, double stale_after_max, double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
                     double trace_seconds, bool passivity, std::optional<float> passivity_max_damping,
                     float passivity_deadband, double passivity_reserve, double passivity_memory,
                     std::optional<double> snapshot, bool snapshot_temperature) {
@@ -358,6 +382,8 @@ session on it fails to start; close() still stops it (the session then fails wit
           p.safety.slew_rate_n_s = slew_rate;
           p.safety.ramp_s = ramp_time;
           p.safety.stale_after_s = stale_after;
+          p.safety.stale_periods = stale_periods;
+          p.safety.stale_after_max_s = stale_after_max;
           p.safety.fade_s = fade_time;
           s.loop.rate_hz = rate;
           s.loop.realtime = realtime;
@@ -382,6 +408,7 @@ session on it fails to start; close() still stops it (the session then fails wit
         py::arg("bandwidth_ratio") = dp.filter.bandwidth_ratio, py::arg("prediction") = dp.prediction,
         py::arg("max_force") = py::none(), py::arg("slew_rate") = dp.safety.slew_rate_n_s,
         py::arg("ramp_time") = dp.safety.ramp_s, py::arg("stale_after") = dp.safety.stale_after_s,
+        py::arg("stale_periods") = dp.safety.stale_periods, py::arg("stale_after_max") = dp.safety.stale_after_max_s,
         py::arg("fade_time") = dp.safety.fade_s, py::arg("rate") = defaults.loop.rate_hz,
         py::arg("sim_dt") = defaults.sim_dt_s, py::arg("min_sim_dt") = defaults.min_sim_dt_s,
         py::arg("max_sim_dt") = defaults.max_sim_dt_s, py::arg("realtime") = defaults.loop.realtime,
@@ -407,7 +434,11 @@ session on it fails to start; close() still stops it (the session then fails wit
         "current step.");
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
-  c.def("stop", &HapticSession::stop, py::arg("timeout") = 10.0, py::call_guard<py::gil_scoped_release>(),
+  c.def("stop", [](HapticSession& s, double timeout) {
+          FlushLogAfter flush;  // what the session's threads queued (hapticfluid.haptics, .fluid, ...)
+          py::gil_scoped_release release;
+          s.stop(timeout);
+        }, py::arg("timeout") = 10.0,
         "Force down to zero at slew_rate (max_force / slew_rate, at most 2 s) and both threads ended: waits at most\n"
         "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
@@ -422,9 +453,13 @@ session on it fails to start; close() still stops it (the session then fails wit
         return e.empty() ? py::object(py::none()) : py::object(py::str(e));
       },
       "The error that ended the session (device gone, solver failure), or None.");
-  c.def("stats", [](const HapticSession& s) { return statsDict(s.stats()); },
+  c.def("stats", [](const HapticSession& s) {
+          FlushLogAfter flush;  // what the session's threads queued so far
+          return statsDict(s.stats());
+        },
         "A dict: state, haptic_rate_hz, period/jitter/latency p50, p99, max and mean (ms), ticks,\n"
-        "skipped_periods, force_frames, sim_rate_hz, sim_steps, sim_step_ms, sim_dt (s), realtime,\n"
+        "skipped_periods, force_frames, sim_rate_hz, sim_steps, sim_step_ms, sim_dt (s), stale_after\n"
+        "(s: the age at which the latest force starts fading, from the measured simulation rate), realtime,\n"
         "scheduling (warning or ''), error (or None), force_gain and force_gain_reason (the gain in\n"
         "use and how it was chosen), and the passivity controller's state since its last reset:\n"
         "passivity_energy (J, the observer: > 0 means the loop made net energy), passivity_delivered\n"
@@ -448,6 +483,7 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["commanded_force"] = vec3Array(o.commanded_n);
         d["cutoff_hz"] = o.cutoff_hz;
         d["force_age"] = o.force_age_s;
+        d["stale_after"] = o.stale_after_s;
         const DeviceState state = s.latestState();
         d["position"] = vec3Array(state.position_m);
         d["homed"] = state.homed;
@@ -456,7 +492,7 @@ session on it fails to start; close() still stops it (the session then fails wit
       },
       "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, passive_force\n"
       "(after the passivity controller), commanded_force (device N), damping (N s/m), cutoff_hz,\n"
-      "force_age (s), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
+      "force_age (s), stale_after (s: the age at which that force starts fading), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
       "latest reading.");
   c.def(
       "trace",
@@ -516,6 +552,7 @@ session on it fails to start; close() still stops it (the session then fails wit
     return self;
   }, "Starts the session if it has not started.");
   c.def("__exit__", [](HapticSession& s, const py::object& exc_type, const py::object&, const py::object&) {
+    FlushLogAfter flush;
     py::gil_scoped_release release;
     if (!exc_type.is_none()) {
       try {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "emitter/mesh_source.h"
 #include "fluid/grid_checks.h"
 #include "fluid/validate.h"
 #include "python/bindings.h"
@@ -37,6 +38,14 @@ fluid::PressureSolverKind parsePressureSolver(const std::string& s) {
   if (s == "multigrid") return fluid::PressureSolverKind::Multigrid;
   throw InvalidArgument("pressure_solver must be 'jacobi' or 'multigrid', got '" + s + "'");
 }
+
+fluid::SourceEmission parseEmission(const std::string& s) {
+  if (s == "hold") return fluid::SourceEmission::Hold;
+  if (s == "rate") return fluid::SourceEmission::Rate;
+  throw InvalidArgument("emission must be 'hold' or 'rate', got '" + s + "'");
+}
+
+std::string emissionName(fluid::SourceEmission e) { return e == fluid::SourceEmission::Rate ? "rate" : "hold"; }
 
 std::string pressureSolverName(fluid::PressureSolverKind k) {
   return k == fluid::PressureSolverKind::Multigrid ? "multigrid" : "jacobi";
@@ -203,6 +212,7 @@ All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid ha
           cfg.params.pressure_solver = parsePressureSolver(pressure_solver);
           cfg.params.pressure_tolerance = pressure_tolerance;
           cfg.device = device;
+          FlushLogAfter flush;  // the GL context's note (software renderer)
           py::gil_scoped_release release;
           return std::make_unique<Simulation>(cfg);
         }),
@@ -409,35 +419,105 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
       "velocity (m/s), angular_velocity (rad/s). Both: torque_centre (m, or None = centroid).");
   c.def(
       "set_smoke_source",
-      [](Simulation& s, const Vec3& centre, float radius, float density, float temperature) {
+      [](Simulation& s, const Vec3& centre, float radius, float density, float temperature,
+         const std::string& emission) {
         fluid::SmokeSource src;
         src.enabled = true;
         src.centre_m = toVec3(centre);
         src.radius_m = radius;
         src.density = density;
         src.temperature_k = temperature;
+        src.emission = parseEmission(emission);
         s.setSmokeSource(src);
       },
       py::arg("centre"), py::arg("radius"), py::arg("density") = 1.0f, py::arg("temperature") = 0.0f,
-      "Emit smoke in a sphere: centre (m), radius (m); its cells are held at least at `density`\n"
-      "(concentration) and `temperature` (K above ambient).");
-  c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); }, "Stop emitting smoke.");
+      py::arg("emission") = "hold",
+      "Emit smoke in a sphere (replaces any source): centre (m), radius (m). emission 'hold': its cells\n"
+      "are held at least at `density` (concentration) and `temperature` (K above ambient); 'rate':\n"
+      "`density` (concentration per second) and `temperature` (K/s) are added per second.");
+  c.def(
+      "set_smoke_source_mesh",
+      [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
+         float density, float temperature, const std::string& emission) {
+        obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
+        const glm::mat4 m = toTransform(transform);
+        const fluid::SourceEmission e = parseEmission(emission);
+        py::gil_scoped_release release;
+        s.setMeshSmokeSource(std::move(mesh), m, density, temperature, e);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(), py::arg("density") = 1.0f,
+      py::arg("temperature") = 0.0f, py::arg("emission") = "hold", R"doc(
+Make the smoke source a closed triangle mesh emitting from its volume (replaces any source;
+Mantaflow's mesh flow object). The arrays are copied.
+
+vertices: (N, 3) real numbers, the object's local frame (m).
+triangles: (M, 3) integers, vertex indices; the mesh must be closed and consistently oriented,
+    as for set_mesh_probe (several shells are fine; overlapping shells count their overlap twice
+    in partly covered cells).
+transform: 4x4 local -> world matrix (matrix_world: rows, translation in the last column, m;
+    may rotate, scale and mirror), or None for the identity. set_smoke_source_pose moves it.
+density: emission 'hold': smoke concentration (dimensionless) the covered cells are raised to at
+    least; 'rate': concentration added per second.
+temperature: 'hold': K above ambient; 'rate': K per second.
+emission: 'hold' or 'rate'. A cell covered by the fraction c (0..1) gets c times the values:
+    each step computes c on the GPU, sampled on SOURCE_SUBSAMPLES^2 vertical lines per cell and
+    exact along them, so a moving source emits smoothly rather than cell by cell; a 'rate'
+    source of volume V adds density x V x dt of smoke (concentration x m^3) per step.
+
+The posed mesh must meet the domain (the part outside emits nothing) and reach no further than
+one domain size past any wall. Cells inside the probe get nothing. Raises InvalidArgumentError
+otherwise, saying what to change; nothing changes then.
+)doc");
+  c.def(
+      "set_smoke_source_pose",
+      [](Simulation& s, const py::object& transform) { s.setSmokeSourcePose(toTransform(transform)); },
+      py::arg("transform"), R"doc(
+Move the mesh smoke source without re-uploading it: cheap, never waits for the GPU; the next
+step emits at the new pose (call it every step or frame to animate the source).
+
+transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity.
+Raises InvalidArgumentError if there is no mesh source or the pose is refused.
+)doc");
+  c.def_property_readonly(
+      "smoke_source",
+      [](const Simulation& s) -> py::object {
+        py::dict d;
+        if (auto m = s.meshSmokeSource()) {
+          d["kind"] = "mesh";
+          d["transform"] = transformArray(m->transform);
+          d["vertex_count"] = m->mesh->vertices_m.size();
+          d["triangle_count"] = m->mesh->triangles.size();
+          d["density"] = m->density;
+          d["temperature"] = m->temperature_k;
+          d["emission"] = emissionName(m->emission);
+          return std::move(d);
+        }
+        const fluid::SmokeSource src = s.smokeSource();
+        if (!src.enabled) return py::none();
+        d["kind"] = "sphere";
+        d["centre"] = vec3Array(src.centre_m);
+        d["radius"] = src.radius_m;
+        d["density"] = src.density;
+        d["temperature"] = src.temperature_k;
+        d["emission"] = emissionName(src.emission);
+        return std::move(d);
+      },
+      "The smoke source as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m). Mesh: kind\n"
+      "'mesh', transform (4x4, m), vertex_count, triangle_count. Both: density, temperature, emission\n"
+      "('hold': concentration and K above ambient; 'rate': per second).");
+  c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); },
+        "Stop emitting smoke (removes a sphere or mesh source).");
   c.def(
       "step",
       [](Simulation& s, double dt) {
-        session::StepReport r;
-        {
-          py::gil_scoped_release release;
-          r = s.step(dt);
-        }
-        // The simulation's once-only warning goes to Python logging (logger "hapticfluid").
-        if (!r.warning.empty()) py::module_::import("logging").attr("getLogger")("hapticfluid").attr("warning")(r.warning);
-        return r;
+        FlushLogAfter flush;  // the simulation's once-only warning, on logger "hapticfluid.fluid"
+        py::gil_scoped_release release;
+        return s.step(dt);
       },
       py::arg("dt"),
       "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
       "force reduction. Returns a StepReport; blocks until its force is read back. The first step whose\n"
-      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid' (once per simulation).");
+      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid.fluid' (once per simulation).");
   c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
   c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
         "Fluid at rest, no smoke, time 0; probe and settings kept.");
@@ -502,6 +582,12 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
   m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
   m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
   m.attr("MAX_TIME_STEP_S") = static_cast<double>(fluid::kMaxTimeStep);
+  // Smoke sources: emission modes, value limits, mesh coverage sampling (vertical lines per cell
+  // along x and along y).
+  m.attr("SOURCE_EMISSIONS") = py::make_tuple("hold", "rate");
+  m.attr("MAX_SOURCE_DENSITY") = static_cast<double>(fluid::kMaxFactor);
+  m.attr("MAX_SOURCE_TEMPERATURE_K") = static_cast<double>(fluid::kMaxTemperature);
+  m.attr("SOURCE_SUBSAMPLES") = emitter::kSourceSubsamples;
   m.attr("CELL_OUTSIDE") = 0;
   m.attr("CELL_SURROUNDING") = 1;
   m.attr("CELL_BOUNDARY") = 2;

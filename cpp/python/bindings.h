@@ -10,5 +10,22 @@ void addSimulation(pybind11::module_& m);
 void addHaptics(pybind11::module_& m);
 void addFalcon(pybind11::module_& m);  // after addHaptics: reuses its Device type
 void addIo(pybind11::module_& m);
+void addLog(pybind11::module_& m);
+
+// Delivers the engine's queued log messages to Python logging (GIL held; bind_log.cpp).
+void flushLog();
+// Flushes the log when it leaves scope, error or not (declare it before a gil_scoped_release:
+// it then runs with the GIL held again). A failure to log never replaces the call's outcome.
+struct FlushLogAfter {
+  FlushLogAfter() = default;
+  FlushLogAfter(const FlushLogAfter&) = delete;
+  FlushLogAfter& operator=(const FlushLogAfter&) = delete;
+  ~FlushLogAfter() {
+    try {
+      flushLog();
+    } catch (...) {
+    }
+  }
+};
 
 }  // namespace hf::python

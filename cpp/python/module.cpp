@@ -9,4 +9,5 @@ PYBIND11_MODULE(_core, m) {
   hf::python::addHaptics(m);
   hf::python::addFalcon(m);
   hf::python::addIo(m);
+  hf::python::addLog(m);
 }

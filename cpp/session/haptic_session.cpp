@@ -144,9 +144,14 @@ HapticSession::HapticSession(Simulation& sim, haptics::DevicePtr device, const H
     const glm::vec3 origin(base_transform_[3]);
     lo_offset = box.lo - origin;
     hi_offset = box.hi - origin;
+    mesh_probe_ = true;
+    extent_ = current->extent;
+    local_scale_ = glm::transpose(probeRotation(base_transform_)) * glm::mat3(base_transform_);
   }
-  probe_lo_m_ = g.origin_m + margin - lo_offset;
-  probe_hi_m_ = g.origin_m + g.sizeM() - margin - hi_offset;
+  wall_lo_m_ = g.origin_m + margin;
+  wall_hi_m_ = g.origin_m + g.sizeM() - margin;
+  probe_lo_m_ = wall_lo_m_ - lo_offset;
+  probe_hi_m_ = wall_hi_m_ - hi_offset;
   if (glm::any(glm::greaterThan(probe_lo_m_, probe_hi_m_))) {
     throw InvalidArgument("the simulation's probe (" + vecText(hi_offset - lo_offset) +
                           " m across) cannot move inside the domain with one cell of fluid to every wall; "
@@ -162,13 +167,38 @@ HapticSession::~HapticSession() {
   joinAll();
 }
 
+glm::mat3 HapticSession::probeRotation(const glm::mat4& transform) {
+  const glm::vec3 x = glm::normalize(glm::vec3(transform[0]));
+  const glm::vec3 y = glm::normalize(glm::vec3(transform[1]) - glm::dot(glm::vec3(transform[1]), x) * x);
+  return glm::mat3(x, y, glm::cross(x, y));
+}
+
 obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const {
   obstacle::RigidPose p;
   p.transform = base_transform_;
-  glm::vec3 origin = glm::clamp(pose.position_m, probe_lo_m_, probe_hi_m_);
+  glm::vec3 lo = probe_lo_m_, hi = probe_hi_m_;
+  glm::vec3 spin(0.0f);
+  const glm::quat q = pose.orientation;
+  const float q_norm = glm::length(q);
+  if (pose.has_orientation && std::isfinite(q_norm) && q_norm > 1e-6f) {
+    bool fits = true;
+    glm::mat4 turned(glm::mat3_cast(q / q_norm) * local_scale_);
+    if (mesh_probe_) {  // the turned probe's world box about its origin, O(1)
+      const obstacle::WorldBox box = obstacle::worldBox(extent_, turned);
+      const glm::vec3 turned_lo = wall_lo_m_ - box.lo, turned_hi = wall_hi_m_ - box.hi;
+      fits = !glm::any(glm::greaterThan(turned_lo, turned_hi));
+      if (fits) {
+        lo = turned_lo;
+        hi = turned_hi;
+        p.transform = turned;
+      }
+    }
+    if (fits && allFinite(pose.angular_velocity_rad_s)) spin = pose.angular_velocity_rad_s;
+  }
+  glm::vec3 origin = glm::clamp(pose.position_m, lo, hi);
   glm::vec3 velocity = pose.velocity_m_s;
   for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(origin[a])) origin[a] = 0.5f * (probe_lo_m_[a] + probe_hi_m_[a]);
+    if (!std::isfinite(origin[a])) origin[a] = 0.5f * (lo[a] + hi[a]);
     // Held at a wall: the probe does not move along that axis.
     if (origin[a] != pose.position_m[a] || !std::isfinite(velocity[a])) velocity[a] = 0.0f;
   }
@@ -179,8 +209,13 @@ obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const
   const double speed = glm::length(v);
   const double max_speed = static_cast<double>(fluid::kMaxProbeSpeed) * (1.0 - 1e-4);
   if (speed > max_speed) velocity = glm::vec3(v * (max_speed / speed));
+  const glm::dvec3 w(spin);
+  const double spin_rate = glm::length(w);
+  const double max_spin = static_cast<double>(fluid::kMaxProbeSpin) * (1.0 - 1e-4);
+  if (spin_rate > max_spin) spin = glm::vec3(w * (max_spin / spin_rate));
   p.transform[3] = glm::vec4(origin, 1.0f);
   p.velocity_m_s = velocity;
+  p.angular_velocity_rad_s = spin;
   return p;
 }
 
@@ -386,6 +421,7 @@ HapticSessionStats HapticSession::stats() const {
   st.sim_step_ms = sim_step_ms_.load(std::memory_order_relaxed);
   st.sim_dt_s = sim_dt_s_.load(std::memory_order_relaxed);
   st.snapshots = snapshots_.load(std::memory_order_relaxed);
+  st.stale_after_s = loop_.latest().stale_after_s;
   st.force_gain = s_.loop.pipeline.map.force_gain;
   st.force_gain_reason = s_.force_gain_reason;
   st.error = error();

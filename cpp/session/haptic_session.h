@@ -79,6 +79,7 @@ struct HapticSessionStats {
   double sim_step_ms = 0.0;        // host time of the latest step, ms
   double sim_dt_s = 0.0;           // time step of the latest step, s
   std::uint64_t snapshots = 0;     // field snapshots published
+  double stale_after_s = 0.0;      // age at which the latest force starts fading (safety stage), s
   float force_gain = 0.0f;         // device N per fluid N in use
   std::string force_gain_reason;   // how it was chosen
   std::string error;               // "" or the first error
@@ -122,8 +123,17 @@ class HapticSession {
   // The probe pose for a published device pose (the one place the probe is placed): the probe's
   // transform at the start with its translation at the mapped device position, kept inside the
   // region the simulation accepts (one cell of fluid from every wall); the velocity is zero
-  // along an axis held at a wall. Applied with Simulation::setProbePose (sphere or mesh).
+  // along an axis held at a wall. A pose with an orientation (a 6-DoF host device) turns the
+  // probe: rotation = the pose's, scale = the start's (the transform's rotation taken out by
+  // probeRotation()), with its angular velocity; a turn whose world box cannot keep one cell from
+  // every wall keeps the starting rotation instead. Applied with Simulation::setProbePose.
   obstacle::RigidPose poseFor(const haptics::PoseFrame& pose) const;
+
+  // The rotation part of a probe transform (local -> world, may scale or mirror): Gram-Schmidt
+  // on its columns x, then y, with z = x cross y, so always a proper rotation; the rest
+  // (rotation^T * transform) is the probe's local scale, negative on z for a mirrored one. The
+  // host pushes the orientation of the same rule (the add-on's live_session.probe_rotation).
+  static glm::mat3 probeRotation(const glm::mat4& transform);
 
  private:
   void simLoop();
@@ -139,6 +149,12 @@ class HapticSession {
   haptics::HapticLoop loop_;
   glm::mat4 base_transform_{1.0f};                 // the probe's orientation (and scale)
   glm::vec3 probe_lo_m_{0.0f}, probe_hi_m_{0.0f};  // where the probe's origin may go
+  // Mesh probes: the extent and the local scale (probeRotation's rest) for turned poses; the
+  // walls the probe's world box must keep clear of (one cell in).
+  bool mesh_probe_ = false;
+  obstacle::MeshExtent extent_;
+  glm::mat3 local_scale_{1.0f};
+  glm::vec3 wall_lo_m_{0.0f}, wall_hi_m_{0.0f};
 
   std::atomic<SessionState> state_{SessionState::Idle};
   std::unique_ptr<SimulationClaim> sim_claim_;  // start() .. the simulation thread joined

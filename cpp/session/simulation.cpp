@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/log_sink.h"
 #include "common/finite.h"
 #include "common/format.h"
 #include "fluid/grid_checks.h"
@@ -71,6 +72,29 @@ void Simulation::setSmokeSource(const fluid::SmokeSource& source) {
   fluid::validate(source, grid_);
   std::lock_guard<std::mutex> lock(state_mutex_);
   source_ = source;
+  mesh_source_.reset();
+}
+
+void Simulation::setMeshSmokeSource(obstacle::TriangleMesh mesh, const glm::mat4& transform, float density,
+                                    float temperature_k, fluid::SourceEmission emission) {
+  emitter::MeshSource s = emitter::makeMeshSource(std::move(mesh), transform, density, temperature_k, emission, grid_);
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  source_ = fluid::SmokeSource{};
+  mesh_source_ = std::move(s);
+}
+
+void Simulation::setSmokeSourcePose(const glm::mat4& transform) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!mesh_source_) {
+    throw InvalidArgument("there is no mesh smoke source to move; call set_smoke_source_mesh first");
+  }
+  emitter::validateSourcePose(mesh_source_->extent, transform, grid_);
+  mesh_source_->transform = transform;
+}
+
+std::optional<emitter::MeshSource> Simulation::meshSmokeSource() const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  return mesh_source_;
 }
 
 void Simulation::updateParams(const std::function<void(fluid::FluidParams&)>& edit) {
@@ -153,6 +177,7 @@ StepReport Simulation::step(double dt_in_s) {
     std::lock_guard<std::mutex> lock(state_mutex_);
     in.params = params_;
     in.source = source_;
+    in.mesh_source = mesh_source_;
     in.probe = probe_;
   }
   fluid::validateStep(dt_in_s, in.params, grid_);
@@ -176,6 +201,7 @@ StepReport Simulation::step(double dt_in_s) {
                 std::to_string(r.pressure_iterations) + " iterations with relative residual " +
                 num(r.relative_residual) + ", above the tolerance " + num(in.params.pressure_tolerance) +
                 " (said once per simulation; StepReport.converged tells every step)";
+    log::warning("hapticfluid.fluid", r.warning);  // any thread (a HapticSession's too): queued
   }
   last_ = r;
   last_rho_g_ = in.rho_g;

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "emitter/mesh_source.h"
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
 #include "gl/egl_context.h"
@@ -97,8 +98,18 @@ class Simulation {
   void setParams(const fluid::FluidParams& params);
   // Edits a copy of the settings and applies it if it validates, as one atomic change.
   void updateParams(const std::function<void(fluid::FluidParams&)>& edit);
+  // The sphere source (replaces a mesh source; a disabled one clears both).
   void setSmokeSource(const fluid::SmokeSource& source);
   fluid::SmokeSource smokeSource() const;
+  // A closed mesh (local frame, m; checked like a mesh probe) posed by `transform` (local ->
+  // world) as the smoke source, replacing any source (emitter/mesh_source.h); its mesh reaches
+  // the GPU with the next step. Throws InvalidArgument and changes nothing on bad input.
+  void setMeshSmokeSource(obstacle::TriangleMesh mesh, const glm::mat4& transform, float density,
+                          float temperature_k, fluid::SourceEmission emission);
+  // Moves the mesh source; O(1), never waits for the GPU. Throws InvalidArgument if there is
+  // no mesh source or the pose is refused (emitter::validateSourcePose).
+  void setSmokeSourcePose(const glm::mat4& transform);
+  std::optional<emitter::MeshSource> meshSmokeSource() const;
 
   void setSphereProbe(const obstacle::SpherePose& pose);  // throws if not inside the domain
   // Validates and copies the mesh (closed, see obstacle/triangle_mesh.h) and the pose; the
@@ -154,6 +165,7 @@ class Simulation {
   mutable std::mutex state_mutex_;
   fluid::FluidParams params_;
   fluid::SmokeSource source_;
+  std::optional<emitter::MeshSource> mesh_source_;  // set: it is the source (source_ disabled)
   std::optional<ProbeState> probe_;
   StepReport last_;
   bool warned_unconverged_ = false;  // StepReport::warning given once per simulation

@@ -40,6 +40,7 @@ const StepPipeline::Stage StepPipeline::kStages[] = {
     {"voxelize", &StepPipeline::voxelize, nullptr},
     {"classify", &StepPipeline::classify, nullptr},
     {"advect", &StepPipeline::advect, nullptr},
+    {"emit", &StepPipeline::emit, nullptr},
     {"forces", &StepPipeline::forces, nullptr},
     {"divergence", &StepPipeline::divergence, nullptr},
     {"pressure", &StepPipeline::pressure, nullptr},
@@ -96,10 +97,17 @@ void StepPipeline::classify(Pass& pass) {
 
 void StepPipeline::advect(Pass& pass) { solver_.advect(pass.in.dt_s, pass.in.params); }
 
-void StepPipeline::forces(Pass& pass) {
-  solver_.applySources(pass.in.source);
-  solver_.applyForces(pass.in.dt_s, pass.in.params);
+void StepPipeline::emit(Pass& pass) {
+  solver_.applySources(pass.in.source, pass.in.dt_s);
+  if (!pass.in.mesh_source) return;
+  if (!emitter_) emitter_ = std::make_unique<emitter::MeshEmitter>(grid_);
+  auto& f = solver_.fields();
+  emitter_->setSource(*pass.in.mesh_source);
+  emitter_->voxelize();
+  emitter_->emit(f.density.cur(), f.temperature.cur(), f.nbmask, pass.in.dt_s);
 }
+
+void StepPipeline::forces(Pass& pass) { solver_.applyForces(pass.in.dt_s, pass.in.params); }
 
 void StepPipeline::divergence(Pass& pass) {
   solver_.enforceBoundaries(pass.in.params);

@@ -1,6 +1,6 @@
 #pragma once
 // One simulation step on the GL thread, as a list of named stages: voxelize, classify, advect,
-// forces, divergence, pressure, residual (when asked for), project, force. Each stage ends with
+// emit, forces, divergence, pressure, residual (when asked for), project, force. Each stage ends with
 // a GPU timer mark of its name (StepReport::gpu_ms); then the step's one read-back brings the
 // force, torque, centroid and residual sums. Made, used and destroyed on the GL thread only
 // (it holds GL objects); the Simulation copies the host state into StepInputs for it.
@@ -11,6 +11,8 @@
 
 #include "fluid/fluid_params.h"
 #include "fluid/fluid_solver.h"
+#include "emitter/mesh_emitter.h"
+#include "emitter/mesh_source.h"
 #include "fluid/grid.h"
 #include "force/force_reducer.h"
 #include "gl/group_reducer.h"
@@ -27,7 +29,8 @@ struct StepInputs {
   float dt_s = 0.0f;                    // s, already checked (fluid::validateStep)
   fluid::FluidParams params;
   std::optional<ProbeState> probe;      // none: no body in the fluid
-  fluid::SmokeSource source;
+  fluid::SmokeSource source;             // the sphere source (enabled: emitting)
+  std::optional<emitter::MeshSource> mesh_source;  // none: no mesh source
   glm::vec3 rho_g{0.0f};                // fluid density times gravity, N/m^3
   glm::vec3 reference_m{0.0f};          // world point of 0 hydrostatic pressure, m
 };
@@ -58,7 +61,8 @@ class StepPipeline {
   void voxelize(Pass& pass);    // the probe writes the solid mask and velocity
   void classify(Pass& pass);    // face fractions; mask -> cell classes + neighbour mask
   void advect(Pass& pass);
-  void forces(Pass& pass);      // sources, buoyancy, vorticity confinement
+  void emit(Pass& pass);        // the smoke source: sphere, or the mesh's coverage and emission
+  void forces(Pass& pass);      // buoyancy, vorticity confinement
   void divergence(Pass& pass);  // boundaries, rhs (its mean removed in a closed box)
   void pressure(Pass& pass);    // the solve (its mean removed in a closed box)
   void residual(Pass& pass);    // ||rhs - A p||, ||rhs|| (FluidParams::compute_residual)
@@ -70,6 +74,7 @@ class StepPipeline {
   fluid::FluidSolver solver_;
   obstacle::SphereProbe sphere_;
   std::unique_ptr<obstacle::MeshProbe> mesh_;  // its programs made on first use
+  std::unique_ptr<emitter::MeshEmitter> emitter_;  // made on first use (8 bytes per cell + coverage)
   obstacle::Classifier classifier_;
   force::ForceReducer force_;
   gl::GroupReducer reducer_;

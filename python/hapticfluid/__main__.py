@@ -2,7 +2,9 @@
 
 import sys
 
+from hapticfluid.bake import command as _bake_command
 from hapticfluid.cli import main
 
 if __name__ == "__main__":
+    _bake_command.RUN_AS_PROGRAM = True  # a late Ctrl-C must not kill the bake by the signal
     sys.exit(main())

@@ -12,6 +12,10 @@ CELL_INSIDE: int
 STEP_READBACK_BYTES: int  # bytes of the result read-back ending every step (+ residual checks if pressure_tolerance > 0)
 MIN_TIME_STEP_S: float  # smallest dt Simulation.step() takes, s
 MAX_TIME_STEP_S: float  # largest dt Simulation.step() takes, s
+SOURCE_EMISSIONS: Tuple[str, ...]  # smoke source emission modes: 'hold', 'rate'
+MAX_SOURCE_DENSITY: float  # largest source density (concentration, or per second with 'rate')
+MAX_SOURCE_TEMPERATURE_K: float  # largest source temperature (K above ambient, or K/s with 'rate')
+SOURCE_SUBSAMPLES: int  # a mesh source's coverage: vertical sample lines per cell along x and along y
 
 Vec3 = Sequence[float]
 Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translation in the last column
@@ -35,6 +39,7 @@ def write_vdb(
     metadata: Mapping[str, Union[bool, int, float, str, Sequence[float]]] = ...,
 ) -> None: ...
 def vdb_compressions() -> list[str]: ...
+def flush_log() -> None: ...  # the engine's queued messages -> logging (hapticfluid.gl, .fluid, .haptics, .session)
 def openvdb_version() -> str: ...
 
 class StepReport:
@@ -134,7 +139,26 @@ class Simulation:
     def clear_probe(self) -> None: ...
     @property
     def probe(self) -> Optional[Dict[str, object]]: ...
-    def set_smoke_source(self, centre: Vec3, radius: float, density: float = 1.0, temperature: float = 0.0) -> None: ...
+    def set_smoke_source(
+        self,
+        centre: Vec3,  # m
+        radius: float,  # m
+        density: float = 1.0,  # concentration ('hold') or per second ('rate')
+        temperature: float = 0.0,  # K above ambient ('hold') or K/s ('rate')
+        emission: str = "hold",  # 'hold' or 'rate'
+    ) -> None: ...
+    def set_smoke_source_mesh(
+        self,
+        vertices: npt.ArrayLike,  # (N, 3) m, local frame
+        triangles: npt.ArrayLike,  # (M, 3) int vertex indices, closed mesh
+        transform: Optional[Matrix4] = None,  # local -> world (matrix_world), m
+        density: float = 1.0,  # concentration ('hold') or per second ('rate')
+        temperature: float = 0.0,  # K above ambient ('hold') or K/s ('rate')
+        emission: str = "hold",  # 'hold' or 'rate'
+    ) -> None: ...
+    def set_smoke_source_pose(self, transform: Optional[Matrix4]) -> None: ...  # local -> world, m
+    @property
+    def smoke_source(self) -> Optional[Dict[str, object]]: ...
     def clear_smoke_source(self) -> None: ...
     def step(self, dt: float) -> StepReport: ...
     @property
@@ -184,6 +208,10 @@ class DeviceState:
     def homed(self) -> bool: ...
     @property
     def time(self) -> float: ...  # s
+    @property
+    def orientation(self) -> Optional[Tuple[float, float, float, float]]: ...  # (w, x, y, z); None: 3-DoF
+    @property
+    def angular_velocity(self) -> npt.NDArray[np.float32]: ...  # rad/s, device frame
 
 class Device:
     def info(self) -> DeviceInfo: ...
@@ -203,7 +231,12 @@ class ScriptedDevice(Device):
     def last_force(self) -> npt.NDArray[np.float32]: ...  # N
 
 class HostDevice(Device):
-    def push_pose(self, position: Vec3, time: Optional[float] = None) -> None: ...  # |coordinate| <= 1e6 m
+    def push_pose(
+        self,
+        position: Vec3,  # m, |coordinate| <= 1e6
+        time: Optional[float] = None,  # s, increasing
+        orientation: Optional[Tuple[float, float, float, float]] = None,  # quaternion (w, x, y, z)
+    ) -> None: ...
     @property
     def pushes(self) -> int: ...
     def state_after(self, elapsed: float) -> DeviceState: ...  # elapsed not NaN (s)
@@ -234,7 +267,9 @@ class HapticSession:
         max_force: Optional[float] = None,  # N
         slew_rate: float = 200.0,  # N/s, >= max_force / 2 s (stop() winds down at it)
         ramp_time: float = 2.0,  # s
-        stale_after: float = 0.1,  # s, at most 10
+        stale_after: float = 0.1,  # s, at most 10: the least age at which a force fades
+        stale_periods: float = 3.0,  # measured simulation periods before a force is stale, 1..100
+        stale_after_max: float = 3.0,  # s, (0, 10]: a stalled simulation's force fades by then
         fade_time: float = 0.2,  # s, at most 10
         rate: float = 1000.0,  # Hz
         sim_dt: float = 0.0,  # s; 0 = real time
@@ -296,4 +331,6 @@ def open_simulated_falcon(
     hand_stiffness: float = 300.0,  # N/m
     hand_damping: float = 12.0,  # N s/m
     unplug_after: Optional[int] = None,  # packets
+    hand_path: Optional[Sequence[Tuple[float, float, float, float]]] = None,  # (t s, x, y, z m) after homing
+    hand_loop: bool = False,
 ) -> FalconDevice: ...

@@ -192,6 +192,61 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
   }
 }
 
+// A simulation stepping at 4 Hz (a 32^3 session on a loaded llvmpipe machine) publishes a force
+// every 250 ms: its force reaches the hand the whole time, because the stale threshold is three
+// of its periods (0.75 s) rather than stale_after (0.05 s here). When it then stalls, the force
+// fades once older than stale_after_max (0.5 s here) + fade_time.
+TEST(HapticLoop, SlowSimulationKeepsTheForceAndAStalledOneFades) {
+  auto device = std::make_shared<HostDevice>(5.0f);
+  device->pushPose(glm::vec3(0.0f));
+  Mailbox<PoseFrame> poses;
+  Mailbox<ForceFrame> forces;
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.stale_after_s = 0.05;
+  s.pipeline.safety.stale_after_max_s = 0.9;
+  s.pipeline.safety.fade_s = 0.05;
+  HapticLoop loop(device, poses, forces, s);
+  constexpr double kRateHz = 4.0;
+  const auto publish = [&] {
+    ForceFrame f;
+    f.force_n = glm::vec3(0.0f, 0.0f, -1.5f);
+    f.publish_time_s = monotonicNowS();
+    f.sim_rate_hz = kRateHz;
+    forces.write(f);
+    return f.publish_time_s;
+  };
+  publish();
+  loop.start();
+  ASSERT_TRUE(waitFor([&] { return loop.stats().ticks > 0; }, 10000ms));
+  std::vector<TraceSample> trace;
+  double last_publish_s = 0.0;
+  for (int frame = 0; frame < 8; ++frame) {  // the slow simulation thread: a 250 ms step each
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(1000.0 / kRateHz)));
+    last_publish_s = publish();
+  }
+  const double slow_end_s = last_publish_s;
+  loop.drainTrace(trace);
+  ASSERT_TRUE(waitFor([&] { return device->lastForce() == glm::vec3(0.0f); }, 10000ms));  // stalled
+  loop.drainTrace(trace);
+  const double stale_after = loop.latest().stale_after_s;
+  loop.stop();
+  EXPECT_DOUBLE_EQ(stale_after, 0.75);  // 3 periods of 4 Hz, within [0.05, 0.9] s
+  ASSERT_FALSE(trace.empty());
+  std::size_t slow = 0, faded = 0;
+  for (const auto& t : trace) {
+    if (t.time_s > trace.front().time_s + 0.1 && t.time_s <= slow_end_s) {  // between the slow frames
+      ++slow;
+      ASSERT_NEAR(t.commanded_n.z, -1.5f, 1e-5f) << "the slow simulation's force reaches the hand at " << t.time_s;
+    }
+    if (t.time_s > slow_end_s + stale_after + 0.05 + 1e-3) {  // past threshold + fade after the stall
+      ++faded;
+      ASSERT_EQ(t.commanded_n, glm::vec3(0.0f)) << t.time_s;
+    }
+  }
+  EXPECT_GT(slow, 100u);
+  EXPECT_GT(faded, 0u);
+}
+
 // stop() slews the command down to zero at the slew rate before the thread ends (no 1.5 N to 0
 // step in the hand), and the last command is zero.
 TEST(HapticLoop, StopSlewsTheForceDownToZero) {

@@ -43,6 +43,33 @@ TEST(HapticSafetyUnits, RampAndStaleFactorsAreLinearAndBounded) {
   EXPECT_DOUBLE_EQ(staleFactor(0.5, 0.1, 0.2), 0.0);
 }
 
+TEST(HapticSafetyUnits, StaleThresholdFollowsTheSimulationRate) {
+  SafetySettings s = quickSettings();  // stale_after 0.1 s; 3 periods, at most 3 s by default
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 0.0), 0.1);     // rate not measured yet: the floor
+  EXPECT_DOUBLE_EQ(staleAfterS(s, std::numeric_limits<double>::quiet_NaN()), 0.1);
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 100.0), 0.1);   // 3 periods = 30 ms: the floor holds
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 4.0), 0.75);    // 3 periods of a 4 Hz simulation
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 0.1), 3.0);     // 30 s: bounded by stale_after_max
+  s.stale_periods = 2.0;
+  s.stale_after_max_s = 0.5;
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 10.0), 0.2);
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 1.0), 0.5);
+  s.stale_after_s = 0.8;  // a floor above the bound: the floor wins (stale_after alone still works)
+  EXPECT_DOUBLE_EQ(staleAfterS(s, 1.0), 0.8);
+  // Through the stage: a 4 Hz simulation's 0.5 s old force is whole; 0.75 + 0.1 s old, half.
+  ForceSafety safety(quickSettings());
+  SafetyInput in;
+  in.force_n = glm::vec3(1.0f, 0.0f, 0.0f);
+  in.homed = true;
+  in.sim_rate_hz = 4.0;
+  in.dt_s = 1.0;  // a slew step larger than any change: the target is reached at once
+  in.force_age_s = 0.5;
+  EXPECT_NEAR(safety.apply(in).x, 1.0f, 1e-6f);
+  EXPECT_DOUBLE_EQ(safety.staleAfter(), 0.75);
+  in.force_age_s = 0.85;
+  EXPECT_NEAR(safety.apply(in).x, 0.5f, 1e-6f);
+}
+
 TEST(HapticSafetyUnits, BadSettingsAreRejected) {
   SafetySettings s = quickSettings();
   s.max_force_n = -1.0f;
@@ -53,6 +80,16 @@ TEST(HapticSafetyUnits, BadSettingsAreRejected) {
   s = quickSettings();
   s.fade_s = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(s.validate(), InvalidArgument);
+  for (double periods : {0.5, 0.0, kMaxStalePeriods * 2.0, std::numeric_limits<double>::infinity()}) {
+    s = quickSettings();
+    s.stale_periods = periods;
+    EXPECT_THROW(s.validate(), InvalidArgument) << periods;
+  }
+  for (double bound : {0.0, -1.0, kMaxStaleS * 2.0, std::numeric_limits<double>::quiet_NaN()}) {
+    s = quickSettings();
+    s.stale_after_max_s = bound;
+    EXPECT_THROW(s.validate(), InvalidArgument) << bound;
+  }
 }
 
 TEST(HapticSafety, NoOutputAboveTheMaximum) {

@@ -588,11 +588,11 @@ TEST(Simulation, StepTimesEveryStageOnceInOrder) {
     for (const auto& [name, ms] : r.gpu_ms) out.push_back(name);
     return out;
   };
-  EXPECT_EQ(names(sim.step(0.01)), (std::vector<std::string>{"voxelize", "classify", "advect", "forces", "divergence",
+  EXPECT_EQ(names(sim.step(0.01)), (std::vector<std::string>{"voxelize", "classify", "advect", "emit", "forces", "divergence",
                                                              "pressure", "residual", "project", "force"}));
   sim.updateParams([](fluid::FluidParams& p) { p.compute_residual = false; });
   const StepReport r = sim.step(0.01);
-  EXPECT_EQ(names(r), (std::vector<std::string>{"voxelize", "classify", "advect", "forces", "divergence", "pressure",
+  EXPECT_EQ(names(r), (std::vector<std::string>{"voxelize", "classify", "advect", "emit", "forces", "divergence", "pressure",
                                                 "project", "force"}));
   EXPECT_EQ(r.relative_residual, -1.0f);  // fixed-count Jacobi, not measured
 }

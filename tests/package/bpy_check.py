@@ -14,6 +14,7 @@ Exits non-zero on the first failed check. WORK_DIR must be new: Blender's user f
 (config, scripts, extensions) are put there, so the user's own profile is never touched.
 """
 
+import importlib
 import os
 import sys
 import zipfile
@@ -137,8 +138,10 @@ def bake_through_operator(cache_dir):
     probe.keyframe_insert("location", frame=3)
     bpy.ops.mesh.primitive_ico_sphere_add(radius=0.12, location=(0.5, 0.5, 0.2))
     source = bpy.context.active_object
-    s = scene.hapticfluid_bake
-    s.domain, s.probe, s.source = domain, probe, source
+    for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):  # as the Physics tab sets them
+        obj.hapticfluid.role = role
+    s = importlib.import_module(EXTENSION_MODULE + ".roles").settings_of(scene)  # the settings, through the roles
+    check((s.domain, s.probe, s.source) == (domain, probe, source), "the objects hold their roles")
     s.resolution, s.frame_start, s.frame_end, s.substeps = RES, 1, 3, 1
     s.cache_dir = cache_dir
     scene.frame_start, scene.frame_end = 1, 3

@@ -44,15 +44,7 @@ ALIASES = {"dt": ["time step"], "vertices": ["vertex"], "triangles": ["triangle"
            "times": ["waypoint"], "positions": ["waypoint"]}
 
 # Rows the code does not meet yet: test id -> why. Each is xfail(strict=True), so a fix shows.
-KNOWN_GAPS = {
-    "test_write_vdb_density[empty]": "an empty density grid is refused as 'resolution must be at least 1', "
-                                     "not naming density",
-    "test_scripted_device_from_csv[decreasing]": "ScriptedDevice::fromCsv reports the waypoint order without "
-                                                 "naming the CSV file (cpp/haptics, outside this task)",
-    "test_scene_dict[fluid.fluid_density-0]": "the scene parser passes fluid.fluid_density through unchecked; "
-                                              "the bake fails later, at Simulation(), naming 'fluid density'",
-    "test_scene_dict[fluid.fluid_density-1]": "as fluid.fluid_density-0 (a negative density)",
-}
+KNOWN_GAPS: dict = {}
 
 
 @pytest.fixture(autouse=True)
@@ -372,6 +364,38 @@ def test_scene_dict(tmp_path, name, path, value):
     _expect(lambda: scene_from_dict(data, tmp_path), name, hf.InvalidArgumentError)
 
 
+def _mesh_source_scene():
+    data = _scene()
+    v, t = _tetra()
+    data["source"] = {"shape": "mesh", "vertices": v.tolist(), "triangles": t.tolist(),
+                      "keys": [{"frame": 1, "location": [0.0, 0.0, 0.0]}], "density": 1.0, "emission": "hold"}
+    return data
+
+
+SOURCE_BAD = [
+    ("source.shape", ["source", "shape"], ["cone", 3, None]),
+    ("source.emission", ["source", "emission"], ["pulse", 1, None]),
+    ("source.vertices", ["source", "vertices"], [[[0, 0, 0]], [[NAN, 0, 0]] * 4, [[0, 0]] * 4]),
+    ("source.triangles", ["source", "triangles"], [[[0, 1, 9]] * 4, [[0, 1.5, 2]] * 4, [[0, 1]] * 4]),
+    ("source.keys", ["source", "keys"], [[], "frame 1", [{"location": [0, 0, 0]}], None]),
+    ("source.density", ["source", "density"], [-1, NAN, "1"]),
+    ("source.temperature", ["source", "temperature"], [-1, INF, "hot"]),
+    ("source", ["source", "centre"], [[0.5, 0.5, 0.5]]),  # a mesh source takes no centre
+]
+
+
+def test_the_mesh_source_scene_loads(tmp_path):
+    assert scene_from_dict(_mesh_source_scene(), tmp_path).source.shape == "mesh"
+
+
+@pytest.mark.parametrize("name,path,value", [pytest.param(n, p, v, id=f"{n}-{i}")
+                                             for n, p, vals in SOURCE_BAD for i, v in enumerate(vals)])
+def test_scene_dict_mesh_source(tmp_path, name, path, value):
+    data = _mesh_source_scene()
+    _set(data, path, value)
+    _expect(lambda: scene_from_dict(data, tmp_path), name, hf.InvalidArgumentError)
+
+
 @pytest.mark.parametrize("kind,content", [("not_json", b"{"), ("not_utf8", b"\xff\xfe{}"),
                                           ("list", b"[]"), ("deep", b"[" * 100000),
                                           ("missing_key", json.dumps({"resolution": 16}).encode())])
@@ -414,3 +438,41 @@ def test_cli_arguments(capsys, command, option, value):
     assert info.value.code == 2
     err = capsys.readouterr().err
     assert option in err, err
+
+
+# ----------------------------------------------------------------------------- mesh smoke source
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_VERTICES))
+def test_set_smoke_source_mesh_vertices(small_sim, kind, value):
+    _, t = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(value, t), "vertices")
+
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_TRIANGLES))
+def test_set_smoke_source_mesh_triangles(small_sim, kind, value):
+    v, _ = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(v, value), "triangles")
+
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
+def test_set_smoke_source_mesh_transform(small_sim, kind, value):
+    v, t = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(v, t, transform=value), "transform")
+
+
+@pytest.mark.parametrize("arg,kind,value", [(a, k, v) for a in ("density", "temperature")
+                                            for k, v in BAD_NONNEG_FLOAT.items()]
+                         + [("emission", k, v) for k, v in BAD_STRING_CHOICE.items()])
+def test_set_smoke_source_mesh_values(small_sim, arg, kind, value):
+    v, t = _tetra()
+    _expect(lambda: small_sim.set_smoke_source_mesh(v, t, **{arg: value}), arg)
+
+
+@pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
+def test_set_smoke_source_pose_transform(small_sim, kind, value):
+    v, t = _tetra()
+    small_sim.set_smoke_source_mesh(v, t)
+    try:
+        _expect(lambda: small_sim.set_smoke_source_pose(value), "transform")
+    finally:
+        small_sim.clear_smoke_source()

@@ -101,7 +101,9 @@ def test_readback_bytes_are_the_field_sizes(quick_run):
 
 
 def test_mantaflow_and_engine_ran_the_same_frames(quick_run):
-    rows = _rows(quick_run[0]["sections"]["mantaflow"])
+    all_rows = _rows(quick_run[0]["sections"]["mantaflow"])
+    assert {r["comparison"] for r in all_rows} == {"step loop", "bake command"}
+    rows = [r for r in all_rows if r["comparison"] == "step loop"]
     from hapticfluid.bench import engine, mantaflow
 
     per_round = 1 + len(engine.SOLVERS)
@@ -117,7 +119,28 @@ def test_mantaflow_and_engine_ran_the_same_frames(quick_run):
         if manta["round"] != "median":
             for ours in ours_rows:
                 _check_same_frames(manta, ours)
-    # The median rows: each figure the median of the rounds', ratios included.
+    _check_medians(rows, per_round, n_rounds)
+
+
+def test_mantaflow_and_the_bake_command_baked_the_same_frames(quick_run):
+    section = quick_run[0]["sections"]["mantaflow"]
+    rows = [r for r in _rows(section) if r["comparison"] == "bake command"]
+    from hapticfluid.bench import mantaflow_bake
+
+    n_rounds = mantaflow_bake.QUICK["rounds"]
+    assert len(rows) == 2 * (n_rounds + 1)
+    assert [r["round"] for r in rows] == [i for i in range(1, n_rounds + 1) for _ in range(2)] + ["median"] * 2
+    for manta, ours in zip(rows[0::2], rows[1::2]):
+        assert manta["solver"].startswith("Mantaflow") and ours["solver"].startswith("hapticfluid bake command")
+        if manta["round"] != "median":
+            _check_same_frames(manta, ours)
+    _check_medians(rows, 2, n_rounds)
+    # the bake's manifest showed every pressure solve converged (the section refuses otherwise)
+    assert any("worst residual per round" in n for n in section["notes"])
+
+
+def _check_medians(rows, per_round, n_rounds):
+    """The median rows: each figure the median of the rounds', ratios included."""
     medians = rows[-per_round:]
     for i, row in enumerate(medians):
         for key in ("total s", "ms/frame", "CPU ms/frame", "Mantaflow/this", "Mantaflow/this CPU"):

@@ -6,9 +6,12 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
+import hapticfluid
 import hapticfluid as hf
+import hapticfluid.hand_gestures
 from hapticfluid import devices_cli
 
 
@@ -133,3 +136,42 @@ def test_devices_command_runs(tmp_path):
     assert "simulated_falcon" in out.stdout and "open_simulated_falcon()" in out.stdout
     if not hf.list_falcons(probe_firmware=False):
         assert "none plugged in" in out.stdout
+
+
+def grip_positions(dev, seconds):
+    """The grip's positions over `seconds` of simulated time (one packet per ms)."""
+    return np.array([dev.read().position for _ in range(int(seconds * 1000))])
+
+
+def test_simulated_hand_follows_a_scripted_path():
+    # After homing (0.6 s) the hand pulls the grip to 2 cm along x over 0.5 s and holds it there.
+    with hf.open_simulated_falcon(hand_path=[(0.5, 0.02, 0.0, 0.0)]) as dev:
+        p = grip_positions(dev, 2.0)
+        np.testing.assert_allclose(p[-1], (0.02, 0.0, 0.0), atol=5e-4)
+
+
+def test_simulated_hand_loops_a_gesture():
+    args = hapticfluid.hand_gestures.falcon_args("sweep")
+    assert args["hand_loop"] and len(args["hand_path"]) == 3
+    with hf.open_simulated_falcon(**args) as dev:
+        x = grip_positions(dev, 8.0)[:, 0]
+        late = x[5000:]  # two sweeps after the first one: still sweeping (looped, not held)
+        assert late.max() > 0.02 and late.min() < -0.02, (late.min(), late.max())
+    assert hapticfluid.hand_gestures.falcon_args("rest") == {"hand_path": None, "hand_loop": False}
+    with pytest.raises(ValueError, match="gesture must be one of rest, sweep, circle"):
+        hapticfluid.hand_gestures.waypoints("wave")
+
+
+@pytest.mark.parametrize("path, loop, match", [
+    ([], False, "at least one waypoint"),
+    ([(0.0, 0.0, 0.0, 0.0)], True, "two waypoints to loop"),
+    ([(0.0, 0.2, 0.0, 0.0)], False, "waypoint 0 .* out of the Falcon's reach"),
+    ([(0.0, math.nan, 0.0, 0.0)], False, "waypoint 0"),
+    ([(1.0, 0.0, 0.0, 0.0), (0.5, 0.01, 0.0, 0.0)], False, "waypoint 1: its time"),
+    ([(-1.0, 0.0, 0.0, 0.0)], False, "waypoint 0: its time"),
+])
+def test_simulated_hand_path_errors_name_it(path, loop, match):
+    with pytest.raises(hf.InvalidArgumentError, match=match):
+        hf.open_simulated_falcon(hand_path=path, hand_loop=loop)
+    with pytest.raises(hf.InvalidArgumentError, match="hand_path"):
+        hf.open_simulated_falcon(hand_path=path, hand_loop=loop)

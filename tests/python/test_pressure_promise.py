@@ -47,7 +47,7 @@ def test_a_solve_that_stops_at_the_cap_says_so_once(caplog):
         reports = [sim.step(0.01) for _ in range(3)]
     assert [r.converged for r in reports] == [False, False, False]
     assert all(r.relative_residual > 1e-4 for r in reports)
-    warnings = [rec for rec in caplog.records if rec.name == "hapticfluid" and rec.levelno == logging.WARNING]
+    warnings = [rec for rec in caplog.records if rec.name == "hapticfluid.fluid" and rec.levelno == logging.WARNING]
     assert len(warnings) == 1, [w.getMessage() for w in warnings]
     assert warnings[0].getMessage().startswith("raise pressure_iterations")
     assert reports[0].warning == warnings[0].getMessage() and reports[1].warning == ""

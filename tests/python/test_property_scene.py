@@ -19,11 +19,12 @@ SCENE_KEYS = ["domain", "resolution", "fluid", "source", "probe", "frames", "sub
               "cache", "device", "origin", "size", "start", "end", "fps", "directory", "grids", "compression",
               "half_float", "tolerance", "keys", "frame", "location", "rotation", "scale", "matrix", "shape",
               "radius", "vertices", "triangles", "centre", "density", "temperature", "advection",
-              "fluid_density", "gravity", "open_top", "pressure_solver", "pressure_iterations"]
+              "fluid_density", "gravity", "open_top", "pressure_solver", "pressure_iterations", "emission"]
 
 scalars = (st.none() | st.booleans() | st.integers(-(1 << 70), 1 << 70)
            | st.floats(allow_nan=True, allow_infinity=True) | st.text(max_size=8)
-           | st.sampled_from(["sphere", "mesh", "adaptive", "blosc", "jacobi", "multigrid", "maccormack"]))
+           | st.sampled_from(["sphere", "mesh", "adaptive", "blosc", "jacobi", "multigrid", "maccormack", "hold",
+                              "rate"]))
 json_values = st.recursive(
     scalars,
     lambda children: st.lists(children, max_size=5)
@@ -42,6 +43,17 @@ def valid_scene():
             "cache": {"directory": "cache", "grids": ["density"], "compression": "blosc"}}
 
 
+def valid_mesh_source_scene():
+    """The valid scene with an animated tetrahedron as the smoke source instead of the sphere."""
+    data = valid_scene()
+    data["source"] = {"shape": "mesh", "emission": "rate", "density": 2.0, "temperature": 1.0,
+                      "vertices": [[0, 0, 0], [0.2, 0, 0], [0, 0.2, 0], [0, 0, 0.2]],
+                      "triangles": [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+                      "keys": [{"frame": 1, "location": [0.2, 0.4, 0.1]},
+                               {"frame": 4, "matrix": [[1, 0, 0, 0.6], [0, 1, 0, 0.4], [0, 0, 1, 0.1], [0, 0, 0, 1]]}]}
+    return data
+
+
 def _paths(d, prefix=()):
     """Every (path) of keys/indices in a nested dict/list."""
     yield prefix
@@ -54,6 +66,7 @@ def _paths(d, prefix=()):
 
 
 VALID_PATHS = [p for p in _paths(valid_scene()) if p]
+MESH_SOURCE_PATHS = [p for p in _paths(valid_mesh_source_scene()["source"], ("source",))]
 
 
 def _replace(d, path, value):
@@ -101,6 +114,33 @@ def test_one_removed_key_loads_or_is_refused(tmp_path, path):
     del parent[path[-1]]
     scene = _parse(data, tmp_path)
     if path in (("domain",), ("resolution",), ("frames",), ("cache",), ("probe", "keys")):
+        assert scene is None, f"removing required key {path} was accepted"
+
+
+def test_the_valid_mesh_source_scene_loads(tmp_path):
+    scene = _parse(valid_mesh_source_scene(), tmp_path)
+    assert scene is not None and scene.source.shape == "mesh" and scene.source.emission == "rate"
+    assert scene.source.trajectory.pose(2.5).translation[0] == pytest.approx(0.4)
+
+
+@SETTINGS
+@given(path=st.sampled_from(MESH_SOURCE_PATHS), value=json_values)
+def test_one_changed_mesh_source_value_loads_or_is_refused(tmp_path, path, value):
+    data = valid_mesh_source_scene()
+    _replace(data, path, value)
+    _parse(data, tmp_path)
+
+
+@SETTINGS
+@given(path=st.sampled_from([p for p in MESH_SOURCE_PATHS if isinstance(p[-1], str)]))
+def test_one_removed_mesh_source_key_loads_or_is_refused(tmp_path, path):
+    data = valid_mesh_source_scene()
+    parent = data
+    for k in path[:-1]:
+        parent = parent[k]
+    del parent[path[-1]]
+    scene = _parse(data, tmp_path)
+    if path in (("source", "keys"), ("source", "vertices"), ("source", "triangles")):
         assert scene is None, f"removing required key {path} was accepted"
 
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <string>
 #include <thread>
 
 #include "haptics/falcon/firmware_loader.h"
@@ -14,14 +15,54 @@ namespace {
 
 constexpr std::uint8_t kModemStatus[2] = {0x01, 0x60};
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kGestureDuration_s = 0.6;
+constexpr double kGestureDuration_s = kHomingGestureS;
 constexpr double kGestureReach_m = 0.035;
+
+std::string pointText(const glm::dvec3& p) {
+  return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")";
+}
 
 }  // namespace
 
 glm::dvec3 homingGesture(double t_s) {
   if (t_s <= 0.0 || t_s >= kGestureDuration_s) return glm::dvec3(0.0);
   return {0.0, 0.0, kGestureReach_m * std::sin(kPi * t_s / kGestureDuration_s)};
+}
+
+std::function<glm::dvec3(double)> scriptedHand(std::vector<HandWaypoint> w, bool loop) {
+  if (w.empty()) throw InvalidArgument("hand_path needs at least one waypoint (t, x, y, z) in s and m");
+  if (loop && w.size() < 2) throw InvalidArgument("hand_path needs at least two waypoints to loop");
+  const FalconKinematics kin;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const double t = w[i].time_s;
+    if (!std::isfinite(t) || t < 0.0 || (i > 0 && !(t > w[i - 1].time_s))) {
+      throw InvalidArgument("hand_path waypoint " + std::to_string(i) + ": its time " + std::to_string(t) +
+                            " s must be finite, >= 0 and after the waypoint before (times in s, increasing)");
+    }
+    const glm::dvec3& p = w[i].position_m;
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !kin.inverse(p)) {
+      throw InvalidArgument("hand_path waypoint " + std::to_string(i) + " " + pointText(p) +
+                            " m is out of the Falcon's reach: keep waypoints within about 0.04 m of the workspace "
+                            "centre (device frame, m)");
+    }
+  }
+  // A loop runs over the given waypoints; before the first one the hand moves from the centre
+  // (where homing leaves it) towards it.
+  const double start = w.front().time_s, period = w.back().time_s - start;
+  if (w.front().time_s > 0.0) w.insert(w.begin(), HandWaypoint{0.0, glm::dvec3(0.0)});
+  return [w = std::move(w), loop, start, period](double t_s) -> glm::dvec3 {
+    if (t_s < kGestureDuration_s) return homingGesture(t_s);
+    double t = t_s - kGestureDuration_s;
+    if (loop && period > 0.0 && t > w.back().time_s) t = start + std::fmod(t - start, period);
+    if (t >= w.back().time_s) return w.back().position_m;
+    if (t <= w.front().time_s) return w.front().position_m;
+    const auto next = std::upper_bound(w.begin(), w.end(), t,
+                                       [](double v, const HandWaypoint& p) { return v < p.time_s; });
+    const HandWaypoint& b = *next;
+    const HandWaypoint& a = *(next - 1);
+    const double f = (t - a.time_s) / (b.time_s - a.time_s);
+    return a.position_m + f * (b.position_m - a.position_m);
+  };
 }
 
 SimulatedFalconTransport::SimulatedFalconTransport(SimulatedFalconOptions options)

@@ -52,6 +52,22 @@ struct SimulatedFalconOptions {
 // The hand path of a user homing the Falcon: from the centre out to z = 0.035 m and back in over
 // 0.6 s, then resting at the centre.
 glm::dvec3 homingGesture(double t_s);
+inline constexpr double kHomingGestureS = 0.6;  // its length, s
+
+// One waypoint of a scripted hand: where the hand pulls the grip (device frame, m) at a time (s).
+struct HandWaypoint {
+  double time_s = 0.0;
+  glm::dvec3 position_m{0.0};
+};
+
+// The hand of a user who homes the Falcon (homingGesture, kHomingGestureS) and then follows the
+// waypoints (time 0 = the end of the homing gesture), linearly interpolated; before the first
+// waypoint's time the hand moves from the centre towards it; after the last it holds it, or with
+// `loop` starts over at the first (two waypoints at least). Throws InvalidArgument naming
+// hand_path (the waypoint's index): none given, a time that is not finite, negative or not after
+// the one before, a position that is not finite or out of the Falcon's reach (+-0.04 m about
+// the workspace centre, checked by its kinematics).
+std::function<glm::dvec3(double)> scriptedHand(std::vector<HandWaypoint> waypoints, bool loop);
 
 struct SimulatedFalconState {
   bool unplugged = false;

@@ -35,7 +35,8 @@ CHECKPOINT_FILE = "state.npz"
 MANIFEST_FILE = "hapticfluid_bake.json"
 FRAME_PREFIX = "fluid_data_"
 FRAME_PATTERN = re.compile(r"^fluid_data_(\d{4})\.vdb$")
-CHECKPOINT_FORMAT = 1
+CHECKPOINT_FORMAT = 2  # 2: digests in each array's memory order, written while hashing; 1 is read too
+READABLE_CHECKPOINT_FORMATS = (1, 2)
 
 
 class BakeError(HapticFluidError):
@@ -200,12 +201,15 @@ def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
 # ---- checkpoint ----------------------------------------------------------------------------
 
 def fingerprint_until(fingerprint: Dict[str, Any], frame: int) -> Dict[str, Any]:
-    """The fingerprint as the state after ``frame`` depends on it: the probe's keys up to that
-    frame only, so that raising the end frame (more keys) still resumes the checkpoint."""
-    probe = fingerprint.get("probe")
-    if not probe or "keys" not in probe:
-        return fingerprint
-    return {**fingerprint, "probe": {**probe, "keys": [k for k in probe["keys"] if k[0] <= frame]}}
+    """The fingerprint as the state after ``frame`` depends on it: the probe's and a mesh
+    source's keys up to that frame only, so that raising the end frame (more keys) still resumes
+    the checkpoint."""
+    out = dict(fingerprint)
+    for name in ("probe", "source"):
+        part = fingerprint.get(name)
+        if part and "keys" in part:
+            out[name] = {**part, "keys": [k for k in part["keys"] if k[0] <= frame]}
+    return out
 
 
 def settings_differences(saved: Dict[str, Any], now: Dict[str, Any]) -> List[str]:
@@ -226,41 +230,77 @@ def settings_digest(fingerprint: Dict[str, Any]) -> str:
     return hashlib.sha256(json.dumps(fingerprint, sort_keys=True).encode()).hexdigest()
 
 
-def _array_digest(a: np.ndarray) -> str:
-    """SHA-256 of the array's bytes in C order (hashed from the buffer, without a bytes copy)."""
-    return hashlib.sha256(np.ascontiguousarray(a)).hexdigest()
+def _memory_order(a: np.ndarray) -> str:
+    """'F' for a Fortran-ordered array (as Simulation.state() returns), else 'C'."""
+    return "F" if a.flags.f_contiguous and not a.flags.c_contiguous else "C"
+
+
+def _memory_bytes(a: np.ndarray) -> memoryview:
+    """The array's bytes in its own memory order, without a copy (a C-order copy only for an
+    array that is neither C- nor Fortran-contiguous)."""
+    view = a.T if _memory_order(a) == "F" else np.ascontiguousarray(a)
+    return memoryview(view).cast("B")
+
+
+def _array_digest(a: np.ndarray, order: str) -> str:
+    """SHA-256 of the array's bytes: in C order (checkpoint format 1), or as stored in the .npy
+    member, in the array's memory order (format 2: 'F' or 'C')."""
+    if order == "C1":
+        return hashlib.sha256(np.ascontiguousarray(a)).hexdigest()
+    return hashlib.sha256(_memory_bytes(a)).hexdigest()
+
+
+_CHUNK_BYTES = 1 << 22  # hashed and written in 4 MiB slices of the array's own memory
 
 
 def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str, Any],
                     fingerprint: Dict[str, Any]) -> Path:
-    """Write the state after ``frame`` (a dict from Simulation.state()) atomically."""
+    """Write the state after ``frame`` (a dict from Simulation.state()) atomically.
+
+    Each array goes into the .npy member straight from its own memory (no copy), and its SHA-256
+    is computed from the same slices as they are written; the metadata with the digests is the
+    last member. So the checkpoint costs one pass over the state's bytes beside the write."""
     arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
-    stored = {k: np.ascontiguousarray(a) for k, a in arrays.items()}  # the one C-order copy
     scalars = {k: v for k, v in state.items() if not isinstance(v, np.ndarray)}
-    meta = {
-        "format": CHECKPOINT_FORMAT,
-        "frame": int(frame),
-        "scalars": {k: (float(v) if isinstance(v, float) else int(v)) for k, v in scalars.items()},
-        "settings_sha256": settings_digest(fingerprint_until(fingerprint, frame)),
-        "settings": fingerprint_until(fingerprint, frame),  # to say which setting differs on resume
-        "arrays": {k: {"sha256": _array_digest(stored[k]), "shape": list(a.shape), "dtype": str(a.dtype),
-                       "fortran": bool(a.flags.f_contiguous and not a.flags.c_contiguous)}
-                   for k, a in arrays.items()},
-    }
-    meta_bytes = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    if "meta" in arrays:
+        raise ValueError("a state array may not be called 'meta' (the checkpoint's metadata member)")
+    digests: Dict[str, str] = {}
+
+    def write(f: Any) -> None:
+        # np.savez's layout (uncompressed zip of .npy members, zip64), written by hand so that
+        # the zip is closed on an error too (np.savez leaves it open when a write fails, and its
+        # finaliser later seeks the file atomic_write has closed: "seek of closed file").
+        with zipfile.ZipFile(f, mode="w", compression=zipfile.ZIP_STORED, allowZip64=True) as z:
+            for name, a in arrays.items():
+                digests[name] = _write_npy_member(z, name, a)
+            meta = {
+                "format": CHECKPOINT_FORMAT,
+                "frame": int(frame),
+                "scalars": {k: (float(v) if isinstance(v, float) else int(v)) for k, v in scalars.items()},
+                "settings_sha256": settings_digest(fingerprint_until(fingerprint, frame)),
+                "settings": fingerprint_until(fingerprint, frame),  # to say which setting differs on resume
+                "arrays": {k: {"sha256": digests[k], "order": _memory_order(a), "shape": list(a.shape),
+                               "dtype": str(a.dtype)} for k, a in arrays.items()},
+            }
+            _write_npy_member(z, "meta", np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
+
     path = checkpoint_path(cache_dir)
-    atomic_write(path, lambda f: _write_npz(f, {"meta": meta_bytes, **stored}), binary=True)
+    atomic_write(path, write, binary=True)
     return path
 
 
-def _write_npz(f: Any, arrays: Dict[str, np.ndarray]) -> None:
-    """np.savez's format (uncompressed zip of .npy members, zip64), but the zip is closed on an
-    error too: np.savez leaves it open when a write fails (disk full, file too large), and its
-    finaliser later seeks the file atomic_write has closed ("seek of closed file")."""
-    with zipfile.ZipFile(f, mode="w", compression=zipfile.ZIP_STORED, allowZip64=True) as z:
-        for name, a in arrays.items():
-            with z.open(name + ".npy", "w", force_zip64=True) as member:
-                np.lib.format.write_array(member, np.asanyarray(a), allow_pickle=False)
+def _write_npy_member(z: zipfile.ZipFile, name: str, a: np.ndarray) -> str:
+    """Write ``a`` as ``name``.npy into the zip from its own memory; returns the SHA-256 of its
+    data bytes, hashed from the slices written."""
+    digest = hashlib.sha256()
+    data = _memory_bytes(a)
+    with z.open(name + ".npy", "w", force_zip64=True) as member:
+        np.lib.format.write_array_header_2_0(member, np.lib.format.header_data_from_array_1_0(a))
+        for start in range(0, len(data), _CHUNK_BYTES):
+            chunk = data[start:start + _CHUNK_BYTES]
+            digest.update(chunk)
+            member.write(chunk)
+    return digest.hexdigest()
 
 
 def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any]) -> Tuple[int, Dict[str, Any]]:
@@ -277,9 +317,9 @@ def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any])
             arrays = {k: z[k] for k in meta["arrays"]}
     except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError, UnicodeDecodeError, TypeError) as exc:
         raise BakeError(f"checkpoint '{path}' is damaged or incomplete ({type(exc).__name__}: {exc}); {fix}") from None
-    if meta.get("format") != CHECKPOINT_FORMAT:
+    if meta.get("format") not in READABLE_CHECKPOINT_FORMATS:
         raise BakeError(f"checkpoint '{path}' has format {meta.get('format')!r}, this version reads "
-                        f"{CHECKPOINT_FORMAT}; {fix}")
+                        f"{', '.join(map(str, READABLE_CHECKPOINT_FORMATS))}; {fix}")
     now = fingerprint_until(fingerprint, int(meta.get("frame", 0)))
     if meta.get("settings_sha256") not in (settings_digest(now), settings_digest(fingerprint)):
         saved = meta.get("settings")
@@ -290,9 +330,10 @@ def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any])
     state: Dict[str, Any] = {}
     for k, info in meta["arrays"].items():
         a = arrays[k]
-        if list(a.shape) != info["shape"] or str(a.dtype) != info["dtype"] or _array_digest(a) != info["sha256"]:
+        order = "C1" if meta["format"] == 1 else info.get("order", "C")
+        if list(a.shape) != info["shape"] or str(a.dtype) != info["dtype"] or _array_digest(a, order) != info["sha256"]:
             raise BakeError(f"checkpoint '{path}': array '{k}' does not match its checksum (the file is "
                             f"damaged); {fix}")
-        state[k] = np.asfortranarray(a) if info.get("fortran") else a
+        state[k] = np.asfortranarray(a) if info.get("fortran") else a  # format 1 stored C order
     state.update(meta["scalars"])
     return int(meta["frame"]), state

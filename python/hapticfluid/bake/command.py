@@ -18,6 +18,11 @@ from hapticfluid.bake import verify as _verify
 from hapticfluid.bake.driver import BakeProgress, bake
 from hapticfluid.bake.scene import load_scene
 
+# True when this process is ``python3 -m hapticfluid`` (set by hapticfluid/__main__.py): the bake
+# command then ignores SIGINT/SIGTERM once the bake is over, for the rest of the process (see
+# cmd_bake). Called in-process (tests, scripts), it restores the previous handlers instead.
+RUN_AS_PROGRAM = False
+
 
 def add_parser(sub, resolution_type) -> None:
     p = sub.add_parser(
@@ -53,13 +58,16 @@ def cmd_bake(args: argparse.Namespace) -> int:
         return verify_command(scene.cache_dir, args)
 
     cancel = threading.Event()
+    over = threading.Event()  # the bake has returned or raised: a signal now changes nothing
 
     def on_signal(signum, _frame):
+        if over.is_set():
+            return
         if cancel.is_set():  # a second Ctrl-C: stop now (the frame in flight is lost, nothing else)
             raise KeyboardInterrupt
+        cancel.set()  # before the message: a second signal during the print stops at once
         print(f"\nbake: {signal.Signals(signum).name}: stopping after this substep "
               "(again to stop at once)", file=sys.stderr, flush=True)
-        cancel.set()
 
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     last_len = [0]
@@ -81,8 +89,13 @@ def cmd_bake(args: argparse.Namespace) -> int:
     try:
         result = bake(scene, resume=args.resume, progress=show, cancel=cancel, log=log)
     finally:
+        over.set()
         for s, handler in previous.items():
-            signal.signal(s, handler)
+            # A program only prints its summary and exits from here. Python's own handler (back
+            # in place) would raise KeyboardInterrupt where nothing catches it, and interpreter
+            # teardown resets SIGINT to its default: either way a late Ctrl-C (the second of two
+            # quick ones) killed the process by the signal (exit -2) instead of exit 130.
+            signal.signal(s, signal.SIG_IGN if RUN_AS_PROGRAM else handler)
     frames = _cache.list_frames(result.cache_dir)
     print(f"bake {result.status}: {result.frames_written} frame(s) in {result.seconds:.1f} s"
           + (f" ({result.seconds_per_frame:.2f} s/frame)" if result.frames_written else "")

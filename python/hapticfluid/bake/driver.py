@@ -7,7 +7,10 @@ state is checkpointed exactly after each frame.
 
 Order of writes per frame f: the frame file (atomic), then the checkpoint for f (atomic), then
 the manifest (with f's size and SHA-256). A kill between them loses at most frame f: resume
-restarts from the checkpoint and rewrites f identically.
+restarts from the checkpoint and rewrites f identically. These writes run on a writer thread
+(writer.py) while the simulation steps frame f+1, frames in order, at most two in flight; a kill
+then loses at most those two, and resume rewrites them identically. A failed write stops the
+bake with a BakeError naming the frame, after every earlier frame has landed.
 
 Resume first checks every frame up to the checkpoint's (verify.py). The checkpoint holds only
 the state after its frame, so when an earlier frame is missing or damaged, resume replays the
@@ -30,7 +33,8 @@ import numpy as np
 import hapticfluid as hf
 from hapticfluid.bake import cache as _cache
 from hapticfluid.bake import verify as _verify
-from hapticfluid.bake.scene import BakeScene, ProbeSpec
+from hapticfluid.bake import writer as _writer
+from hapticfluid.bake.scene import BakeScene, ProbeSpec, SmokeSource
 from hapticfluid.bake.trajectory import Motion
 
 CancelCheck = Union[threading.Event, Callable[[], bool], None]
@@ -100,15 +104,52 @@ def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: 
     apply_probe(sim, probe, probe.trajectory.motion(a, b, dt))
 
 
+def apply_source(sim: "hf.Simulation", source: SmokeSource, frame_time: float) -> None:
+    """Put the smoke source where it is at ``frame_time`` (frames): the one place that knows how
+    the engine takes a source. A sphere is set once; a mesh is uploaded once, then only its pose
+    changes (set_smoke_source_pose: host-side, cheap)."""
+    current = sim.smoke_source
+    if source.shape == "sphere":
+        if current is None:
+            sim.set_smoke_source(source.centre, source.radius, density=source.density,
+                                 temperature=source.temperature, emission=source.emission)
+        return
+    assert source.trajectory is not None
+    matrix = source.trajectory.pose(frame_time).matrix()
+    if current is None or current.get("kind") != "mesh":
+        sim.set_smoke_source_mesh(source.vertices, source.triangles, matrix, density=source.density,
+                                  temperature=source.temperature, emission=source.emission)
+    else:
+        sim.set_smoke_source_pose(matrix)
+
+
+def _apply_substep_source(sim: "hf.Simulation", source: SmokeSource, frame: int, s: int, n: int) -> None:
+    """apply_source for substep s (0-based) of n in ``frame``: the pose at the substep's end, as
+    the probe's (the step emits where the source is when it ends)."""
+    apply_source(sim, source, (frame - 1) + (s + 1) / n)
+
+
 def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
                      cancelled: Callable[[], bool] = lambda: False) -> bool:
     """Before any step: hand the engine every substep pose of frames first..end (fixed substeps;
     max_substeps per frame when adaptive) so its own checks (domain margin, mesh validity, speed)
     refuse a bad trajectory up front, naming the frame. Leaves no probe set. Checks ``cancelled``
-    once per frame (a long trajectory takes a while): returns False if it was cancelled."""
+    once per frame (a long trajectory takes a while): returns False if it was cancelled.
+    A mesh smoke source's poses are checked the same way (the source stays set)."""
+    n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
+    source = scene.source
+    if source is not None and source.shape == "mesh":
+        for frame in range(first, scene.frame_end + 1):
+            if cancelled():
+                return False
+            for s in range(n):
+                try:
+                    _apply_substep_source(sim, source, frame, s, n)
+                except hf.InvalidArgumentError as exc:
+                    raise hf.InvalidArgumentError(
+                        f"the smoke source's path is refused at frame {frame} (substep {s + 1} of {n}): {exc}") from None
     if scene.probe is None:
         return True
-    n = scene.max_substeps if scene.substeps == "adaptive" else int(scene.substeps)
     dt = scene.frame_dt / n
     try:
         for frame in range(first, scene.frame_end + 1):
@@ -134,9 +175,8 @@ def make_simulation(scene: BakeScene) -> "hf.Simulation":
                         heat_dissipation=f["heat_dissipation"], pressure_iterations=f["pressure_iterations"],
                         pressure_solver=f["pressure_solver"], pressure_tolerance=f["pressure_tolerance"],
                         compute_residual=False, device=scene.device)
-    if scene.source is not None:
-        s = scene.source
-        sim.set_smoke_source(s.centre, s.radius, density=s.density, temperature=s.temperature)
+    if scene.source is not None:  # a mesh source at the pose before the first frame; each substep moves it
+        apply_source(sim, scene.source, scene.frame_start - 1)
     return sim
 
 
@@ -197,6 +237,33 @@ def write_frame(scene: BakeScene, state: Dict[str, Any], frame: int, substeps: i
                  compression=scene.compression, half_float=scene.half_float, tolerance=scene.tolerance,
                  metadata=frame_metadata(scene, frame, substeps))
     return path
+
+
+class _SolverTally:
+    """What the pressure solves of a session reached, for the manifest: the worst relative
+    residual (the solver's own estimate; tolerance mode only), the iterations, and how many
+    steps stopped at the iteration cap above the tolerance."""
+
+    def __init__(self) -> None:
+        self.steps = 0
+        self.iterations = 0
+        self.max_iterations = 0
+        self.unconverged = 0
+        self.worst: Optional[float] = None
+
+    def add(self, report: "hf.StepReport") -> None:
+        self.steps += 1
+        self.iterations += int(report.pressure_iterations)
+        self.max_iterations = max(self.max_iterations, int(report.pressure_iterations))
+        if not report.converged:
+            self.unconverged += 1
+        if report.relative_residual >= 0.0:  # -1: fixed iteration count, nothing measured
+            self.worst = max(self.worst or 0.0, float(report.relative_residual))
+
+    def record(self) -> Dict[str, Any]:
+        return {"steps": self.steps, "mean_iterations": self.iterations / self.steps if self.steps else 0.0,
+                "max_iterations": self.max_iterations, "unconverged_steps": self.unconverged,
+                "max_relative_residual": self.worst}
 
 
 def _cancel_check(cancel: CancelCheck) -> Callable[[], bool]:
@@ -296,6 +363,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     t0 = time.perf_counter()
     written = 0
     status = "finished"
+    solver = _SolverTally()
     with make_simulation(scene) as sim:
         session["device"] = sim.device.get("renderer")
         # a bad pose fails here, and a cancel returns here, before the old bake is freed
@@ -314,39 +382,66 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
         say(f"baking frames {write_from}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
             f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "
             f"{session['device']} into {cache_dir}")
-        for frame in range(first, scene.frame_end + 1):
-            n = substeps_for_frame(scene, sim, frame)
-            dt = scene.frame_dt / n
-            frame_t0 = time.perf_counter()
-            for s in range(n):
-                if is_cancelled():
-                    status = "cancelled"
-                    break
-                if scene.probe is not None:
-                    _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
-                sim.step(dt)
-                if progress is not None:
-                    progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
-            if status == "cancelled":
-                break
-            if frame < write_from:  # replaying up to a damaged frame: this one's file is sound
-                continue
-            frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
-            path = write_frame(scene, frame_state, frame, n)
-            manifest["frame_records"][str(frame)] = _verify.frame_record(path)
-            _cache.save_checkpoint(cache_dir, frame, frame_state, fingerprint)
-            written += 1
-            manifest["frames_done"].append(frame)
-            manifest["last_frame"] = frame
-            manifest["complete"] = frame == scene.frame_end
-            session["frames"] = written
+        files_written = [0]  # the writer thread's count (`written` is this thread's, as reported)
+
+        def write_job(job: _writer.FrameJob) -> None:  # on the writer thread, one frame after the other
+            path = write_frame(scene, job.state, job.frame, job.substeps)
+            manifest["frame_records"][str(job.frame)] = _verify.frame_record(path)
+            _cache.save_checkpoint(cache_dir, job.frame, job.state, fingerprint)
+            manifest["frames_done"].append(job.frame)
+            manifest["last_frame"] = job.frame
+            manifest["complete"] = job.frame == scene.frame_end
+            files_written[0] += 1
+            session["frames"] = files_written[0]
             session["seconds"] = time.perf_counter() - t0
+            session["pressure"] = job.pressure
             _cache.write_manifest(cache_dir, manifest)
-            done = _progress(scene, frame, write_from, written, n, n, t0, True)
-            say(f"frame {frame}: {n} substeps, {(time.perf_counter() - frame_t0):.2f} s; "
-                f"{done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
-            if progress is not None:
-                progress(done)
+
+        def report_written() -> None:  # on this thread: the log and progress callbacks
+            nonlocal written
+            for w in writer.finished():
+                written += 1
+                done = _progress(scene, w.frame, write_from, written, w.substeps, w.substeps, t0, True)
+                say(f"frame {w.frame}: {w.substeps} substeps, {w.step_s:.2f} s; files {w.write_s:.2f} s on the writer "
+                    f"thread; {done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
+                if progress is not None:
+                    progress(done)
+
+        writer = _writer.FrameWriter(write_job)
+        try:
+            for frame in range(first, scene.frame_end + 1):
+                n = substeps_for_frame(scene, sim, frame)
+                dt = scene.frame_dt / n
+                frame_t0 = time.perf_counter()
+                for s in range(n):
+                    report_written()
+                    writer.check()
+                    if is_cancelled():
+                        status = "cancelled"
+                        break
+                    if scene.probe is not None:
+                        _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
+                    if scene.source is not None:
+                        _apply_substep_source(sim, scene.source, frame, s, n)
+                    solver.add(sim.step(dt))
+                    if progress is not None:
+                        progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
+                if status == "cancelled":
+                    break
+                if frame < write_from:  # replaying up to a damaged frame: this one's file is sound
+                    continue
+                frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
+                writer.put(_writer.FrameJob(frame, n, frame_state, time.perf_counter() - frame_t0,
+                                            pressure=solver.record()))
+        except BaseException as exc:
+            # A second Ctrl-C stops now (the frame being written still lands whole); any other
+            # error lets the frames already stepped (sound) land before it surfaces.
+            writer.close(abort=isinstance(exc, KeyboardInterrupt))
+            report_written()
+            raise
+        writer.close()
+        report_written()
+        writer.check()
     seconds = time.perf_counter() - t0
     if status == "cancelled":
         say(f"cancelled; {written} frame(s) written this session; resume continues after frame "

@@ -16,8 +16,16 @@ Format (JSON; every length in metres, times in seconds or frames; keys marked * 
         "pressure_solver": "jacobi",     "jacobi" | "multigrid"
         "pressure_tolerance": 0.0        stop at this relative residual (0: fixed count)
       },
-      "source": {"centre": [0.5, 0.5, 0.1], "radius": 0.06,        smoke emitter, or null / absent
-                 "density": 1.0, "temperature": 8.0},
+      "source": {                          the smoke emitter, or null / absent
+        "shape": "sphere", "centre": [0.5, 0.5, 0.1], "radius": 0.06,   a sphere (m) ["sphere"], or
+        "shape": "mesh", "vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...],
+                                             a closed triangle mesh in its local frame (m),
+                                             emitting from its volume, placed by
+        "keys": [{"frame": 1, "matrix": ...}, ...],   keyed transforms as the probe's (mesh only)
+        "density": 1.0, "temperature": 8.0,  concentration and K above ambient ("hold"), or
+                                             per second ("rate")
+        "emission": "hold"                   "hold" | "rate" (Simulation.set_smoke_source_mesh)
+      },
       "probe": {                           the moving body, or null / absent
         "shape": "sphere", "radius": 0.08,   sphere radius (m) at scale 1 (scaled by the largest
                                              axis scale of the transform), or
@@ -132,10 +140,37 @@ def _table(where: str, value: Any, allowed: Sequence[str]) -> Dict[str, Any]:
 
 @dataclass(frozen=True)
 class SmokeSource:
-    centre: Tuple[float, float, float]  # m
-    radius: float  # m
-    density: float = 1.0  # concentration
-    temperature: float = 0.0  # K above ambient
+    centre: Optional[Tuple[float, float, float]] = None  # m (sphere)
+    radius: Optional[float] = None  # m (sphere)
+    density: float = 1.0  # concentration ("hold") or per second ("rate")
+    temperature: float = 0.0  # K above ambient ("hold") or K/s ("rate")
+    shape: str = "sphere"  # "sphere" or "mesh"
+    emission: str = "hold"  # "hold" or "rate"
+    trajectory: Optional[Trajectory] = None  # keyed transforms (mesh)
+    vertices: Optional[np.ndarray] = None  # (N, 3) float64, local frame, m (mesh)
+    triangles: Optional[np.ndarray] = None  # (M, 3) int64 (mesh)
+
+    def fingerprint(self) -> Dict[str, Any]:
+        """What the frames depend on; a sphere's has its original keys (old checkpoints resume)."""
+        if self.shape == "sphere":
+            d: Dict[str, Any] = {"centre": list(self.centre), "radius": self.radius}
+        else:
+            assert self.trajectory is not None
+            d = {"shape": "mesh", "keys": [[f, m.tolist()] for f, m in self.trajectory.keys],
+                 "vertex_count": len(self.vertices), "triangle_count": len(self.triangles),
+                 "mesh_sha256": _mesh_digest(self.vertices, self.triangles)}
+        d.update(density=self.density, temperature=self.temperature)
+        if self.emission != "hold":
+            d["emission"] = self.emission
+        return d
+
+
+def _mesh_digest(vertices: np.ndarray, triangles: np.ndarray) -> str:
+    import hashlib
+
+    h = hashlib.sha256(np.ascontiguousarray(vertices, dtype=np.float64).tobytes())
+    h.update(np.ascontiguousarray(triangles, dtype=np.int64).tobytes())
+    return h.hexdigest()
 
 
 @dataclass(frozen=True)
@@ -149,11 +184,7 @@ class ProbeSpec:
     def mesh_digest(self) -> Optional[str]:
         if self.vertices is None:
             return None
-        import hashlib
-
-        h = hashlib.sha256(np.ascontiguousarray(self.vertices, dtype=np.float64).tobytes())
-        h.update(np.ascontiguousarray(self.triangles, dtype=np.int64).tobytes())
-        return h.hexdigest()
+        return _mesh_digest(self.vertices, self.triangles)
 
 
 @dataclass(frozen=True)
@@ -218,9 +249,7 @@ class BakeScene:
             if self.probe.shape == "mesh":  # the mesh by its digest: the manifest stays small
                 probe.update(vertex_count=len(self.probe.vertices), triangle_count=len(self.probe.triangles),
                              mesh_sha256=self.probe.mesh_digest())
-        source = None if self.source is None else {
-            "centre": list(self.source.centre), "radius": self.source.radius,
-            "density": self.source.density, "temperature": self.source.temperature}
+        source = None if self.source is None else self.source.fingerprint()
         fluid = {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.fluid.items()}
         return {
             "domain_origin": list(self.domain_origin), "domain_size": list(self.domain_size),
@@ -307,6 +336,69 @@ def _key_matrix(where: str, key: Dict[str, Any]) -> np.ndarray:
     return m
 
 
+def _mesh_arrays(where: str, p: Dict[str, Any]) -> Tuple[np.ndarray, np.ndarray]:
+    """A mesh's 'vertices' (m) and 'triangles' from table ``where`` (probe or source), checked
+    for shape, finiteness and index range (the engine checks that it is closed)."""
+    try:
+        vertices = np.asarray(p.get("vertices"), dtype=np.float64)
+        raw_triangles = np.asarray(p.get("triangles"))
+    except (TypeError, ValueError):
+        raise _err(where, "'vertices' must be [[x, y, z], ...] (m) and 'triangles' [[i, j, k], ...]") \
+            from None
+    listed_bool = isinstance(p.get("triangles"), (list, tuple)) and any(
+        isinstance(i, bool) for row in p["triangles"] if isinstance(row, (list, tuple)) for i in row)
+    if listed_bool or (raw_triangles.size and not np.issubdtype(raw_triangles.dtype, np.integer)):
+        # a cast would truncate 2.5 to 2 (or true to 1) without a word
+        raise _err(f"{where}.triangles", "vertex indices must be integers (no fractions, no true/false)")
+    triangles = raw_triangles.astype(np.int64)
+    if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4 or not np.all(np.isfinite(vertices)):
+        raise _err(f"{where}.vertices", f"needs at least 4 finite [x, y, z] rows, got shape {vertices.shape}")
+    if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) < 4:
+        raise _err(f"{where}.triangles", f"needs at least 4 [i, j, k] rows, got shape {triangles.shape}")
+    if triangles.min() < 0 or triangles.max() >= len(vertices):
+        raise _err(f"{where}.triangles", f"indices must be in 0 .. {len(vertices) - 1}")
+    return vertices, triangles
+
+
+def _trajectory(where: str, keys: Any) -> Trajectory:
+    if not isinstance(keys, list) or not keys:
+        raise _err(where, "needs a non-empty list of {frame, location | matrix}")
+    items = []
+    for i, key in enumerate(keys):
+        at = f"{where}[{i}]"
+        if not isinstance(key, dict) or "frame" not in key:
+            raise _err(at, "needs 'frame'")
+        items.append((_number(f"{at}.frame", key["frame"]), _key_matrix(at, key)))
+    return Trajectory(items)
+
+
+def _source(value: Any) -> SmokeSource:
+    s = _table("source", value, ("shape", "centre", "radius", "density", "temperature", "emission", "keys",
+                                 "vertices", "triangles"))
+    shape = s.get("shape", "sphere")
+    if shape not in ("sphere", "mesh"):
+        raise _err("source.shape", f"must be 'sphere' or 'mesh', got {shape!r}")
+    ignored = {"sphere": ("vertices", "triangles", "keys"), "mesh": ("centre", "radius")}[shape]
+    stray = sorted(k for k in ignored if k in s)
+    if stray:  # it would be ignored: say so rather than bake something other than meant
+        raise _err("source", f"a {shape} source takes no {stray}; remove {'them' if len(stray) > 1 else 'it'} "
+                             f"or set 'shape' to {'mesh' if shape == 'sphere' else 'sphere'}")
+    emission = s.get("emission", "hold")
+    if emission not in ("hold", "rate"):
+        raise _err("source.emission", f"must be 'hold' or 'rate', got {emission!r}")
+    values = dict(density=_number("source.density", s.get("density", 1.0), minimum=0.0),
+                  temperature=_number("source.temperature", s.get("temperature", 0.0), minimum=0.0),
+                  emission=emission)
+    if shape == "sphere":
+        if "centre" not in s or "radius" not in s:
+            raise _err("source", "needs 'centre' (m) and 'radius' (m)")
+        return SmokeSource(centre=_vec("source.centre", s["centre"]),
+                           radius=_number("source.radius", s["radius"], positive=True), **values)
+    vertices, triangles = _mesh_arrays("source", s)
+    return SmokeSource(shape="mesh", vertices=vertices, triangles=triangles,
+                       trajectory=_trajectory("source.keys", s.get("keys")), **values)
+
+
 def _check_step_range(fps: float, substeps: Any, max_substeps: int) -> None:
     """The simulation steps (frame time / substeps) must be ones the engine takes; found here,
     not at the first step of a bake that has already freed the old one."""
@@ -356,20 +448,14 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
             if v not in ("jacobi", "multigrid"):
                 raise _err("fluid.pressure_solver", f"must be 'jacobi' or 'multigrid', got {v!r}")
             fluid[k] = v
+        elif k == "fluid_density":
+            fluid[k] = _number("fluid.fluid_density", v, positive=True)  # kg/m^3
         elif k == "pressure_tolerance":
             fluid[k] = _number("fluid.pressure_tolerance", v, minimum=0.0)
         else:
             fluid[k] = _number(f"fluid.{k}", v)
 
-    source = None
-    if top.get("source") is not None:
-        s = _table("source", top["source"], ("centre", "radius", "density", "temperature"))
-        if "centre" not in s or "radius" not in s:
-            raise _err("source", "needs 'centre' (m) and 'radius' (m)")
-        source = SmokeSource(centre=_vec("source.centre", s["centre"]),
-                             radius=_number("source.radius", s["radius"], positive=True),
-                             density=_number("source.density", s.get("density", 1.0), minimum=0.0),
-                             temperature=_number("source.temperature", s.get("temperature", 0.0)))
+    source = None if top.get("source") is None else _source(top["source"])
 
     probe = None
     if top.get("probe") is not None:
@@ -386,38 +472,12 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         if shape == "sphere":
             radius = _number("probe.radius", p.get("radius"), positive=True)
         elif shape == "mesh":
-            try:
-                vertices = np.asarray(p.get("vertices"), dtype=np.float64)
-                raw_triangles = np.asarray(p.get("triangles"))
-            except (TypeError, ValueError):
-                raise _err("probe", "'vertices' must be [[x, y, z], ...] (m) and 'triangles' [[i, j, k], ...]") \
-                    from None
-            listed_bool = isinstance(p.get("triangles"), (list, tuple)) and any(
-                isinstance(i, bool) for row in p["triangles"] if isinstance(row, (list, tuple)) for i in row)
-            if listed_bool or (raw_triangles.size and not np.issubdtype(raw_triangles.dtype, np.integer)):
-                # a cast would truncate 2.5 to 2 (or true to 1) without a word
-                raise _err("probe.triangles", "vertex indices must be integers (no fractions, no true/false)")
-            triangles = raw_triangles.astype(np.int64)
-            if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4 or not np.all(np.isfinite(vertices)):
-                raise _err("probe.vertices", f"needs at least 4 finite [x, y, z] rows, got shape {vertices.shape}")
-            if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) < 4:
-                raise _err("probe.triangles", f"needs at least 4 [i, j, k] rows, got shape {triangles.shape}")
-            if triangles.min() < 0 or triangles.max() >= len(vertices):
-                raise _err("probe.triangles", f"indices must be in 0 .. {len(vertices) - 1}")
+            vertices, triangles = _mesh_arrays("probe", p)
             radius = float(np.linalg.norm(vertices, axis=1).max())
         else:
             raise _err("probe.shape", f"must be 'sphere' or 'mesh', got {shape!r}")
-        keys = p.get("keys")
-        if not isinstance(keys, list) or not keys:
-            raise _err("probe.keys", "needs a non-empty list of {frame, location | matrix}")
-        items = []
-        for i, key in enumerate(keys):
-            where = f"probe.keys[{i}]"
-            if not isinstance(key, dict) or "frame" not in key:
-                raise _err(where, "needs 'frame'")
-            items.append((_number(f"{where}.frame", key["frame"]), _key_matrix(where, key)))
-        probe = ProbeSpec(shape=shape, radius=radius, trajectory=Trajectory(items), vertices=vertices,
-                          triangles=triangles)
+        probe = ProbeSpec(shape=shape, radius=radius, trajectory=_trajectory("probe.keys", p.get("keys")),
+                          vertices=vertices, triangles=triangles)
 
     fr = _table("frames", top["frames"], ("start", "end", "fps"))
     start = _integer("frames.start", fr.get("start", 1), 0)

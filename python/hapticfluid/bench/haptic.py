@@ -2,7 +2,10 @@
 
 Scenarios: the loop idle (session paused: no simulation work beside it) and with a simulation
 running beside it (64^3 smoke scene, a scripted device sweeping the probe through it), each
-with and without SCHED_FIFO priority. Jitter is |period - 1 ms|; latency runs from the device
+with and without SCHED_FIFO priority. Then the interactive rate with the converged solver
+(multigrid CG to a relative residual of ``CONVERGED_TOLERANCE`` every step, the moving sphere,
+the same smoke scene) at ``CONVERGED_GRIDS``: the simulation steps per second a user touching
+it gets, and the pose-to-force latency. Jitter is |period - 1 ms|; latency runs from the device
 read whose pose a simulation step used to the first haptic period that applies that step's force.
 
 Run alone: ``python3 -m hapticfluid.bench.haptic [--quick] [--json PATH]``.
@@ -22,6 +25,19 @@ from hapticfluid.bench import report
 COLUMNS = ["scenario", "grid", "priority", "seconds", "loop rate (Hz)", "jitter p50 (ms)",
            "jitter p99 (ms)", "jitter max (ms)", "skipped periods", "sim rate (Hz)",
            "latency p50 (ms)", "latency p99 (ms)", "latency max (ms)"]
+
+
+CONVERGED_TOLERANCE = 1e-3
+CONVERGED_MAX_ITERATIONS = 50
+CONVERGED_GRIDS = (32, 48, 64)
+QUICK_CONVERGED_GRIDS = (16,)
+
+
+def _smoke_simulation(n: int, **solver) -> hf.Simulation:
+    sim = hf.Simulation(resolution=(n, n, n), fluid_density=1000.0, gravity=(0.0, 0.0, 0.0), **solver)
+    sim.set_smoke_source(centre=(0.5, 0.5, 0.1), radius=0.08, density=1.0, temperature=10.0)
+    sim.heat_buoyancy = 0.5
+    return sim
 
 
 def _measure(sim: hf.Simulation, seconds: float, realtime: bool, paused: bool) -> Dict[str, object]:
@@ -58,10 +74,7 @@ def run(quick: bool = False) -> dict:
     rows: List[List] = []
     notes: List[str] = []
     scheduling = ""
-    with hf.Simulation(resolution=(n, n, n), fluid_density=1000.0, gravity=(0.0, 0.0, 0.0),
-                       pressure_iterations=40) as sim:
-        sim.set_smoke_source(centre=(0.5, 0.5, 0.1), radius=0.08, density=1.0, temperature=10.0)
-        sim.heat_buoyancy = 0.5
+    with _smoke_simulation(n, pressure_iterations=40) as sim:
         renderer = sim.device["renderer"]
         for realtime in (True, False):
             stats = _measure(sim, idle_s, realtime, paused=True)
@@ -70,6 +83,12 @@ def run(quick: bool = False) -> dict:
             stats = _measure(sim, busy_s, realtime, paused=False)
             rows.append(_row("simulation running", f"{n}^3", busy_s, stats, True))
             scheduling = scheduling or (stats["scheduling"] if realtime else "")
+    label = f"converged solver (multigrid to {CONVERGED_TOLERANCE:g})"
+    for m in (QUICK_CONVERGED_GRIDS if quick else CONVERGED_GRIDS):
+        with _smoke_simulation(m, pressure_solver="multigrid", pressure_iterations=CONVERGED_MAX_ITERATIONS,
+                               pressure_tolerance=CONVERGED_TOLERANCE) as sim:
+            stats = _measure(sim, busy_s, True, paused=False)
+        rows.append(_row(label, f"{m}^3", busy_s, stats, True))
     notes.append(f"GL renderer: {renderer}; {os.cpu_count()} CPUs; load average before: "
                  f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}")
     notes.append("Nominal period 1 ms; jitter = |measured period - 1 ms| over the last 8192 periods.")
@@ -77,6 +96,9 @@ def run(quick: bool = False) -> dict:
                  "pose (includes waiting for the running step, the step itself and the next period).")
     if scheduling:
         notes.append(f"SCHED_FIFO: {scheduling}")
+    notes.append(f"'{label}': the same scene and sweep, the pressure solve to a relative residual of "
+                 f"{CONVERGED_TOLERANCE:g} every step (at most {CONVERGED_MAX_ITERATIONS} CG iterations), "
+                 "SCHED_FIFO asked for; sim rate = simulation steps per second beside the haptic loop.")
     notes.append("Taken on a shared machine: figures are under load unless said otherwise.")
     return {"title": "Haptic loop: rate, jitter, pose-to-force latency", "columns": COLUMNS,
             "rows": rows, "notes": notes}

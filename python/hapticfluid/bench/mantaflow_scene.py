@@ -8,7 +8,8 @@ Run by :mod:`hapticfluid.bench.mantaflow` (not imported by the package)::
 
 PARAMS.json: ``domain_size`` (m, the box has its minimum corner at the origin),
 ``resolution_max``, ``frames``, ``fps``, ``cache_dir``, ``source_centre``/``source_radius`` (m),
-``probe_radius`` (m), ``probe_path`` (one probe centre per frame, m), ``vorticity``.
+``probe_radius`` (m), ``probe_path`` (one probe centre per frame, m), ``vorticity``,
+``open_top`` (optional, default true: the box's top border lets smoke out; false: a closed box).
 The gas domain uses fixed time steps (adaptive time stepping off), an OpenVDB cache, no noise;
 the source is a smoke inflow sphere, the probe a collision effector keyframed on every frame.
 RESULT.json: ``bake_s`` (wall time of the bake operator), ``bake_cpu_s`` (its CPU time, all threads), ``frame_files`` (cache files with
@@ -94,7 +95,7 @@ def main():
     ds.resolution_max = int(params["resolution_max"])
     ds.use_adaptive_timesteps = False  # Blender then keeps dt = frame length: one step per frame
     ds.vorticity = float(params["vorticity"])
-    ds.use_collision_border_top = False  # open top, like the engine's scene
+    ds.use_collision_border_top = not bool(params.get("open_top", True))  # open or closed, as the engine's scene
     ds.use_noise = False
     ds.cache_directory = params["cache_dir"]
     ds.cache_type = "ALL"

@@ -50,7 +50,7 @@ def bake_command_blend(blender: str, scene: Path, resolution: int, cache: Path) 
     """The Blender command line that bakes a .blend's hapticfluid settings into ``cache``."""
     folder = addon_folder()
     setup = ("import sys, bpy; sys.path.insert(0, {parent!r}); import hapticfluid_blender as a; a.register(); "
-             "a.properties.clear_stale_bake_state(); bpy.context.scene.hapticfluid_bake.cache_dir = {cache!r}"
+             "a.properties.clear_stale_bake_state(); a.roles.settings_of(bpy.context.scene).cache_dir = {cache!r}"
              ).format(parent=str(folder.parent), cache=str(cache))
     args = [blender, "--background", str(scene), "--python-exit-code", "1", "--python-expr", setup,
             "--python", str(folder / "bake_blend.py"), "--", "--resolution", str(resolution)]

@@ -1,0 +1,104 @@
+"""The baked range on the Timeline, as Mantaflow's cache bar: a bar along the bottom of the
+Timeline's frame area over the frames the domain's Volume object shows, blue when baked, orange
+while baking, red when the cache is out of date (a setting changed since the bake).
+
+Blender's own cache bars (point caches) are drawn in C and have no Python hook, so this is a
+``POST_PIXEL`` draw handler on the Dope Sheet/Timeline editor's frame region, drawn only in its
+Timeline mode, with the ``gpu`` module. The scene's preview range was the other way: it shows a
+range with no drawing code, but it changes what playback loops over, which is the artist's
+setting, not ours. No handler is added in background mode (nothing is drawn there, and ``gpu``
+cannot draw). Each baked frame gets a one-frame-wide cell centred on its frame number."""
+
+import bpy
+
+from . import properties, roles
+
+BAR_BOTTOM_PX = 18  # above the region's lower edge (clear of the horizontal scroll bar), at UI scale 1
+BAR_HEIGHT_PX = 6
+COLOURS = {  # RGBA
+    "baked": (0.25, 0.55, 1.0, 0.95),
+    "baking": (1.0, 0.6, 0.1, 0.95),
+    "outdated": (0.95, 0.25, 0.2, 0.95),
+}
+
+_handle = None
+
+
+def baked_range(scene):
+    """(first frame, last frame, state) of the cache the domain shows, or None: state is
+    'baking', 'outdated' or 'baked' (a key of COLOURS)."""
+    s = roles.settings_of(scene)
+    if s.domain is None:
+        return None
+    vol = s.volume_object
+    if vol is None or vol.type != "VOLUME" or not vol.data.is_sequence or vol.data.frame_duration < 1:
+        return None
+    first = vol.data.frame_start
+    last = first + vol.data.frame_duration - 1
+    if s.is_baking:
+        state = "baking"
+    else:
+        state = "outdated" if properties.changed_cache_inputs(scene, s) else "baked"
+    return first, last, state
+
+
+def bar_rect(region, first, last, ui_scale=1.0):
+    """The bar's (x0, y0, x1, y1) in the region's pixels: frames first - 0.5 .. last + 0.5."""
+    x0, _ = region.view2d.view_to_region(first - 0.5, 0.0, clip=False)
+    x1, _ = region.view2d.view_to_region(last + 0.5, 0.0, clip=False)
+    y0 = BAR_BOTTOM_PX * ui_scale
+    return float(x0), y0, float(max(x1, x0 + 2)), y0 + BAR_HEIGHT_PX * ui_scale
+
+
+def _shader():
+    import gpu
+
+    for name in ("UNIFORM_COLOR", "2D_UNIFORM_COLOR"):  # Blender 4.0 dropped the '2D_' prefix
+        try:
+            return gpu.shader.from_builtin(name)
+        except (ValueError, TypeError):
+            continue
+    raise RuntimeError("no uniform-colour built-in shader in this Blender")
+
+
+def draw():
+    """The draw handler (Timeline mode only)."""
+    context = bpy.context
+    space, region = context.space_data, context.region
+    if space is None or getattr(space, "mode", None) != "TIMELINE" or region is None or context.scene is None:
+        return
+    if not hasattr(bpy.types.Object, "hapticfluid"):
+        return
+    found = baked_range(context.scene)
+    if found is None:
+        return
+    import gpu
+    from gpu_extras.batch import batch_for_shader
+
+    first, last, state = found
+    x0, y0, x1, y1 = bar_rect(region, first, last, context.preferences.system.ui_scale)
+    x0, x1 = max(x0, 0.0), min(x1, float(region.width))
+    if x1 <= x0:
+        return
+    shader = _shader()
+    batch = batch_for_shader(shader, "TRIS", {"pos": ((x0, y0), (x1, y0), (x1, y1), (x0, y1))},
+                             indices=((0, 1, 2), (0, 2, 3)))
+    blend = gpu.state.blend_get()
+    gpu.state.blend_set("ALPHA")
+    shader.bind()
+    shader.uniform_float("color", COLOURS[state])
+    batch.draw(shader)
+    gpu.state.blend_set(blend)
+
+
+def attach():
+    global _handle
+    if _handle is None and not bpy.app.background:
+        _handle = bpy.types.SpaceDopeSheetEditor.draw_handler_add(draw, (), "WINDOW", "POST_PIXEL")
+
+
+def detach():
+    global _handle
+    if _handle is not None:
+        bpy.types.SpaceDopeSheetEditor.draw_handler_remove(_handle, "WINDOW")
+        _handle = None

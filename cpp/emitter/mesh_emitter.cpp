@@ -1,0 +1,121 @@
+#include "emitter/mesh_emitter.h"
+
+#include <GL/gl.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "gl/workgroup.h"
+
+namespace hf::emitter {
+namespace {
+
+// Largest |lattice coordinate|: vertices lie within one domain size of the walls
+// (validateSourcePose), i.e. within [-widest, 2 widest] cells, so a lattice of at most
+// kLatticeRange / (2 widest) steps per cell keeps every coordinate below it and every coordinate
+// difference in int32; edge functions (products) are computed in double, exact below 2^53.
+constexpr int kLatticeRange = 1 << 22;
+
+static_assert(obstacle::kMaxMeshElements <= std::size_t{65535} * gl::kLinearGroup,
+              "kMaxMeshElements exceeds one linear dispatch (65535 groups of kLinearGroup)");
+
+std::string gridText(const glm::ivec3& r) {
+  return std::to_string(r.x) + "x" + std::to_string(r.y) + "x" + std::to_string(r.z);
+}
+
+}  // namespace
+
+MeshEmitter::MeshEmitter(const fluid::Grid& grid)
+    : grid_(grid),
+      crossings_(grid.cells() * 2 * sizeof(std::int32_t),
+                 "smoke source crossings of the " + gridText(grid.res) + " grid (8 bytes per cell)"),
+      coverage_(grid.res, gl::TexelFormat::R32F, "smoke source coverage"),
+      transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
+      crossings_program_("emit_mesh_crossings.comp", gl::linearGroupDefines()),
+      coverage_program_("emit_mesh_coverage.comp", gl::cellGroupDefines()),
+      emit_("emit_coverage.comp", gl::cellGroupDefines()) {
+  const int widest = std::max(grid.res.x, grid.res.y);
+  if (2 * widest * subcell_ > kLatticeRange) {
+    throw InvalidArgument("mesh smoke sources support at most " + std::to_string(kLatticeRange / (2 * subcell_)) +
+                          " cells along x and y; lower the resolution");
+  }
+  while (2 * widest * subcell_ * 2 <= kLatticeRange) subcell_ *= 2;
+  crossings_program_.set("u_res", grid.res);
+  crossings_program_.set("u_subcell", subcell_);
+  crossings_program_.set("u_samples", kSourceSubsamples);
+  crossings_program_.set("u_limit", kLatticeRange);
+  coverage_program_.set("u_res", grid.res);
+  coverage_program_.set("u_samples", kSourceSubsamples);
+  emit_.set("u_res", grid.res);
+}
+
+void MeshEmitter::setSource(const MeshSource& source) {
+  if (!source.mesh) throw Error("MeshEmitter::setSource: no mesh");
+  if (source.mesh != uploaded_) {
+    const obstacle::TriangleMesh& mesh = *source.mesh;
+    const std::size_t nv = mesh.vertices_m.size(), nt = mesh.triangles.size();
+    std::vector<glm::vec4> v(nv);
+    for (std::size_t i = 0; i < nv; ++i) v[i] = glm::vec4(mesh.vertices_m[i], 1.0f);
+    local_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "smoke source vertices");
+    local_vertices_->upload(v.data(), nv * sizeof(glm::vec4));
+    grid_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "smoke source vertices in grid units");
+    indices_ = std::make_unique<gl::StorageBuffer>(nt * sizeof(glm::uvec3), "smoke source triangles");
+    indices_->upload(mesh.triangles.data(), nt * sizeof(glm::uvec3));
+    uploaded_ = source.mesh;
+  }
+  source_ = source;
+}
+
+void MeshEmitter::voxelize() {
+  if (!uploaded_) throw Error("MeshEmitter::voxelize: no source was set");
+  const auto nv = static_cast<unsigned>(source_.mesh->vertices_m.size());
+  const auto nt = static_cast<unsigned>(source_.mesh->triangles.size());
+  // local -> world -> grid units (cell i spans [i, i+1]), composed in double
+  const glm::dmat4 m(source_.transform);
+  const double h = grid_.cell_size_m;
+  glm::dmat4 to_grid(1.0);
+  for (int c = 0; c < 3; ++c) to_grid[c] = glm::dvec4(glm::dvec3(m[c]) / h, 0.0);
+  to_grid[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h, 1.0);
+  local_vertices_->bind(0);
+  grid_vertices_->bind(1);
+  transform_.set("u_to_grid", glm::mat4(to_grid));
+  transform_.set("u_count", nv);
+  transform_.dispatch(glm::ivec3(static_cast<int>(nv), 1, 1));
+
+  crossings_.clear();
+  grid_vertices_->bind(0);
+  indices_->bind(1);
+  crossings_.bind(2);
+  crossings_program_.set("u_count", nt);
+  crossings_program_.dispatch(glm::ivec3(static_cast<int>(nt), 1, 1));
+
+  crossings_.bind(0);
+  coverage_.bindImage(0, GL_WRITE_ONLY);
+  coverage_program_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
+}
+
+void MeshEmitter::emit(gl::Texture3D& density, gl::Texture3D& temperature, const gl::Texture3D& nbmask, float dt_s) {
+  const obstacle::CellBox box = bounds();
+  if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return;
+  density.bindImage(0, GL_READ_WRITE);
+  temperature.bindImage(1, GL_READ_WRITE);
+  nbmask.bindImage(2, GL_READ_ONLY);
+  coverage_.bindImage(3, GL_READ_ONLY);
+  emit_.set("u_origin", box.origin);
+  emit_.set("u_density_value", source_.density);
+  emit_.set("u_temperature_value", source_.temperature_k);
+  emit_.set("u_rate", source_.emission == fluid::SourceEmission::Rate ? 1 : 0);
+  emit_.set("u_dt", dt_s);
+  emit_.dispatch(box.extent);
+}
+
+obstacle::CellBox MeshEmitter::bounds() const {
+  if (!uploaded_) return {};
+  const obstacle::WorldBox w = obstacle::worldBox(source_.extent, source_.transform);
+  return obstacle::paddedCellBox(grid_.res, grid_.toGrid(w.lo), grid_.toGrid(w.hi));
+}
+
+}  // namespace hf::emitter
