@@ -24,6 +24,14 @@ const uint NB_SOLID = 128u;
 // Open fraction of face d (NEIGHBOUR order) of cell c, read from the face-fraction image `img`.
 #define FACE_OPEN(img, c, d) imageLoad(img, ((d) & 1) != 0 ? (c) + unitAxis((d) >> 1) : (c))[(d) >> 1]
 
+// A computed open fraction with fractions under `min_open` taken to 0 continuously: w for
+// w >= 2 min_open, 2 (w - min_open) between, 0 below (a nearly covered face would make its cell's
+// pressure row nearly singular; a hard cut-off would make the fraction jump as the body moves).
+float cutOffOpen(float w, float min_open) {
+  if (w >= 2.0 * min_open) return min(w, 1.0);
+  return max(2.0 * (w - min_open), 0.0);
+}
+
 const ivec3 NEIGHBOUR[6] = ivec3[6](ivec3(-1, 0, 0), ivec3(1, 0, 0), ivec3(0, -1, 0),
                                      ivec3(0, 1, 0), ivec3(0, 0, -1), ivec3(0, 0, 1));
 

@@ -1,6 +1,7 @@
 // Stage "voxelize_mesh_fill": one invocation per cell column sums the signed crossings bottom-up.
-// A cell is solid where the sum (the mesh's winding number around its centre) is nonzero; its
-// rigid velocity is v + w x (x - origin) at the cell centre (m/s). Every cell is written.
+// A cell is solid where the sum (the mesh's winding number around its centre) is nonzero. The
+// rigid velocity v + w x (x - origin) is written at every cell centre (m/s), solid or not: cut
+// faces outside the body's cells take their covered part's velocity from it.
 layout(local_size_x = WG_X, local_size_y = WG_Y) in;
 
 layout(std430, binding = 0) readonly buffer Crossings { int crossings[]; };
@@ -21,7 +22,7 @@ void main() {
     winding += crossings[c.x + u_res.x * (c.y + u_res.y * k)];
     bool solid = winding != 0;
     vec3 r = (vec3(c) + 0.5 - u_origin) * u_cell_size;
-    vec3 v = solid ? u_velocity + cross(u_angular, r) : vec3(0.0);
+    vec3 v = u_velocity + cross(u_angular, r);
     imageStore(u_solid, c, uvec4(solid ? 1u : 0u));
     imageStore(u_solid_velocity, c, vec4(v, 0.0));
   }

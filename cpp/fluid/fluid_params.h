@@ -28,9 +28,9 @@ struct FluidParams {
   // exactly pressure_iterations.
   float pressure_tolerance = 0.0f;
   bool compute_residual = true;                // measure the pressure solve's relative residual
-  // Cut cells for the sphere probe: its faces' open fractions from its geometry (Batty et al.
-  // 2007), so the force changes continuously as it moves; off: faces covered by its voxels.
-  bool cut_cells = false;
+  // Cut cells for the probe (sphere or mesh): its faces' open fractions from its geometry (Batty
+  // et al. 2007), so the force changes continuously as it moves; off: faces covered by its voxels.
+  bool cut_cells = true;
 };
 
 // How a smoke source (sphere or mesh, emitter/mesh_source.h) changes the cells it covers, with

@@ -3,6 +3,7 @@
 #include <GL/gl.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,10 @@ MeshProbe::MeshProbe(const fluid::Grid& grid)
                                                           " grid (4 bytes per cell)"),
       transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
       crossings_program_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
-      fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()) {
+      fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()),
+      fine_crossings_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
+      winding_("voxelize_mesh_winding.comp", gl::cellGroupDefines()),
+      fractions_("mesh_fractions.comp", gl::cellGroupDefines()) {
   const int widest = std::max(grid.res.x, grid.res.y);
   while (widest * subcell_ * 2 <= kFixedPointRange) subcell_ *= 2;
   if (widest * subcell_ > kFixedPointRange) {
@@ -41,6 +45,13 @@ MeshProbe::MeshProbe(const fluid::Grid& grid)
   crossings_program_.set("u_subcell", subcell_);
   fill_.set("u_res", grid.res);
   fill_.set("u_cell_size", grid.cell_size_m);
+  fractions_.set("u_res", grid.res);
+  fractions_.set("u_min_open", kMinOpenFraction);
+}
+
+int MeshProbe::fineCellsFor(std::size_t box_cells) {
+  const std::size_t cube = static_cast<std::size_t>(kFineCells) * kFineCells * kFineCells;
+  return box_cells * cube <= kMaxFineCells ? kFineCells : 2;
 }
 
 void MeshProbe::setMesh(std::shared_ptr<const TriangleMesh> mesh) {
@@ -62,7 +73,6 @@ void MeshProbe::setPose(const RigidPose& pose) { pose_ = pose; }
 
 void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
   if (!mesh_) throw Error("MeshProbe::voxelize: no mesh was set");
-  const auto nv = static_cast<unsigned>(mesh_->vertices_m.size());
   const auto nt = static_cast<unsigned>(mesh_->triangles.size());
   // local -> world -> grid units (cell i spans [i, i+1]), composed in double
   const glm::dmat4 m(pose_.transform);
@@ -70,11 +80,7 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
   glm::dmat4 to_grid(1.0);
   for (int c = 0; c < 3; ++c) to_grid[c] = glm::dvec4(glm::dvec3(m[c]) / h, 0.0);
   to_grid[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h, 1.0);
-  local_vertices_->bind(0);
-  grid_vertices_->bind(1);
-  transform_.set("u_to_grid", glm::mat4(to_grid));
-  transform_.set("u_count", nv);
-  transform_.dispatch(glm::ivec3(static_cast<int>(nv), 1, 1));
+  transformVertices(to_grid);
 
   crossings_.clear();
   grid_vertices_->bind(0);
@@ -90,6 +96,66 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
   fill_.set("u_velocity", pose_.velocity_m_s);
   fill_.set("u_angular", pose_.angular_velocity_rad_s);
   fill_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
+}
+
+void MeshProbe::transformVertices(const glm::dmat4& to_grid) {
+  const auto nv = static_cast<unsigned>(mesh_->vertices_m.size());
+  local_vertices_->bind(0);
+  grid_vertices_->bind(1);
+  transform_.set("u_to_grid", glm::mat4(to_grid));
+  transform_.set("u_count", nv);
+  transform_.dispatch(glm::ivec3(static_cast<int>(nv), 1, 1));
+}
+
+bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open) {
+  if (!cut_cells_ || !mesh_) return false;
+  const CellBox box = bounds();
+  if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return false;
+  const std::size_t box_cells = static_cast<std::size_t>(box.extent.x) * box.extent.y * box.extent.z;
+  const int s = fineCellsFor(box_cells);
+  const glm::ivec3 fine_res = box.extent * s;
+  const std::size_t fine_cells = box_cells * s * s * s;
+  int subcell = 2;
+  const int widest = std::max(fine_res.x, fine_res.y);
+  while (widest * subcell * 2 <= kFixedPointRange) subcell *= 2;
+  if (widest * subcell > kFixedPointRange) {
+    throw InvalidArgument("cut cells: the mesh probe's box is " + std::to_string(box.extent.x) + "x" +
+                          std::to_string(box.extent.y) + " cells wide, more than its fine voxelization holds (" +
+                          std::to_string(kFixedPointRange / 2 / s) + "); scale the mesh down or turn cut_cells off");
+  }
+  if (!fine_winding_ || fine_winding_->bytes() < fine_cells * sizeof(std::int32_t)) {
+    fine_winding_.reset();
+    fine_winding_ = std::make_unique<gl::StorageBuffer>(fine_cells * sizeof(std::int32_t),
+                                                        "cut cells: the mesh probe's fine voxelization (" +
+                                                            std::to_string(fine_cells) + " fine cells, 4 bytes each)");
+  }
+  // local -> fine grid units: s x (grid units - the box's first cell)
+  const glm::dmat4 m(pose_.transform);
+  const double h_fine = grid_.cell_size_m / s;
+  glm::dmat4 to_fine(1.0);
+  for (int c = 0; c < 3; ++c) to_fine[c] = glm::dvec4(glm::dvec3(m[c]) / h_fine, 0.0);
+  to_fine[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h_fine - glm::dvec3(box.origin * s), 1.0);
+  transformVertices(to_fine);
+
+  fine_winding_->clear();
+  grid_vertices_->bind(0);
+  indices_->bind(1);
+  fine_winding_->bind(2);
+  fine_crossings_.set("u_res", fine_res);
+  fine_crossings_.set("u_subcell", subcell);
+  fine_crossings_.set("u_count", static_cast<unsigned>(mesh_->triangles.size()));
+  fine_crossings_.dispatch(glm::ivec3(static_cast<int>(mesh_->triangles.size()), 1, 1));
+
+  fine_winding_->bind(0);
+  winding_.set("u_res", fine_res);
+  winding_.dispatch(glm::ivec3(fine_res.x, fine_res.y, 1));
+
+  face_open.bindImage(0, GL_WRITE_ONLY);
+  fractions_.set("u_box_origin", box.origin);
+  fractions_.set("u_fine_res", fine_res);
+  fractions_.set("u_fine", s);
+  fractions_.dispatch(grid_.res + 1);
+  return true;
 }
 
 CellBox MeshProbe::bounds() const {

@@ -8,6 +8,11 @@
 //                            rigid velocity v + w x (x - origin) at solid cell centres
 // Cost: O(triangles + columns under them + cells), not cells x triangles. The mesh is uploaded
 // once per setMesh(); a new pose uploads nothing.
+// Cut cells (setCutCells): writeFaceFractions voxelizes the probe's cell box again on a grid
+// kFineCells times finer per axis (2 where that would exceed kMaxFineCells) with the same
+// transform and crossings stages, sums each fine column in place (voxelize_mesh_winding), and
+// gives every face the fluid share of the fine cells in its control volume (mesh_fractions).
+#include <cstddef>
 #include <memory>
 
 #include "fluid/grid.h"
@@ -18,6 +23,9 @@
 
 namespace hf::obstacle {
 
+inline constexpr int kFineCells = 4;                        // fine cells per cell and axis (cut cells)
+inline constexpr std::size_t kMaxFineCells = std::size_t{1} << 24;  // 64 MiB of winding numbers
+
 class MeshProbe : public Obstacle {
  public:
   explicit MeshProbe(const fluid::Grid& grid);
@@ -26,6 +34,11 @@ class MeshProbe : public Obstacle {
   void setMesh(std::shared_ptr<const TriangleMesh> mesh);
   void setPose(const RigidPose& pose);
   void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) override;
+  // The faces' open fractions from the fine voxelization when cut cells are on; else false.
+  bool writeFaceFractions(gl::Texture3D& face_open) override;
+  void setCutCells(bool on) { cut_cells_ = on; }
+  // Fine cells per cell and axis for a cell box of `box_cells` cells (even, >= 2).
+  static int fineCellsFor(std::size_t box_cells);
   CellBox bounds() const override;
   glm::vec3 referencePointM() const override;
 
@@ -38,6 +51,11 @@ class MeshProbe : public Obstacle {
   std::unique_ptr<gl::StorageBuffer> local_vertices_, grid_vertices_, indices_;
   gl::StorageBuffer crossings_;
   gl::ComputeProgram transform_, crossings_program_, fill_;
+  bool cut_cells_ = false;
+  std::unique_ptr<gl::StorageBuffer> fine_winding_;  // grown to the largest fine grid used
+  gl::ComputeProgram fine_crossings_, winding_, fractions_;
+
+  void transformVertices(const glm::dmat4& to_grid);
 };
 
 }  // namespace hf::obstacle

@@ -8,6 +8,10 @@
 
 namespace hf::obstacle {
 
+// Cut cells: computed open fractions below this go to 0 (continuously, common.glsl's cutOffOpen),
+// so no pressure row is nearly singular.
+inline constexpr float kMinOpenFraction = 0.01f;
+
 struct CellBox {
   glm::ivec3 origin{0};  // first cell
   glm::ivec3 extent{0};  // cells per axis; empty when any is 0

@@ -2,6 +2,8 @@
 
 #include <GL/gl.h>
 
+#include <cmath>
+
 #include "gl/workgroup.h"
 
 namespace hf::obstacle {
@@ -12,6 +14,7 @@ SphereProbe::SphereProbe(const fluid::Grid& grid)
       fractions_("sphere_fractions.comp", gl::cellGroupDefines()) {
   program_.set("u_res", grid.res);
   fractions_.set("u_res", grid.res);
+  fractions_.set("u_min_open", kMinOpenFraction);
   program_.set("u_cell_size", grid.cell_size_m);
 }
 
@@ -29,9 +32,17 @@ bool SphereProbe::writeFaceFractions(gl::Texture3D& face_open) {
   if (!cut_cells_) return false;
   face_open.bindImage(0, GL_WRITE_ONLY);
   fractions_.set("u_centre", grid_.toGrid(pose_.centre_m));
-  fractions_.set("u_radius", pose_.radius_m / grid_.cell_size_m);
+  fractions_.set("u_ramp_radius", rampRadius(pose_.radius_m / grid_.cell_size_m));
   fractions_.dispatch(grid_.res + 1);
   return true;
+}
+
+float SphereProbe::rampRadius(float radius_cells) {
+  // Newton on f(x) = x^3 + x / 4 - r^3 (increasing, convex for x > 0) from x = r >= the root.
+  const double r3 = std::pow(static_cast<double>(radius_cells), 3.0);
+  double x = radius_cells;
+  for (int i = 0; i < 8; ++i) x -= (x * x * x + 0.25 * x - r3) / (3.0 * x * x + 0.25);
+  return static_cast<float>(x);
 }
 
 CellBox SphereProbe::bounds() const {

@@ -23,6 +23,10 @@ class SphereProbe : public Obstacle {
   // cells are on (setCutCells); otherwise false, and the voxels' binary fractions are used.
   bool writeFaceFractions(gl::Texture3D& face_open) override;
   void setCutCells(bool on) { cut_cells_ = on; }
+  // Cut cells smooth the sphere's indicator into a radial ramp one cell wide; the ramp's centre
+  // radius (grid units) whose ball-plus-ramp volume, 4/3 pi (rc^3 + rc / 4), is the sphere's
+  // 4/3 pi r^3 (r >= 1 cell, so rc > 1/2 and the ramp never reaches the centre).
+  static float rampRadius(float radius_cells);
   CellBox bounds() const override;
   glm::vec3 referencePointM() const override { return pose_.centre_m; }
 

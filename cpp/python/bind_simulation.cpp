@@ -311,9 +311,10 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
                       "Measure the pressure residual each step.");
   paramProperty<bool>(c, "cut_cells", [](const fluid::FluidParams& p) { return p.cut_cells; },
                       [](fluid::FluidParams& p, bool v) { p.cut_cells = v; },
-                      "Sphere probe only: cut cells (face-area fractions from the sphere's geometry) in the\n"
-                      "divergence, pressure solve, projection and force, so the force changes continuously as it\n"
-                      "moves. Off (the default): faces are open or covered by the probe's voxels.");
+                      "Cut cells for the probe, sphere or mesh (on by default): the open fractions of the faces\n"
+                      "around it from its geometry, used in the divergence, pressure solve, projection and force,\n"
+                      "so the force changes continuously as it moves. Off: faces are open or covered by the\n"
+                      "probe's voxels (whole cells switch in one step).");
 
   c.def(
       "set_probe",

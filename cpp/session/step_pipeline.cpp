@@ -77,6 +77,7 @@ void StepPipeline::voxelize(Pass& pass) {
     if (!mesh_) mesh_ = std::make_unique<obstacle::MeshProbe>(grid_);
     mesh_->setMesh(probe->mesh);
     mesh_->setPose(probe->pose);
+    mesh_->setCutCells(pass.in.params.cut_cells);
     pass.body = mesh_.get();
   }
   if (pass.body) {

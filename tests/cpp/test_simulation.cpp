@@ -301,6 +301,7 @@ TEST(SimulationPhysics, SphereAtRestFeelsArchimedesAlongGravity) {
   const float rho = 1000.0f;
   SimulationConfig c = cubeConfig(32, rho, 5);
   c.origin_m = glm::vec3(-0.5f, -0.5f, -1.0f);
+  c.params.cut_cells = false;  // the voxel body's answers (cut cells: tests/python/test_cut_cells.py)
   Simulation sim(c);
   const double h = sim.grid().cell_size_m;
   sim.setSphereProbe(sphere(glm::vec3(0.0f, 0.0f, -0.5f), 0.25f));  // centre at grid node (16,16,16)
@@ -386,6 +387,7 @@ class MovingSphere : public ::testing::Test {
 TEST_F(MovingSphere, FirstStepDragOpposesMotionSymmetricallyAndLinearly) {
   SimulationConfig c = cubeConfig(24, kRho, 40);
   c.params.gravity_m_s2 = glm::vec3(0.0f);
+  c.params.cut_cells = false;  // faces beside solid voxels carry the solid's velocity (voxels)
   Simulation sim(c);
   const StepReport fwd = firstStep(sim, glm::vec3(0.5f, 0.0f, 0.0f));
   ASSERT_LT(fwd.force_n.x, 0.0f) << "a sphere moving +x must be pushed back";
@@ -516,6 +518,7 @@ TEST_P(ResidualBySweeps, FallsWithSweepsAndMatchesTheFields) {
     SimulationConfig c = cubeConfig(24, kRho, iterations);
     c.params.gravity_m_s2 = glm::vec3(0.0f);
     c.params.open_top = open_top;
+    c.params.cut_cells = false;  // recompute() rebuilds the voxel operator (binary fractions)
     Simulation sim(c);  // fresh: no warm start from an earlier solve
     // Moving up and sideways, a little off centre, so the top wall matters.
     sim.setSphereProbe(sphere(glm::vec3(0.47f, 0.5f, 0.55f), kRadius, glm::vec3(speed, 0.0f, 0.3f)));

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import hapticfluid as hf
-from conftest import step_in_background
+from conftest import cells_with_unknowns, step_in_background
 
 
 def test_device_is_reported(small_sim):
@@ -200,7 +200,7 @@ def test_closed_box_pressure_keeps_zero_mean():
                       angular_velocity=(0, 0, 3.0))
         sim.step(0.02)
     p = sim.pressure(hydrostatic=False)
-    fluid = sim.cell_classes() < hf.CELL_BOUNDARY
+    fluid = cells_with_unknowns(sim, (x, 0.5, 0.6), 0.15)  # with cut cells, cut cells' centres may be inside
     spread = float(p[fluid].max() - p[fluid].min())
     assert spread > 0
     assert abs(float(p[fluid].mean())) < 1e-4 * spread + 1e-6

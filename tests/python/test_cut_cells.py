@@ -1,21 +1,24 @@
-"""Known answers of cut cells (Simulation.cut_cells, the sphere probe's face-area fractions)."""
+"""Known answers of cut cells (Simulation.cut_cells: the sphere probe's ramp fractions, the mesh
+probe's fine control-volume fractions)."""
 
 import math
 
+import numpy as np
 import pytest
 
 import hapticfluid as hf
+from hapticfluid import meshes
 from hapticfluid.bench.force_roughness import roughness
 
 RHO = 1000.0
 G = 9.81
 
 
-def test_cut_cells_are_off_by_default():
+def test_cut_cells_are_on_by_default():
     sim = hf.Simulation(resolution=(8, 8, 8))
-    assert sim.cut_cells is False
-    sim.cut_cells = True
     assert sim.cut_cells is True
+    sim.cut_cells = False
+    assert sim.cut_cells is False
 
 
 def test_archimedes_with_cut_cells_matches_the_analytic_sphere():
@@ -70,6 +73,46 @@ def test_added_mass_with_cut_cells_is_within_three_percent_of_lamb_at_64():
     fx, fy, fz = sim.step(dt).force
     sim.close()
     volume = 4.0 / 3.0 * math.pi * radius**3
+    cm = -fx * dt / (RHO * volume * speed)
+    assert cm == pytest.approx(confined_sphere_added_mass(radius, 1.0), rel=0.03)
+    assert abs(fy) < 1e-3 * abs(fx) and abs(fz) < 1e-3 * abs(fx)
+
+
+def _translation(centre):
+    m = np.eye(4)
+    m[:3, 3] = centre
+    return m
+
+
+def _polyhedron_volume(vertices, triangles):
+    v = np.asarray(vertices, dtype=float)
+    t = np.asarray(triangles)
+    return abs(np.einsum("ij,ij->i", v[t[:, 0]], np.cross(v[t[:, 1]], v[t[:, 2]])).sum()) / 6.0
+
+
+def test_mesh_sphere_with_cut_cells_matches_the_analytic_sphere_at_40():
+    """An icosphere (1280 triangles, r 0.2 m) with cut cells at 40^3: Archimedes within 0.5% of
+    rho g V (V the polyhedron's volume), and the first step's impulse gives the confined
+    sphere's added mass within 3% (voxels: 11% high at this size), with no sideways force."""
+    from test_multigrid_physics import confined_sphere_added_mass
+
+    radius, speed, dt = 0.2, 0.5, 0.01
+    vertices, triangles = meshes.icosphere(3, radius)
+    volume = _polyhedron_volume(vertices, triangles)
+    sim = hf.Simulation(resolution=(40, 40, 40), fluid_density=RHO, pressure_solver="multigrid",
+                        pressure_tolerance=1e-5, pressure_iterations=100)
+    assert sim.cut_cells
+    sim.set_mesh_probe(vertices, triangles, _translation((0.503, 0.49, 0.511)))
+    fx, fy, fz = sim.step(0.01).force
+    sim.close()
+    assert fz == pytest.approx(RHO * G * volume, rel=0.005)
+    assert abs(fx) < 1e-3 * fz and abs(fy) < 1e-3 * fz
+
+    sim = hf.Simulation(resolution=(40, 40, 40), gravity=(0, 0, 0), fluid_density=RHO, pressure_solver="multigrid",
+                        pressure_tolerance=1e-5, pressure_iterations=100)
+    sim.set_mesh_probe(vertices, triangles, _translation((0.5, 0.5, 0.5)), velocity=(speed, 0.0, 0.0))
+    fx, fy, fz = sim.step(dt).force
+    sim.close()
     cm = -fx * dt / (RHO * volume * speed)
     assert cm == pytest.approx(confined_sphere_added_mass(radius, 1.0), rel=0.03)
     assert abs(fy) < 1e-3 * abs(fx) and abs(fz) < 1e-3 * abs(fx)

@@ -6,9 +6,10 @@ residual of 1e-5 each step, dt = 1/120 s. After the start transient (the first
 TRANSIENT_S seconds) the axial force should be steady; reported per grid are its mean, the
 RMS of its step-to-step change and the largest single change, both divided by the mean
 ("roughness" and "largest jump"), and the cells the sphere's centre crossed in the window.
-Each grid runs twice: with the probe's voxels (cut_cells off, the default: whole cells switch
-in one step, so the force jumps once per cell crossed) and with cut cells (face-area fractions
-from the sphere, Simulation.cut_cells: the change is continuous).
+Each grid runs twice: with the probe's voxels (cut_cells off: whole cells switch in one step, so
+the force jumps once per cell crossed) and with cut cells (Simulation.cut_cells, the default:
+face fractions from the sphere smoothed into a one-cell radial ramp, so the discrete body, and
+its added mass, no longer change with its position within a cell).
 
 Run alone: ``python3 -m hapticfluid.bench.force_roughness [--quick] [--json PATH]``.
 """

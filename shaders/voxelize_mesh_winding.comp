@@ -1,0 +1,18 @@
+// Stage "voxelize_mesh_winding": the fine voxelization of a mesh probe's cut cells. One
+// invocation per column of the fine grid (the probe's cell box at u_fine samples per cell and
+// axis, voxelize_mesh_crossings run on it) sums the signed crossings bottom-up in place: each
+// entry becomes the mesh's winding number around that fine cell's centre (nonzero: solid).
+layout(local_size_x = WG_X, local_size_y = WG_Y) in;
+
+layout(std430, binding = 0) buffer Crossings { int crossings[]; };
+
+void main() {
+  ivec2 col = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(col, u_res.xy))) return;
+  int winding = 0;
+  for (int k = 0; k < u_res.z; ++k) {
+    int n = col.x + u_res.x * (col.y + u_res.y * k);
+    winding += crossings[n];
+    crossings[n] = winding;
+  }
+}
