@@ -4,7 +4,8 @@
 #                  corpus tests/fuzz/corpus/falcon_packet (new inputs go to build/tests/fuzz/corpus)
 #   scene, csv, mesh  tests/fuzz/fuzz_inputs.py, a seeded mutator over tests/fuzz/corpus/<target>
 # Usage: scripts/fuzz_long.sh [TARGET...]   (default: all four, one after the other; start one
-#        invocation per target to run them side by side); HF_FUZZ_RUNS=N to change 10000000.
+#        invocation per target to run them side by side); HF_FUZZ_RUNS=N to change 10000000,
+#        HF_FUZZ_SEED=S the seed (default 1; a second process on one target needs another seed).
 #        The Python targets log their input count and rate every minute; a SIGTERM (kill PID)
 #        stops one cleanly and logs the count reached. Figures: docs/HARDENING.md, "Long fuzz runs".
 # Rates measured on this machine (2 shared cores, llvmpipe), single process each:
@@ -30,7 +31,7 @@ for t in "${targets[@]}"; do
     exe="$HF_BUILD/tests/fuzz/fuzz_falcon_packet"
     [ -x "$exe" ] || cmake --build "$HF_BUILD" --target fuzz_falcon_packet
     mkdir -p "$HF_BUILD/tests/fuzz/corpus"
-    "$exe" -runs="$RUNS" -max_len=256 -seed=1 -print_final_stats=1 -artifact_prefix="$FINDINGS/" \
+    "$exe" -runs="$RUNS" -max_len=256 -seed="${HF_FUZZ_SEED:-1}" -print_final_stats=1 -artifact_prefix="$FINDINGS/" \
       "$HF_BUILD/tests/fuzz/corpus" "$HF_ROOT/tests/fuzz/seeds" "$HF_ROOT/tests/fuzz/corpus/falcon_packet" || status=1
   else
     PYTHONPATH="$HF_BUILD/python" /usr/bin/python3 "$HF_ROOT/tests/fuzz/fuzz_inputs.py" "$t" \
