@@ -168,8 +168,9 @@ def scratch_root() -> "str | None":
     return str(shm) if shm.is_dir() and os.access(shm, os.W_OK) else None
 
 
-class Stopped(Exception):
-    """SIGTERM during a run: the run ends and reports the inputs it reached."""
+class Stopped(BaseException):
+    """SIGTERM during a run: the run ends and reports the inputs it reached (a BaseException, so
+    that the per-input handler does not take it for a finding)."""
 
 
 def run(target: str, runs: int, seed: int, crashes: Path, log_every_s: float = 60.0) -> Dict[str, float]:
