@@ -280,6 +280,12 @@ class BakeScene:
     def check_probe_path(self) -> None:
         """The sphere stays a cell plus a hair from every wall at every key, hence (positions
         and radii interpolate linearly, the allowed set is convex) everywhere in between."""
+        # Coordinates near 1e308 overflow in the checks and the rounding of the message (inf is
+        # refused all the same): no numpy RuntimeWarning on top of the error.
+        with np.errstate(over="ignore", invalid="ignore"):
+            self._check_probe_path()
+
+    def _check_probe_path(self) -> None:
         if self.probe is None:
             return
         h = self.cell_size
@@ -473,7 +479,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
             radius = _number("probe.radius", p.get("radius"), positive=True)
         elif shape == "mesh":
             vertices, triangles = _mesh_arrays("probe", p)
-            radius = float(np.linalg.norm(vertices, axis=1).max())
+            with np.errstate(over="ignore"):  # 1e308 coordinates: an inf radius, refused below
+                radius = float(np.linalg.norm(vertices, axis=1).max())
         else:
             raise _err("probe.shape", f"must be 'sphere' or 'mesh', got {shape!r}")
         probe = ProbeSpec(shape=shape, radius=radius, trajectory=_trajectory("probe.keys", p.get("keys")),

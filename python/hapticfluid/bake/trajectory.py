@@ -106,7 +106,11 @@ def decompose(matrix: Sequence[Sequence[float]]) -> Pose:
     if not np.allclose(m[3], (0.0, 0.0, 0.0, 1.0), atol=1e-9):
         raise InvalidArgumentError(f"a probe transform's last row must be (0, 0, 0, 1), got {m[3].tolist()}")
     linear = m[:3, :3]
-    scale = np.linalg.norm(linear, axis=0)
+    with np.errstate(over="ignore"):  # axes near 1e308 long: an inf length, refused below
+        scale = np.linalg.norm(linear, axis=0)
+    if not np.all(np.isfinite(scale)):
+        raise InvalidArgumentError(f"a probe transform's axes are too long for a float: scale {scale.tolist()}; "
+                                   "give a matrix whose scale is a finite number")
     if np.any(scale < 1e-12):
         raise InvalidArgumentError(f"a probe transform has a zero scale: {scale.tolist()}")
     rot = linear / scale[np.newaxis, :]
