@@ -227,6 +227,9 @@ TEST(HapticLoop, SlowSimulationKeepsTheForceAndAStalledOneFades) {
   const double slow_end_s = last_publish_s;
   loop.drainTrace(trace);
   ASSERT_TRUE(waitFor([&] { return device->lastForce() == glm::vec3(0.0f); }, 10000ms));  // stalled
+  // The force reaches zero at the end of the fade; keep the loop running a while so the trace
+  // holds periods past it (drained at once, it may end before the first of them).
+  std::this_thread::sleep_for(100ms);
   loop.drainTrace(trace);
   const double stale_after = loop.latest().stale_after_s;
   loop.stop();
