@@ -93,20 +93,10 @@ def _local_radius(obj) -> float:
 
 def _mesh_arrays(obj):
     """The object's evaluated mesh (modifiers applied) in its local frame: vertices and triangles."""
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        mesh.calc_loop_triangles()
-        vertices = [list(v.co) for v in mesh.vertices]
-        triangles = [list(t.vertices) for t in mesh.loop_triangles]
-    finally:
-        evaluated.to_mesh_clear()
-    extent = [max(v[i] for v in vertices) - min(v[i] for v in vertices) for i in range(3)] if vertices else [0.0] * 3
-    if len(triangles) < 4 or min(extent) <= 1e-9 * max(max(extent), 1e-30):
-        what = ("has no faces" if not triangles
-                else f"is flat ({len(triangles)} triangle(s), extent {[round(e, 4) for e in extent]} m)")
+    vertices, triangles, flat = source_mesh.evaluated_mesh(obj)
+    if flat is not None:
         raise SceneError(f"give the probe '{obj.name}' a closed mesh with thickness (e.g. a Solidify modifier) or use "
-                         f"the Sphere shape: the probe mesh has no volume, it {what}")
+                         f"the Sphere shape: the probe mesh has no volume, it {flat}")
     return {"vertices": vertices, "triangles": triangles}
 
 

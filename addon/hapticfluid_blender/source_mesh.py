@@ -41,9 +41,10 @@ def _mesh_problem(vertices, triangles):
     return None if unmatched == 0 else unmatched // 2 + unmatched % 2
 
 
-def mesh_arrays(obj):
-    """The source object's evaluated mesh in its local frame: {"vertices", "triangles"}. Raises
-    SourceError (fix first, naming the object) for a mesh with no volume or with holes."""
+def evaluated_mesh(obj):
+    """The object's evaluated mesh (modifiers applied) in its local frame, for the probe and the
+    source: (vertices, triangles, flat), where ``flat`` is None or why the mesh can enclose no
+    volume ("has no faces", "is flat (...)")."""
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     mesh = evaluated.to_mesh()
     try:
@@ -53,12 +54,21 @@ def mesh_arrays(obj):
     finally:
         evaluated.to_mesh_clear()
     extent = [max(v[i] for v in vertices) - min(v[i] for v in vertices) for i in range(3)] if vertices else [0.0] * 3
+    flat = None
     if len(triangles) < 4 or min(extent) <= 1e-9 * max(max(extent), 1e-30):
-        what = ("it has no faces" if not triangles
-                else f"it is flat ({len(triangles)} triangle(s), extent {[round(e, 4) for e in extent]} m)")
+        flat = ("has no faces" if not triangles
+                else f"is flat ({len(triangles)} triangle(s), extent {[round(e, 4) for e in extent]} m)")
+    return vertices, triangles, flat
+
+
+def mesh_arrays(obj):
+    """The source object's evaluated mesh in its local frame: {"vertices", "triangles"}. Raises
+    SourceError (fix first, naming the object) for a mesh with no volume or with holes."""
+    vertices, triangles, flat = evaluated_mesh(obj)
+    if flat is not None:
         raise SourceError(f"give the smoke source '{obj.name}' a closed mesh with thickness (e.g. a Solidify "
                           f"modifier), or use an Empty for a sphere source: smoke comes from the mesh's volume, "
-                          f"and {what}")
+                          f"and it {flat}")
     open_edges = _mesh_problem(vertices, triangles)
     if open_edges is not None:
         raise SourceError(f"close the smoke source '{obj.name}' mesh (Edit Mode: Mesh > Clean Up > Fill Holes, then "
