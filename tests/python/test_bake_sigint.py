@@ -94,10 +94,6 @@ def test_a_sigint_while_the_process_winds_down_after_the_first(tmp_path):
         check(rc, stdout, stderr, f"SIGINT during exit (attempt {attempt})")
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "known crash, issue 19: a serial .ci/run (2026-12-02) once ended with 'terminate called without an "
-    "active exception' (exit -6) after 20 SIGINTs 1 ms apart: a native std::thread still joinable when "
-    "the interpreter exits; not yet found"))
 def test_a_storm_of_sigints(tmp_path):
     proc, out, err = start_bake(tmp_path, "storm")
     for _ in range(20):

@@ -50,6 +50,40 @@ def test_the_queue_holds_at_most_depth_frames_beside_the_one_being_written():
     assert started == [1, 2, 3]
 
 
+def test_ctrl_c_while_closing_aborts_but_never_leaves_the_writer_running():
+    """Issue 19: Ctrl-C storms on the bake ended with 'terminate called without an active
+    exception' (exit -6): a KeyboardInterrupt raised inside close() left the daemon writer in a
+    frame's (native) write as the interpreter exited. Now close() waits for the thread, drops
+    the queued frames, and raises the KeyboardInterrupt after."""
+    import os
+    import signal
+
+    writing = threading.Event()
+    release = threading.Event()
+    seen, done = [], []
+
+    def slow(job):
+        seen.append(job.frame)
+        writing.set()
+        release.wait(30)
+        done.append(job.frame)
+
+    w = _writer.FrameWriter(slow, depth=1)
+    w.put(_job(1))  # being written
+    w.put(_job(2))  # queued: dropped by the abort the Ctrl-C turns the close into
+    assert writing.wait(30)
+
+    def ctrl_c_then_release():
+        os.kill(os.getpid(), signal.SIGINT)  # Python's default handler: KeyboardInterrupt in close()
+        threading.Timer(0.3, release.set).start()
+
+    threading.Timer(0.2, ctrl_c_then_release).start()
+    with pytest.raises(KeyboardInterrupt):
+        w.close()
+    assert done == [1]  # close() returned only once the frame being written was written
+    assert seen == [1]  # and frame 2 was dropped
+
+
 def test_a_failed_write_names_the_frame_and_drops_what_follows():
     seen = []
 

@@ -59,11 +59,15 @@ def cmd_bake(args: argparse.Namespace) -> int:
 
     cancel = threading.Event()
     over = threading.Event()  # the bake has returned or raised: a signal now changes nothing
+    stopping_now = threading.Event()  # the second signal raised KeyboardInterrupt: later ones do nothing
 
     def on_signal(signum, _frame):
         if over.is_set():
             return
+        if stopping_now.is_set():  # a third and later Ctrl-C: already stopping as fast as it can
+            return
         if cancel.is_set():  # a second Ctrl-C: stop now (the frame in flight is lost, nothing else)
+            stopping_now.set()
             raise KeyboardInterrupt
         cancel.set()  # before the message: a second signal during the print stops at once
         print(f"\nbake: {signal.Signals(signum).name}: stopping after this substep "

@@ -61,6 +61,7 @@ class FrameWriter:
         self._error: Optional[BakeError] = None
         self._abort = threading.Event()
         self._closed = False
+        self._ended = threading.Event()  # set by the thread as its last act (see _end_thread)
         self._thread = threading.Thread(target=self._run, name="hapticfluid-bake-writer", daemon=True)
         self._thread.start()
 
@@ -90,22 +91,50 @@ class FrameWriter:
 
     def close(self, abort: bool = False) -> None:
         """Wait until every queued frame is written (abort: only the one being written), then
-        end the thread. Does not raise the writer's error: call check() after."""
+        end the thread. Does not raise the writer's error: call check() after.
+
+        A KeyboardInterrupt (Ctrl-C) while it waits turns the close into an abort and is raised
+        once the thread has ended: the writer never outlives the bake. A daemon thread still in
+        native code (a frame's write) when the interpreter exits is stopped by pthread_exit,
+        whose unwinding through C++ ends the process with std::terminate (exit -6)."""
         if self._closed:
             return
         self._closed = True
         if abort:
             self._abort.set()
-        while True:  # the end marker; the writer keeps taking jobs, so this never waits long
+        interrupted: Optional[BaseException] = None
+        while True:
+            try:
+                self._end_thread()
+                break
+            except KeyboardInterrupt as exc:  # stop at once, but only once the thread is gone
+                interrupted = exc
+                self._abort.set()
+        if interrupted is not None:
+            raise interrupted
+
+    def _end_thread(self) -> None:
+        # Waits on the writer's own "ended" event, not on Thread.is_alive()/join(): a
+        # KeyboardInterrupt inside Thread.join() can mark a running thread stopped (CPython's
+        # bpo-45274 clean-up releases the lock the thread still holds), and the next join then
+        # returns at once while the thread is still writing.
+        while not self._ended.is_set():  # the end marker; the writer keeps taking jobs, so this never waits long
             try:
                 self._jobs.put(None, timeout=_POLL_S)
                 break
             except queue.Full:
-                if not self._thread.is_alive():
-                    break
-        self._thread.join()
+                continue
+        while not self._ended.wait(_POLL_S):
+            pass
+        self._thread.join()  # only Python frames are left on the thread
 
     def _run(self) -> None:
+        try:
+            self._take_jobs()
+        finally:
+            self._ended.set()
+
+    def _take_jobs(self) -> None:
         while True:
             job = self._jobs.get()
             if job is None:
