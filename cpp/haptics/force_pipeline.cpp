@@ -37,6 +37,9 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   // The observer sees the force the device held since the last reading: safety's last output.
   // A (re)start begins with no stored energy and no debt: it is reset while the device is not
   // homed, and while the output is off (paused, stopping, failed) with its force back at zero.
+  // The controller acts on the grip's motion from the positions read (grip_motion.h), not on
+  // the device's filtered velocity, which lags.
+  const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
   const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
   if (output_off) {
     passivity_.reset();
@@ -47,7 +50,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     // force on untouched.
     const glm::vec3 deliverable = clampMagnitude(out.filtered_n, s_.safety.max_force_n);
     const glm::vec3 damped =
-        passivity_.apply(deliverable, in.state.position_m, in.state.velocity_m_s, safety_.last(), in.dt_s);
+        passivity_.apply(deliverable, in.state.position_m, grip_velocity, safety_.last(), in.dt_s);
     out.passive_n = passivity_.acted() ? damped : out.filtered_n;
   }
   out.damping_n_s_m = passivity_.state().alpha_n_s_m;
@@ -68,6 +71,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
 void ForcePipeline::reset() {
   predictor_.reset();
   filter_.reset();
+  grip_.reset();
   passivity_.reset();
   safety_.reset();
 }

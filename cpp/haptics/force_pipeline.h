@@ -11,6 +11,7 @@
 #include "haptics/drag_predictor.h"
 #include "haptics/force_safety.h"
 #include "haptics/frames.h"
+#include "haptics/grip_motion.h"
 #include "haptics/low_pass_filter.h"
 #include "haptics/passivity_controller.h"
 #include "haptics/workspace_map.h"
@@ -62,6 +63,7 @@ class ForcePipeline {
   PipelineSettings s_;
   DragPredictor predictor_;
   LowPassFilter filter_;
+  GripMotion grip_;  // the velocity the passivity controller acts on (grip_motion.h)
   PassivityController passivity_;
   ForceSafety safety_;
 };

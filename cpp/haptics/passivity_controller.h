@@ -32,6 +32,22 @@
 //     push is taken back while the stored dissipation can still pay for the unwinding;
 //   - through the slew step, the change along the motion goes first (a sideways change of the
 //     wanted force does not use up the step that takes the push back).
+// Acceleration-aware (the turn-around): a force AGAINST the motion dissipates, so the budget
+// allows it, but when the hand turns round it becomes a push, and a hand that speeds up while
+// that push slews back takes energy from it: p^2 |v| / (2 S') + a p^3 / (6 S'^2) for a push p
+// unwound from speed |v| with acceleration a along the motion (the integral of (p - S't)(|v| + a t)
+// over the unwinding). With a the hand's acceleration (the velocity readings differentiated and
+// low-passed over kAccelFilterS):
+//   - pushing and speeding up (a > 0 along the motion): the cubic term joins the budget, so the
+//     allowed push is the root of E + p |v| dt + p^2 |v| / (2 S') + a p^3 / (6 S'^2) = 0;
+//   - against the motion and slowing down (a < 0 along it): the hand turns in t = |v| / |a|.
+//     By then the force against the motion must be down to q_turn = cbrt(6 S'^2 (A - E) / |a|),
+//     the push the stored dissipation can unwind after the turn (A = kTurnAllowanceJ, so noise
+//     in a slow, steady hold does not blank a steady force); the slew limit takes S' t of it off
+//     on the way, so now the force against the motion is held to q_turn + S' t: what is above is
+//     taken off first along the motion (this removes dissipation, never adds energy now).
+//   A turn measured in one run (gain 1, 300 N/m hand): 4 N against a hand stopping at 10 m/s^2
+//   became a 6 N push after the turn and gave the hand 16 mJ in 30 ms before this plan.
 // With no slew limit (S = 0) it is the plain controller above: the same damping, to the bit.
 // It sits before the safety stage: clamp and slew limit stay the last word on |F|. The pipeline
 // hands it the wanted force already clamped to max_force (the force the device can deliver), and
@@ -48,6 +64,15 @@ namespace hf::haptics {
 
 // The controller plans the unwinding of a push with this fraction of the safety stage's slew rate.
 inline constexpr double kPlanSlewFraction = 0.5;
+// The hand's acceleration: the velocity readings differentiated, low-passed with this time
+// constant (s): short beside a turn (a 10 m/s^2 stop from 0.2 m/s takes 20 ms), long beside the
+// 1 ms period.
+inline constexpr double kAccelFilterS = 0.004;
+// Energy a turn may leak beyond the stored dissipation (J): 0.1 mJ, so a slow hold whose
+// acceleration is velocity noise keeps a steady force (about 1.8 N at 1 m/s^2 of noise with
+// nothing stored) while a real turn at 10 m/s^2 is held to 0.84 N at the turn with nothing
+// stored, 3.9 N with the whole 10 mJ reserve (S' = 100 N/s).
+inline constexpr double kTurnAllowanceJ = 1e-4;
 
 struct PassivitySettings {
   bool enabled = true;                    // false: observe only (no damping)
@@ -72,6 +97,7 @@ struct PassivityState {                   // published to the host (trivially co
   double alpha_n_s_m = 0.0;               // this period's damping, N s/m
   double cut_n = 0.0;                     // this period's cut of the push along the motion, N
   std::uint64_t active = 0;               // periods with damping or a cut since the last reset
+  std::uint64_t turn_ticks = 0;           // of those, periods that eased a force against the motion before a turn
   std::uint64_t resets = 0;               // resets after something was observed
 };
 
@@ -93,8 +119,13 @@ class PassivityController {
   const PassivitySettings& settings() const { return s_; }
 
  private:
-  double unwindEnergy(double push_n, double speed_m_s) const;              // J still to come
-  double allowedPush(double energy_j, double speed_m_s, double dt_s) const;  // N along the motion
+  // J still to come while a push is slewed back from speed |v| with acceleration a (>= 0) along the motion.
+  double unwindEnergy(double push_n, double speed_m_s, double accel_m_s2) const;
+  // N along the motion: the largest push the budget E + p |v| dt + unwind(p) <= 0 allows.
+  double allowedPush(double energy_j, double speed_m_s, double accel_m_s2, double dt_s) const;
+  // N against the motion the hand may still feel now, slowing down at decel_m_s2 (> 0) (see the header).
+  double allowedAgainst(double energy_j, double speed_m_s, double decel_m_s2) const;
+  void trackAcceleration(const glm::vec3& velocity_m_s, double dt_s);
 
   PassivitySettings s_;
   float slew_rate_n_s_ = 0.0f;
@@ -102,6 +133,9 @@ class PassivityController {
   bool acted_ = false;
   bool have_position_ = false;
   glm::dvec3 last_position_m_{0.0};
+  bool have_velocity_ = false;
+  glm::dvec3 last_velocity_m_s_{0.0};
+  glm::dvec3 accel_m_s2_{0.0};             // low-passed (kAccelFilterS)
 };
 
 }  // namespace hf::haptics

@@ -83,6 +83,7 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["passivity_alpha"] = p.alpha_n_s_m;
   d["passivity_active_ticks"] = p.active;
   d["passivity_resets"] = p.resets;
+  d["passivity_turn_ticks"] = p.turn_ticks;
   d["passivity_max_damping"] = s.haptic.max_damping_n_s_m;
   d["error"] = s.error.empty() ? py::object(py::none()) : py::object(py::str(s.error));
   return d;
@@ -465,7 +466,8 @@ session on it fails to start; close() still stops it (the session then fails wit
         "passivity_energy (J, the observer: > 0 means the loop made net energy), passivity_delivered\n"
         "(J, plain sum of the energy delivered to the hand, F . dx), passivity_dissipated (J, removed\n"
         "by the damper), passivity_alpha (N s/m, the latest damping), passivity_active_ticks,\n"
-        "passivity_resets, passivity_max_damping (N s/m, its bound). Latency: device read -> the\n"
+        "passivity_turn_ticks (of those, periods that eased a force against the motion before the\n"
+        "hand turns), passivity_resets, passivity_max_damping (N s/m, its bound). Latency: device read -> the\n"
         "first haptic period that uses the force computed from that pose.");
   c.def_property_readonly(
       "latest_force", [](const HapticSession& s) { return vec3Array(s.latest().commanded_n); },

@@ -115,22 +115,25 @@ def test_the_controller_tames_gain_1_on_a_stiff_hand(tmp_path, hand_stiffness):
     """Gain 1 (60 times what the Falcon can render here) with the controller, in three runs.
 
     At this gain the controller's corrections must pass through the 200 N/s slew limit (40 ms
-    for 8 N): it plans around it (passivity_controller.h). It is not yet passive in every run:
-    when the hand turns round, a force that opposed the motion becomes a push, and slewing it
-    back leaks about 1 mJ per turn (a 98 mJ window in one serial CI run on a quiet machine; 2 of
-    95 runs under load). So this asserts what holds: every run, the controller acts; the median
-    run delivers under 0.01 W (without the controller: 0.2-1.4 W); and at least one run of three
-    is passive over every window (<= 0.05 J per 0.5 s) with the hand at rest. The default gain's
-    test asserts the window bound on every run."""
+    for 8 N): it plans around it, and around the hand's turns (passivity_controller.h), acting on
+    the grip's motion read from positions (grip_motion.h), not on the driver's 15 ms filtered
+    velocity. Every run is passive over every window (<= 0.05 J per 0.5 s: measured at most
+    34 mJ in 60 runs under load; before the turn plan and the grip's velocity, 0.1-0.3 J in 1 of
+    20 runs, and a 98 mJ window failed a serial CI run). The hand does not swing: at this gain
+    the controller switches the force on and off as the hand creeps, a chatter of about 1.3 mm
+    (median of the last second's swing in those 60 runs, 2.9 mm at most) against 9-53 mm without
+    the controller."""
     runs = [falcon_run(tmp_path / f"run{i}", force_gain=1.0, hand_stiffness=hand_stiffness) for i in range(3)]
-    for run, _ in runs:
+    for run, trace in runs:
         assert run.stats["passivity_active_ticks"] > 0
         assert run.stats["passivity_dissipated"] > 0.0
+        assert largest_window_energy(trace, PERIOD_S) <= 0.05, run.motion
+        assert run.motion["delivered_j"] <= 0.05, run.motion
+        assert max(run.motion["last_peak_to_peak_mm"]) < 4.0, run.motion
     powers = sorted(run.motion["mean_power_w"] for run, _ in runs)
     assert powers[1] < 0.01, powers
-    passive = [largest_window_energy(trace, PERIOD_S) <= 0.05 and run.motion["delivered_j"] <= 0.05
-               and max(run.motion["last_peak_to_peak_mm"]) < 2.0 for run, trace in runs]
-    assert any(passive), [run.motion for run, _ in runs]
+    swings = sorted(max(run.motion["last_peak_to_peak_mm"]) for run, _ in runs)
+    assert swings[1] < 2.5, [run.motion for run, _ in runs]
 
 
 def test_passivity_settings_are_checked(small_sim):
