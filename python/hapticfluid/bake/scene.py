@@ -504,7 +504,11 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     directory = c.get("directory")
     if not isinstance(directory, str) or not directory or "\0" in directory:
         raise _err("cache.directory", f"must be a folder path (no NUL character), got {directory!r}")
-    cache_dir = Path(directory).expanduser()
+    try:
+        cache_dir = Path(directory).expanduser()
+    except RuntimeError:  # "~name" for a user this machine does not know (or no home at all)
+        raise _err("cache.directory", f"starts with '~' but names no home folder on this machine, got {directory!r}; "
+                                      "give the folder's full path") from None
     if not cache_dir.is_absolute():
         cache_dir = Path(base_dir) / cache_dir
     grids = c.get("grids", ["density"])
