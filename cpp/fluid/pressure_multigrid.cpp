@@ -44,7 +44,7 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
 }
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
-  vcycle_.apply(f.nbmask, f.face_open, r_, z_, q_);  // q is free again once the update has used it
+  vcycle_.apply(f.nbmask, f.face_open, r_, z_);
   r_.bindImage(1, GL_READ_ONLY);
   z_.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);

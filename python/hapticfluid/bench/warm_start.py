@@ -72,6 +72,35 @@ def _laplacian(p: np.ndarray, fluid: np.ndarray, open_top: bool) -> np.ndarray:
     return np.where(fluid, out, 0.0)
 
 
+def _predictors(cur: np.ndarray, prev: np.ndarray, prev2: Optional[np.ndarray], fluid: np.ndarray,
+                open_top: bool) -> Dict[str, float]:
+    """Starting relative residual ||b - A x0|| / ||b|| of candidate starts x0, with b = A p_n (the
+    solved pressure; exact to the solve's tolerance) and the CPU operator: the plain warm start,
+    the min-residual scaled one, the linear extrapolation 2 p_n-1 - p_n-2 and the min-residual
+    combination of p_n-1 and p_n-2."""
+    a = lambda x: _laplacian(x, fluid, open_top)  # noqa: E731
+    b = a(cur)
+    bb = float((b * b).sum())
+    if bb <= 0:
+        return {}
+    rel = lambda x0: float(np.sqrt(((b - a(x0)) ** 2).sum() / bb))  # noqa: E731
+    ap1 = a(prev)
+    out = {"warm": rel(prev), "zero": 1.0}
+    d = float((ap1 * ap1).sum())
+    out["scaled"] = rel(prev * (float((b * ap1).sum()) / d)) if d > 0 else 1.0
+    if prev2 is not None:
+        out["extrapolated"] = rel(2.0 * prev - prev2)
+        ap2 = a(prev2)
+        m = np.array([[d, float((ap1 * ap2).sum())], [float((ap1 * ap2).sum()), float((ap2 * ap2).sum())]])
+        v = np.array([float((b * ap1).sum()), float((b * ap2).sum())])
+        try:
+            c = np.linalg.solve(m, v)
+            out["span2"] = rel(c[0] * prev + c[1] * prev2)
+        except np.linalg.LinAlgError:
+            pass
+    return out
+
+
 def _near_probe(sim: hf.Simulation, centre, radius: float, cells: float) -> np.ndarray:
     nx, ny, nz = sim.resolution
     h = sim.cell_size
@@ -126,6 +155,7 @@ def measure(scene_name: str, resolution_max: int, steps: int, split_every: int, 
     scene.place_probe(sim, 0.0)
     rows: List[dict] = []
     prev: Optional[np.ndarray] = None
+    prev2: Optional[np.ndarray] = None
     try:
         for n in range(steps):
             t_end = sim.time + scene.dt_s
@@ -156,6 +186,7 @@ def measure(scene_name: str, resolution_max: int, steps: int, split_every: int, 
                 r2 = float((res * res).sum())
                 row["warm_residual_near_probe_share"] = float((res[near] ** 2).sum()) / r2 if r2 > 0 else 0.0
                 row["near_probe_cells_share"] = float(near.sum()) / near.size
+                row["cpu_predictors"] = _predictors(cur, prev, prev2, fluid, open_top)
                 pp = float((prev * prev).sum())
                 row.update({"corr_prev": _corr(cur, prev), "norm_ratio": _norm(cur) / max(_norm(prev), 1e-30),
                             "ls_scale": float((cur * prev).sum()) / pp if pp > 0 else 0.0,
@@ -165,7 +196,7 @@ def measure(scene_name: str, resolution_max: int, steps: int, split_every: int, 
                 row["split"] = split
             rows.append(row)
             print(json.dumps(row), file=sys.stderr, flush=True)
-            prev = cur
+            prev2, prev = prev, cur
     finally:
         sim.close()
     return {"scene": scene_name, "resolution": list(scene.resolution), "dt_s": scene.dt_s, "open_top": open_top,
