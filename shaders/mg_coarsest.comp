@@ -21,14 +21,11 @@ void main() {
   ivec3 c = ivec3(gl_LocalInvocationID);
   bool in_grid = inGrid(c);
   uint m = in_grid ? imageLoad(u_mask, c).r : NB_SOLID;
-  float w[6];
-  float n = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_faces, c, 5) : 0.0;
+  float w[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+  if (in_grid) FACE_OPEN_ALL(u_faces, c, w);
+  float n = (m & NB_OPEN_TOP) != 0u ? w[5] : 0.0;
   for (int d = 0; d < 6; ++d) {
-    w[d] = 0.0;
-    if (((m >> uint(d)) & 1u) != 0u) {
-      w[d] = FACE_OPEN(u_faces, c, d);
-      n += w[d];
-    }
+    if (((m >> uint(d)) & 1u) != 0u) n += w[d];
   }
   bool live = (m & NB_SOLID) == 0u && n != 0.0;
   float b = in_grid ? imageLoad(u_b, c).r : 0.0;

@@ -24,9 +24,11 @@ void main() {
     uint m = imageLoad(u_mask, c).r;
     if ((m & NB_SOLID) != 0u) continue;
     float x = imageLoad(u_x, c).r;
-    float ax = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_faces, c, 5) * x : 0.0;
+    float w[6];
+    FACE_OPEN_ALL(u_faces, c, w);
+    float ax = (m & NB_OPEN_TOP) != 0u ? w[5] * x : 0.0;
     for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) ax += FACE_OPEN(u_faces, c, d) * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
+      if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
     }
     sum += imageLoad(u_b, c).r - ax;
   }

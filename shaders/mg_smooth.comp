@@ -31,9 +31,11 @@ void main() {
   ivec3 c = ivec3(2 * g.x + ((g.y + g.z + u_colour) & 1), g.y, g.z);
   if (!inGrid(c)) return;
   uint m = imageLoad(u_mask, c).r;
-  float n = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_faces, c, 5) : 0.0;
+  float w[6];
+  FACE_OPEN_ALL(u_faces, c, w);
+  float n = (m & NB_OPEN_TOP) != 0u ? w[5] : 0.0;
   for (int d = 0; d < 6; ++d) {
-    if (((m >> uint(d)) & 1u) != 0u) n += FACE_OPEN(u_faces, c, d);
+    if (((m >> uint(d)) & 1u) != 0u) n += w[d];
   }
   if ((m & NB_SOLID) != 0u || n == 0.0) {
     imageStore(u_x, c, vec4(0.0));
@@ -42,7 +44,7 @@ void main() {
   float sum = 0.0;
   if (u_zero_guess == 0) {
     for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) sum += FACE_OPEN(u_faces, c, d) * NEIGHBOUR_X(c + NEIGHBOUR[d]);
+      if (((m >> uint(d)) & 1u) != 0u) sum += w[d] * NEIGHBOUR_X(c + NEIGHBOUR[d]);
     }
   }
   imageStore(u_x, c, vec4((imageLoad(u_b, c).r + sum) / n));

@@ -27,9 +27,11 @@ void main() {
     float r = 0.0;
     if ((m & NB_SOLID) == 0u) {
       float p = imageLoad(u_pressure, c).r;
-      float ap = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_face_open, c, 5) * p : 0.0;  // differences, not n p - sum: exact near 0
+      float w[6];
+      FACE_OPEN_ALL(u_face_open, c, w);
+      float ap = (m & NB_OPEN_TOP) != 0u ? w[5] * p : 0.0;  // differences, not n p - sum: exact near 0
       for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) ap += FACE_OPEN(u_face_open, c, d) * (p - imageLoad(u_pressure, c + NEIGHBOUR[d]).r);
+        if (((m >> uint(d)) & 1u) != 0u) ap += w[d] * (p - imageLoad(u_pressure, c + NEIGHBOUR[d]).r);
       }
       float b = -imageLoad(u_rhs, c).r;
       r = b - ap;
