@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
-#include <vector>
 
 #include "fluid/residual_meter.h"
 #include "fluid/row_reduction.h"
