@@ -25,6 +25,9 @@ namespace hf::fluid {
 class MultigridVCycle {
  public:
   static constexpr int kCoarsestCells = 4;   // stop coarsening once no axis has more cells
+  // mg_coarsest solves the coarsest level in one workgroup of kCoarsestCells^3 invocations: GL
+  // guarantees 1024 invocations per workgroup and 64 along z.
+  static_assert(kCoarsestCells * kCoarsestCells * kCoarsestCells <= 1024 && kCoarsestCells <= 64);
   static constexpr int kSmoothSweeps = 2;    // red-black sweeps before and after the correction
   static constexpr int kCoarsestSweeps = 12; // symmetric pairs of sweeps on the coarsest level
   // The coarse right-hand side is kCoarseScale * P^T r. The Galerkin operator P^T A P of
