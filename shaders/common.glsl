@@ -23,6 +23,18 @@ const uint NB_SOLID = 128u;
 #define FACE_OPEN_UNIT 6
 // Open fraction of face d (NEIGHBOUR order) of cell c, read from the face-fraction image `img`.
 #define FACE_OPEN(img, c, d) imageLoad(img, ((d) & 1) != 0 ? (c) + unitAxis((d) >> 1) : (c))[(d) >> 1]
+// All six of cell c's open fractions (NEIGHBOUR order) into float w[6], from the four texels that
+// hold them: six FACE_OPENs load six texels, three of them the same (the pressure stages' loops).
+#define FACE_OPEN_ALL(img, c, w)                   \
+  {                                                \
+    vec4 low_ = imageLoad(img, c);                 \
+    w[0] = low_.x;                                 \
+    w[1] = imageLoad(img, (c) + ivec3(1, 0, 0)).x; \
+    w[2] = low_.y;                                 \
+    w[3] = imageLoad(img, (c) + ivec3(0, 1, 0)).y; \
+    w[4] = low_.z;                                 \
+    w[5] = imageLoad(img, (c) + ivec3(0, 0, 1)).z; \
+  }
 
 // A computed open fraction with fractions under `min_open` taken to 0 continuously: w for
 // w >= 2 min_open, 2 (w - min_open) between, 0 below (a nearly covered face would make its cell's

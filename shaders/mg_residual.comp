@@ -17,9 +17,11 @@ void main() {
     return;
   }
   float x = imageLoad(u_x, c).r;
-  float ax = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_faces, c, 5) * x : 0.0;  // sum of differences: no cancellation
+  float w[6];
+  FACE_OPEN_ALL(u_faces, c, w);
+  float ax = (m & NB_OPEN_TOP) != 0u ? w[5] * x : 0.0;  // sum of differences: no cancellation
   for (int d = 0; d < 6; ++d) {
-    if (((m >> uint(d)) & 1u) != 0u) ax += FACE_OPEN(u_faces, c, d) * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
+    if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
   }
   imageStore(u_out, c, vec4(imageLoad(u_b, c).r - ax));
 }

@@ -20,9 +20,11 @@ void main() {
     float q = 0.0;
     if ((m & NB_SOLID) == 0u) {
       float s = imageLoad(u_s, c).r;
-      q = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_face_open, c, 5) * s : 0.0;
+      float w[6];
+      FACE_OPEN_ALL(u_face_open, c, w);
+      q = (m & NB_OPEN_TOP) != 0u ? w[5] * s : 0.0;
       for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) q += FACE_OPEN(u_face_open, c, d) * (s - imageLoad(u_s, c + NEIGHBOUR[d]).r);
+        if (((m >> uint(d)) & 1u) != 0u) q += w[d] * (s - imageLoad(u_s, c + NEIGHBOUR[d]).r);
       }
       acc.x += s * q;
     }

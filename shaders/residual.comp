@@ -19,9 +19,11 @@ void main() {
     uint m = imageLoad(u_nbmask, c).r;
     if ((m & NB_SOLID) != 0u) continue;
     float p = imageLoad(u_pressure, c).r;
-    float lap = (m & NB_OPEN_TOP) != 0u ? -FACE_OPEN(u_face_open, c, 5) * p : 0.0;
+    float w[6];
+    FACE_OPEN_ALL(u_face_open, c, w);
+    float lap = (m & NB_OPEN_TOP) != 0u ? -w[5] * p : 0.0;
     for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) lap += FACE_OPEN(u_face_open, c, d) * (imageLoad(u_pressure, c + NEIGHBOUR[d]).r - p);
+      if (((m >> uint(d)) & 1u) != 0u) lap += w[d] * (imageLoad(u_pressure, c + NEIGHBOUR[d]).r - p);
     }
     float b = imageLoad(u_rhs, c).r;
     float r = b - lap;

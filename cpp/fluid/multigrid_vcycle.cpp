@@ -3,11 +3,19 @@
 #include <GL/gl.h>
 
 #include <algorithm>
+#include <string>
 
 #include "fluid/fluid_fields.h"
 #include "gl/workgroup.h"
 
 namespace hf::fluid {
+
+namespace {
+gl::Defines withProlong(gl::Defines d) {
+  d.emplace_back("PROLONG", "1");
+  return d;
+}
+}  // namespace
 
 std::vector<glm::ivec3> MultigridVCycle::levelResolutions(const glm::ivec3& fine) {
   std::vector<glm::ivec3> out{fine};
@@ -21,8 +29,7 @@ MultigridVCycle::Coarse::Coarse(const glm::ivec3& r)
     : mask(r, gl::TexelFormat::R8UI, "multigrid mask"),
       faces(r + 1, gl::TexelFormat::RGBA32F, "multigrid face fractions"),
       x(r, gl::TexelFormat::R32F, "multigrid x"),
-      b(r, gl::TexelFormat::R32F, "multigrid b"),
-      res(r, gl::TexelFormat::R32F, "multigrid residual") {}
+      b(r, gl::TexelFormat::R32F, "multigrid b") {}
 
 MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
     : res_(levelResolutions(fine_res)),
@@ -31,7 +38,10 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
       smooth_("mg_smooth.comp", gl::cellGroupDefines()),
       residual_("mg_residual.comp", gl::cellGroupDefines()),
       restrict_("mg_restrict.comp", gl::cellGroupDefines()),
-      prolong_("mg_prolong.comp", gl::cellGroupDefines()) {
+      prolong_("mg_prolong.comp", gl::cellGroupDefines()),
+      coarsest_("mg_coarsest.comp", {{"COARSEST", std::to_string(kCoarsestCells)}}),
+      smooth_prolong_("mg_smooth.comp", withProlong(gl::cellGroupDefines())),
+      residual_restrict_("mg_residual_restrict.comp", gl::cellGroupDefines()) {
   coarse_.reserve(res_.size());
   for (std::size_t l = 1; l < res_.size(); ++l) coarse_.emplace_back(res_[l]);
 }
@@ -98,6 +108,46 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D
   prolong_.dispatch(fine_res);
 }
 
+void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                                      gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x,
+                                      int colour) {
+  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  x.bindImage(0, GL_READ_WRITE);
+  b.bindImage(1, GL_READ_ONLY);
+  mask.bindImage(2, GL_READ_ONLY);
+  coarse_x.bindImage(3, GL_READ_ONLY);
+  smooth_prolong_.set("u_res", res);
+  smooth_prolong_.set("u_colour", colour);
+  smooth_prolong_.set("u_zero_guess", 0);
+  smooth_prolong_.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
+}
+
+void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
+                                       const gl::Texture3D& fine_faces, const gl::Texture3D& fine_x,
+                                       const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
+                                       gl::Texture3D& coarse_b, float scale) {
+  fine_faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  fine_x.bindImage(1, GL_READ_ONLY);
+  fine_b.bindImage(2, GL_READ_ONLY);
+  fine_mask.bindImage(3, GL_READ_ONLY);
+  coarse_b.bindImage(0, GL_WRITE_ONLY);
+  residual_restrict_.set("u_res", coarse_res);
+  residual_restrict_.set("u_fine_size", fine_res);
+  residual_restrict_.set("u_scale", scale);
+  residual_restrict_.dispatch(coarse_res);
+}
+
+void MultigridVCycle::solveCoarsest(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                                    gl::Texture3D& x, const gl::Texture3D& b) {
+  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  x.bindImage(0, GL_WRITE_ONLY);
+  b.bindImage(1, GL_READ_ONLY);
+  mask.bindImage(2, GL_READ_ONLY);
+  coarsest_.set("u_res", res);
+  coarsest_.set("u_pairs", kCoarsestSweeps);
+  coarsest_.dispatch(glm::ivec3(kCoarsestCells));
+}
+
 void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces) {
   const gl::Texture3D* finer = &fine_mask;
   const gl::Texture3D* finer_faces = &fine_faces;
@@ -110,18 +160,17 @@ void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask, const gl::Textu
 }
 
 void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
-                            gl::Texture3D& z, gl::Texture3D& scratch) {
-  // Level l's textures: level 0 is (fine_mask, z, r, scratch).
+                            gl::Texture3D& z) {
+  // Level l's textures: level 0 is (fine_mask, fine_faces, z, r).
   struct View {
     const gl::Texture3D* mask;
     const gl::Texture3D* faces;
     gl::Texture3D* x;
     const gl::Texture3D* b;
-    gl::Texture3D* res;
   };
   std::vector<View> v;
-  v.push_back({&fine_mask, &fine_faces, &z, &r, &scratch});
-  for (auto& c : coarse_) v.push_back({&c.mask, &c.faces, &c.x, &c.b, &c.res});
+  v.push_back({&fine_mask, &fine_faces, &z, &r});
+  for (auto& c : coarse_) v.push_back({&c.mask, &c.faces, &c.x, &c.b});
   const int last = levels() - 1;
   auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
 
@@ -130,21 +179,18 @@ void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D&
       smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0);
       smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
     }
-    residual(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, *v[l].res);
-    restrictResidual(level(l), *v[l].mask, *v[l].res, level(l + 1), coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
+    residualRestrict(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, level(l + 1),
+                     coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
   }
-  for (int s = 0; s < kCoarsestSweeps; ++s) {
-    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 0, s == 0);
-    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 1, false);
-  }
-  for (int s = 0; s < kCoarsestSweeps; ++s) {
-    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 1, false);
-    smooth(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b, 0, false);
-  }
+  solveCoarsest(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b);
   for (int l = last - 1; l >= 0; --l) {
-    prolongAdd(level(l), *v[l].mask, *v[l].x, *v[l + 1].x);
+    // The coarse correction is folded into the first sweep (prolongAdd then smooth, in one pass).
     for (int s = 0; s < kSmoothSweeps; ++s) {
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
+      if (s == 0) {
+        smoothProlonged(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, *v[l + 1].x, 1);
+      } else {
+        smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
+      }
       smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, false);
     }
   }

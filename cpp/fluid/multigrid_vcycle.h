@@ -13,7 +13,8 @@
 // Transfer is piecewise constant (prolongation P) and its transpose (restriction P^T, times
 // kCoarseScale); smoothing is red-black Gauss-Seidel, red then black before the coarse
 // correction and black then red after it, and the coarsest level is solved by symmetric
-// red-black sweeps, so M is symmetric positive definite as CG needs.
+// red-black sweeps (one dispatch, mg_coarsest.comp), so M is symmetric positive definite as CG
+// needs.
 #include <vector>
 
 #include "gl/compute_program.h"
@@ -24,6 +25,9 @@ namespace hf::fluid {
 class MultigridVCycle {
  public:
   static constexpr int kCoarsestCells = 4;   // stop coarsening once no axis has more cells
+  // mg_coarsest solves the coarsest level in one workgroup of kCoarsestCells^3 invocations: GL
+  // guarantees 1024 invocations per workgroup and 64 along z.
+  static_assert(kCoarsestCells * kCoarsestCells * kCoarsestCells <= 1024 && kCoarsestCells <= 64);
   static constexpr int kSmoothSweeps = 2;    // red-black sweeps before and after the correction
   static constexpr int kCoarsestSweeps = 12; // symmetric pairs of sweeps on the coarsest level
   // The coarse right-hand side is kCoarseScale * P^T r. The Galerkin operator P^T A P of
@@ -44,9 +48,9 @@ class MultigridVCycle {
   // Rebuilds every coarse mask and face-fraction image from the fine ones (once per step: the
   // solid moves). `fine_faces`: the fine level's face fractions (shaders/common.glsl).
   void buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces);
-  // z = M r from z = 0; `scratch` (fine size) is overwritten. Call buildMasks first.
+  // z = M r from z = 0. Call buildMasks first.
   void apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
-             gl::Texture3D& z, gl::Texture3D& scratch);
+             gl::Texture3D& z);
 
   // The stages, public for tests. `res` is the resolution of the level the textures have.
   void coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const glm::ivec3& coarse_res,
@@ -61,6 +65,20 @@ class MultigridVCycle {
                         const glm::ivec3& coarse_res, gl::Texture3D& coarse_b, float scale);
   void prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, gl::Texture3D& fine_x,
                   const gl::Texture3D& coarse_x);
+  // The fused stages apply() uses. smoothProlonged: prolongAdd(coarse_x) then a sweep of `colour`,
+  // in one pass (mg_smooth.comp with PROLONG; valid as the first sweep after the correction, whose
+  // next sweep rewrites the other colour). residualRestrict: residual() then restrictResidual()
+  // without storing the fine residual (mg_residual_restrict.comp).
+  void smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x, int colour);
+  void residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces,
+                        const gl::Texture3D& fine_x, const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
+                        gl::Texture3D& coarse_b, float scale);
+  // The coarsest level's kCoarsestSweeps symmetric pairs of red-black sweeps from x = 0, in one
+  // dispatch (mg_coarsest.comp: the same arithmetic as the smooth() calls). Every axis of `res`
+  // must be at most kCoarsestCells.
+  void solveCoarsest(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
+                     const gl::Texture3D& b);
 
   // Texture of a coarse level (level >= 1), for tests.
   gl::Texture3D& mask(int level) { return coarse_[static_cast<std::size_t>(level - 1)].mask; }
@@ -69,7 +87,7 @@ class MultigridVCycle {
  private:
   struct Coarse {
     explicit Coarse(const glm::ivec3& res);
-    gl::Texture3D mask, faces, x, b, res;
+    gl::Texture3D mask, faces, x, b;
   };
 
   std::vector<glm::ivec3> res_;
@@ -80,6 +98,9 @@ class MultigridVCycle {
   gl::ComputeProgram residual_;
   gl::ComputeProgram restrict_;
   gl::ComputeProgram prolong_;
+  gl::ComputeProgram coarsest_;
+  gl::ComputeProgram smooth_prolong_;
+  gl::ComputeProgram residual_restrict_;
 };
 
 }  // namespace hf::fluid

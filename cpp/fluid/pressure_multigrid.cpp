@@ -19,7 +19,8 @@ constexpr std::size_t kSqSlot = 1;    // s.q
 constexpr std::size_t kRzSlotA = 2;   // r.z, alternating with kRzSlotB (new and old)
 constexpr std::size_t kRzSlotB = 3;
 constexpr std::size_t kRrSlot = 4;    // (sum r, fluid cells, r.r) after an update
-constexpr std::size_t kSlots = 5;
+constexpr std::size_t kApSlot = 5;    // (b.r, Ap.Ap, b.Ap) of the warm start, for the predictor
+constexpr std::size_t kSlots = 6;
 
 }  // namespace
 
@@ -36,13 +37,13 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
       update_("pcg_update.comp", rowGroupDefines()),
       direction_("pcg_direction.comp", gl::cellGroupDefines()),
       shift_("pressure_shift.comp", gl::cellGroupDefines()),
-      cold_start_("pcg_cold_start.comp", gl::cellGroupDefines()),
-      reducer_(rowCount(grid.res), kSlots) {
-  for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &cold_start_}) p->set("u_res", grid.res);
+      predict_("pcg_predict.comp", rowGroupDefines()),
+      reducer_(2 * rowCount(grid.res), kSlots) {  // pcg_init writes two partials per row
+  for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &predict_}) p->set("u_res", grid.res);
 }
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
-  vcycle_.apply(f.nbmask, f.face_open, r_, z_, q_);  // q is free again once the update has used it
+  vcycle_.apply(f.nbmask, f.face_open, r_, z_);
   r_.bindImage(1, GL_READ_ONLY);
   z_.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
@@ -67,7 +68,7 @@ void PressureMultigrid::removeResidualMean(FluidFields& f, std::size_t slot) {
   shift_.dispatch(grid_.res);
 }
 
-void PressureMultigrid::startResidual(FluidFields& f, bool closed) {
+void PressureMultigrid::startResidual(FluidFields& f, bool closed, bool predictor_sums) {
   f.pressure.cur().bindImage(1, GL_READ_ONLY);
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
@@ -76,6 +77,7 @@ void PressureMultigrid::startResidual(FluidFields& f, bool closed) {
   reducer_.bindPartials(0);
   init_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), kInitSlot);
+  if (predictor_sums) reducer_.reduce(rowCount(grid_.res), kApSlot, rowCount(grid_.res));
   if (closed) removeResidualMean(f, kInitSlot);
 }
 
@@ -84,15 +86,16 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const float tolerance = params.pressure_tolerance;
   const bool closed = !params.open_top;
   vcycle_.buildMasks(f.nbmask, f.face_open);
-  startResidual(f, closed);
-  coldStartIfWorse(f);
+  startResidual(f, closed, true);
+  predict(f, tolerance > 0.0f);
 
   SolveStats stats;
   float bb = 0.0f;
   if (tolerance > 0.0f) {
     const glm::vec4 start = reducer_.readResults()[kInitSlot];
     bb = start.w;
-    // What the solve starts from: the warm start, or p = 0 (relative residual 1) if that was worse.
+    // What the solve starts from: the previous pressure scaled by the predictor's alpha (never
+    // above 1 but for rounding: the min keeps the promise exact).
     stats.relative_residual = std::min(relativeResidual(start.z, bb), bb > 0.0f ? 1.0f : 0.0f);
     stats.initial_relative_residual = stats.relative_residual;
     if (stats.relative_residual <= tolerance) return stats;  // the warm start is good enough
@@ -129,7 +132,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
       if (stats.relative_residual <= tolerance) {
         // In float the updated residual drifts from the true one: confirm with rhs - A p, and
         // if that is still too large go on from it (CG restarted from the true residual).
-        startResidual(f, closed);
+        startResidual(f, closed, false);
         stats.relative_residual = relativeResidual(reducer_.readResults()[kInitSlot].z, bb);
         if (stats.relative_residual <= tolerance) break;
         restart = true;
@@ -143,14 +146,16 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   return stats;
 }
 
-void PressureMultigrid::coldStartIfWorse(FluidFields& f) {
-  f.pressure.cur().bindImage(0, GL_WRITE_ONLY);
-  r_.bindImage(1, GL_WRITE_ONLY);
+void PressureMultigrid::predict(FluidFields& f, bool sums) {
+  f.pressure.cur().bindImage(0, GL_READ_WRITE);
+  r_.bindImage(1, GL_READ_WRITE);
   f.rhs.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
+  reducer_.bindPartials(0);
   reducer_.bindResults(1);
-  cold_start_.set("u_slot", static_cast<unsigned>(kInitSlot));
-  cold_start_.dispatch(grid_.res);
+  predict_.set("u_slot_ap", static_cast<unsigned>(kApSlot));
+  predict_.dispatch(rowInvocations(grid_.res));
+  if (sums) reducer_.reduce(rowCount(grid_.res), kInitSlot);  // the new r's sums replace the warm start's
 }
 
 }  // namespace hf::fluid

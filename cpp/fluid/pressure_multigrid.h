@@ -1,7 +1,8 @@
 #pragma once
 // Conjugate gradient preconditioned by a multigrid V-cycle (MGPCG, as in McAdams, Sifakis and
 // Teran, "A parallel multigrid Poisson solver for fluids simulation on large grids", SCA 2010),
-// warm-started from the previous step's pressure. Every vector operation and both dot
+// started from the previous step's pressure scaled to the least starting residual (predict()).
+// Every vector operation and both dot
 // products of an iteration run on the GPU; alpha and beta are read by the shaders from the
 // reduction results, so the fixed-count mode never waits for a read-back.
 //
@@ -26,11 +27,13 @@ class PressureMultigrid : public PressureSolver {
   SolveStats solve(FluidFields& fields, const FluidParams& params) override;
 
  private:
-  // r = -rhs - A p, its sums into the init slot; in a closed box r's mean is then removed.
-  void startResidual(FluidFields& f, bool closed);
-  // After startResidual(): p = 0 and r = rhs's b if the warm start's residual exceeds ||b||
-  // (pcg_cold_start.comp, decided on the GPU).
-  void coldStartIfWorse(FluidFields& f);
+  // r = -rhs - A p, its sums into the init slot (and with `predictor_sums` b.r, Ap.Ap, b.Ap into
+  // the predictor's); in a closed box r's mean is then removed.
+  void startResidual(FluidFields& f, bool closed, bool predictor_sums);
+  // After startResidual(..., true): p = alpha p and r = b - alpha A p with the alpha that
+  // minimises ||r|| (pcg_predict.comp, decided on the GPU): never worse than p = 0 or than p.
+  // With `sums` the new r's (sum r, fluid cells, r.r, b.b) replace the init slot's.
+  void predict(FluidFields& f, bool sums);
   // r -= its mean over fluid cells (sum and count in results[slot].xy). In a closed box A is
   // singular (constants); a residual with a constant part, which float rounding leaves, would
   // make the V-cycle return a huge constant and CG's step sizes meaningless.
@@ -41,7 +44,7 @@ class PressureMultigrid : public PressureSolver {
   Grid grid_;
   MultigridVCycle vcycle_;
   gl::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
-  gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, cold_start_;
+  gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, predict_;
   gl::GroupReducer reducer_;
 };
 

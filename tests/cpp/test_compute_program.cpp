@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "fluid/multigrid_vcycle.h"
 #include "fluid/row_reduction.h"
 #include "gl/compute_program.h"
 #include "gl/shader_sources.h"
@@ -241,7 +242,11 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
       const bool columns = source.find("local_size_z") == std::string::npos;  // per-column stages: z = 1
       // Stages that reduce by rows of cells (fluid/row_reduction.h) take ROW_X, ROW_Y.
       const bool rows = source.find("ROW_X") != std::string::npos;
-      const Defines defines = reduce   ? Defines{{"REDUCE_SIZE", "256"}}
+      // One workgroup over the coarsest multigrid level (fluid/multigrid_vcycle.h).
+      const bool coarsest = file == "mg_coarsest.comp";
+      const int coarsest_cells = fluid::MultigridVCycle::kCoarsestCells;
+      const Defines defines = coarsest ? Defines{{"COARSEST", std::to_string(coarsest_cells)}}
+                              : reduce   ? Defines{{"REDUCE_SIZE", "256"}}
                               : linear ? linearGroupDefines()
                               : rows   ? fluid::rowGroupDefines()
                                        : group_sum ? groupSumDefines() : cellGroupDefines();
@@ -256,11 +261,16 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
         variants.push_back(variants.back());
         variants.back().emplace_back("PAIR", "1");
       }
+      if (file == "mg_smooth.comp") {
+        variants.push_back(defines);
+        variants.back().emplace_back("PROLONG", "1");
+      }
       for (const Defines& variant : variants) {
         try {
           ComputeProgram p(file, variant);
           glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : linear ? glm::ivec3(kLinearGroup, 1, 1) : kCellGroup;
           if (rows) want = glm::ivec3(fluid::kRowGroup, 1);
+          if (coarsest) want = glm::ivec3(coarsest_cells);
           if (!reduce && !linear && !rows && columns) want.z = 1;
           if (p.localSize() != want) out += file + ": wrong local size\n";
           if (p.name() != file) out += file + ": wrong name\n";
