@@ -268,13 +268,13 @@ def sub_panels():
                   f"sub-panel {cls.bl_label} is registered in the Physics tab")
             found.setdefault(cls.role, []).append(cls.bl_label)
     check(found == expected, f"the roles' sub-panels: {found}")
-    fluid = draw(physics_panels.HAPTICFLUID_PT_domain_fluid, domain)
+    fluid = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_fluid"], domain)
     names = {kw["name"]: kw for kind, kw, _ in fluid.log if kind == "prop"}
     ui = properties.ui_name
     check("kg/m³" in ui("fluid_density") and "m/s²" in names["gravity"]["text"]
           and "(K)" in ui("source_temperature") and "(Pa)" in ui("write_pressure"),
           "units: kg/m³, m/s², K, Pa")
-    cache = draw(physics_panels.HAPTICFLUID_PT_domain_cache, domain)
+    cache = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_cache"], domain)
     headings = [kw.get("heading") for kind, kw, _ in cache.log if kind == "column"]
     check("Grids" in headings, f"the grid check boxes have a heading: {headings}")
     frame_owners = {id(owner) for kind, kw, owner in cache.log
@@ -282,7 +282,7 @@ def sub_panels():
     check(len(frame_owners) == 1 and any(kind == "column" and id(child) in frame_owners
                                          for kind, _kw, child in cache.log),
           "Start and End are one above the other (a column), readable at the default width")
-    resolution = draw(physics_panels.HAPTICFLUID_PT_domain_resolution, domain)
+    resolution = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_resolution"], domain)
     headings = [kw.get("heading") for kind, kw, _ in resolution.log if kind == "column"]
     check("Time Steps" in headings, f"the substep check box has a heading: {headings}")
 

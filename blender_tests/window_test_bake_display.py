@@ -126,6 +126,20 @@ def show_physics_tab():
     redraw_all()
 
 
+def next_phase(name):
+    state.update(phase=name, waits=0)
+
+
+def settling(ticks):
+    """Counts this phase's ticks: True (after a redraw) for the first ticks - 1 of them, so the
+    window has redrawn before the phase acts."""
+    state["waits"] += 1
+    if state["waits"] < ticks:
+        redraw_all()
+        return True
+    return False
+
+
 def step():
     phase = state["phase"]
     scene = bpy.context.scene
@@ -185,23 +199,17 @@ def step():
             scene.frame_set(FRAMES)
             frame_viewport()
             redraw_all()
-            state["phase"] = "shoot"
-            state["waits"] = 0
+            next_phase("shoot")
     elif phase == "shoot":
-        state["waits"] += 1
-        if state["waits"] < 5:  # a few redraws first
-            redraw_all()
+        if settling(5):
             return 0.2
         state["with_smoke"] = screenshot("VIEW_3D", "viewport_solid.png")
         screenshot_to(os.path.join(OUT, "window.png"))
         settings(scene).volume_object.hide_viewport = True
         redraw_all()
-        state["phase"] = "shoot_without"
-        state["waits"] = 0
+        next_phase("shoot_without")
     elif phase == "shoot_without":
-        state["waits"] += 1
-        if state["waits"] < 5:
-            redraw_all()
+        if settling(5):
             return 0.2
         without = screenshot("VIEW_3D", "viewport_solid_no_volume.png")
         a, w, h = pixels(state["with_smoke"])
@@ -217,8 +225,7 @@ def step():
         big = area_of("VIEW_3D")
         big.type = "PROPERTIES"  # its tabs exist after its first draw: the Scene tab is chosen then
         redraw_all()
-        state["phase"] = "scroll"
-        state["waits"] = 0
+        next_phase("scroll")
     elif phase == "scroll":
         state["waits"] += 1
         big = area_of("PROPERTIES")
@@ -233,8 +240,7 @@ def step():
             return 0.2
         screenshot("PROPERTIES", "panel_scene_tab.png")
         show_physics_tab()
-        state["phase"] = "physics"
-        state["waits"] = 0
+        next_phase("physics")
     elif phase == "physics":
         state["waits"] += 1
         big = area_of("PROPERTIES")
@@ -247,12 +253,9 @@ def step():
         want = {"hapticfluid", "Resolution", "Fluid", "Cache", "Display"}  # Pressure Solver starts closed
         check(want <= state["drawn"], f"the Physics tab drew the Domain's panels: {sorted(state['drawn'])}")
         big.ui_type = "TIMELINE"  # the window's own Timeline is a few pixels high at 1024 x 768
-        state["phase"] = "timeline"
-        state["waits"] = 0
+        next_phase("timeline")
     elif phase == "timeline":
-        state["waits"] += 1
-        if state["waits"] < 6:
-            redraw_all()
+        if settling(6):
             return 0.2
         if "outdated" not in state:  # vorticity was changed for the Scene tab's shot
             check_cache_bar("timeline_out_of_date.png", "outdated", lambda c: c[0] > 0.8 and c[0] - c[2] > 0.4)
