@@ -20,7 +20,7 @@ import bpy
 from support import SOURCE_DIR as SOURCE, bake_scene, check, cube, refused, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import blender_scene, panels, physics_panels, prefs, properties  # noqa: E402
+from hapticfluid_blender import blender_scene, panels, physics_panels, prefs, properties, volume  # noqa: E402
 
 
 class Recorder:
@@ -204,11 +204,15 @@ def bake_cycle(tmp):
     vol = s.volume_object
     check(vol is not None and vol.name in fx.objects and vol.name not in scene.collection.objects,
           "the Volume object is in the active collection")
-    check(vol.data.display.density == 30.0, f"viewport display density = the material's ({vol.data.display.density})")
+    factor = volume.VIEWPORT_DENSITY_FACTOR
+    check(vol.data.display.density == 30.0 * factor,
+          f"viewport display density = the material's x {factor} ({vol.data.display.density})")
     s.density_scale = 12.0
-    node = next(n for n in vol.active_material.node_tree.nodes if n.bl_idname == "ShaderNodeVolumePrincipled")
-    check(vol.data.display.density == 12.0 and node.inputs["Density"].default_value == 12.0,
-          "changing Render Density after the bake updates the material and the viewport density together")
+    nodes = [n for n in vol.active_material.node_tree.nodes if n.bl_idname == "ShaderNodeVolumePrincipled"]
+    check(vol.data.display.density == 12.0 * factor and len(nodes) == 2
+          and all(n.inputs["Density"].default_value == 12.0 for n in nodes),
+          "changing Render Density after the bake updates the material (Cycles' and EEVEE's shaders) and the "
+          "viewport density together")
     check(s.domain.display_type == "WIRE" and s.domain.hide_render, "the domain shows as a wire frame after the bake")
     check(properties.changed_cache_inputs(scene, s) == [], "right after the bake the cache is up to date")
     scene.frame_set(3)  # playing the timeline does not change the inputs
