@@ -167,6 +167,25 @@ def bake_scene(cache_dir, resolution=24, frames=(1, 4), substeps=1, probe_radius
     return scene, bake, domain, probe, source
 
 
+def live_scene(resolution=16):
+    """The current scene without its meshes, then a 1 m wire-frame domain cube, a UV-sphere probe and
+    smoke source, and a live session on the simulated Falcon at a fixed ``resolution``; returns
+    the scene."""
+    scene = bpy.context.scene
+    for obj in list(scene.objects):
+        if obj.type == "MESH":
+            bpy.data.objects.remove(obj)
+    domain = cube(1.0, (0.5, 0.5, 0.5))
+    domain.display_type = "WIRE"
+    bake = set_roles(scene, domain, uv_sphere(0.1, (0.4, 0.5, 0.5)), uv_sphere(0.06, (0.5, 0.5, 0.12)))
+    bake.pressure_iterations = 20
+    live = scene.hapticfluid_live
+    live.device = "SIMULATED_FALCON"
+    live.auto_resolution = False
+    live.resolution = resolution
+    return scene
+
+
 def frames_on_disk(cache_dir):
     folder = os.path.join(cache_dir, "data")
     return sorted(os.listdir(folder)) if os.path.isdir(folder) else []

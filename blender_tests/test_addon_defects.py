@@ -20,7 +20,7 @@ import bpy
 from support import SOURCE_DIR as SOURCE, bake_scene, check, cube, refused, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import blender_scene, panels, physics_panels, prefs, properties  # noqa: E402
+from hapticfluid_blender import blender_scene, panels, physics_panels, prefs, properties, volume  # noqa: E402
 
 
 class Recorder:
@@ -204,11 +204,15 @@ def bake_cycle(tmp):
     vol = s.volume_object
     check(vol is not None and vol.name in fx.objects and vol.name not in scene.collection.objects,
           "the Volume object is in the active collection")
-    check(vol.data.display.density == 30.0, f"viewport display density = the material's ({vol.data.display.density})")
+    factor = volume.VIEWPORT_DENSITY_FACTOR
+    check(vol.data.display.density == 30.0 * factor,
+          f"viewport display density = the material's x {factor} ({vol.data.display.density})")
     s.density_scale = 12.0
-    node = next(n for n in vol.active_material.node_tree.nodes if n.bl_idname == "ShaderNodeVolumePrincipled")
-    check(vol.data.display.density == 12.0 and node.inputs["Density"].default_value == 12.0,
-          "changing Render Density after the bake updates the material and the viewport density together")
+    nodes = [n for n in vol.active_material.node_tree.nodes if n.bl_idname == "ShaderNodeVolumePrincipled"]
+    check(vol.data.display.density == 12.0 * factor and len(nodes) == 2
+          and all(n.inputs["Density"].default_value == 12.0 for n in nodes),
+          "changing Render Density after the bake updates the material (Cycles' and EEVEE's shaders) and the "
+          "viewport density together")
     check(s.domain.display_type == "WIRE" and s.domain.hide_render, "the domain shows as a wire frame after the bake")
     check(properties.changed_cache_inputs(scene, s) == [], "right after the bake the cache is up to date")
     scene.frame_set(3)  # playing the timeline does not change the inputs
@@ -268,13 +272,13 @@ def sub_panels():
                   f"sub-panel {cls.bl_label} is registered in the Physics tab")
             found.setdefault(cls.role, []).append(cls.bl_label)
     check(found == expected, f"the roles' sub-panels: {found}")
-    fluid = draw(physics_panels.HAPTICFLUID_PT_domain_fluid, domain)
+    fluid = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_fluid"], domain)
     names = {kw["name"]: kw for kind, kw, _ in fluid.log if kind == "prop"}
     ui = properties.ui_name
     check("kg/m³" in ui("fluid_density") and "m/s²" in names["gravity"]["text"]
           and "(K)" in ui("source_temperature") and "(Pa)" in ui("write_pressure"),
           "units: kg/m³, m/s², K, Pa")
-    cache = draw(physics_panels.HAPTICFLUID_PT_domain_cache, domain)
+    cache = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_cache"], domain)
     headings = [kw.get("heading") for kind, kw, _ in cache.log if kind == "column"]
     check("Grids" in headings, f"the grid check boxes have a heading: {headings}")
     frame_owners = {id(owner) for kind, kw, owner in cache.log
@@ -282,7 +286,7 @@ def sub_panels():
     check(len(frame_owners) == 1 and any(kind == "column" and id(child) in frame_owners
                                          for kind, _kw, child in cache.log),
           "Start and End are one above the other (a column), readable at the default width")
-    resolution = draw(physics_panels.HAPTICFLUID_PT_domain_resolution, domain)
+    resolution = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_resolution"], domain)
     headings = [kw.get("heading") for kind, kw, _ in resolution.log if kind == "column"]
     check("Time Steps" in headings, f"the substep check box has a heading: {headings}")
 

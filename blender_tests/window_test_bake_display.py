@@ -3,9 +3,12 @@ makes its Volume object at the first finished frame, in the active collection, a
 as frames land; disabling the add-on in the middle of the bake cancels and joins the worker
 and shows the finished frames; enabling it again clears is_baking; Resume finishes the bake.
 Then the Properties editor (Scene tab, then the Physics tab with the Domain's sub-panels), the
-3D viewport in Solid mode and the Timeline are screenshotted: the PNGs go to $HAPTICFLUID_OUT_DIR,
-else <HAPTICFLUID_SOURCE_DIR>/out/addon; the smoke must cover a region of the viewport (pixels
-that change when the Volume is hidden), the Timeline's cache bar must cover the baked frames'
+3D viewport in Solid mode and in Material Preview, and the Timeline are screenshotted: the PNGs go
+to $HAPTICFLUID_OUT_DIR, else <HAPTICFLUID_SOURCE_DIR>/out/addon; the smoke must cover a region
+of the viewport (pixels that change when the Volume is hidden) and stand out there with the
+add-on's defaults (Solid: the plume's mean luminance at least 3 times darker or brighter than the
+same pixels without it; Material Preview, a scene without lights: 0.08 brighter or darker; both
+fail on the grey smoke of the add-on's defaults before), the Timeline's cache bar must cover the baked frames'
 span in red while a setting differs from the bake's, in blue once it is set back (and nothing
 past its end), and every open sub-panel of the Domain must have been drawn.
 Exits 0 when every check passed, 1 otherwise (os._exit: a timer cannot raise out)."""
@@ -126,6 +129,36 @@ def show_physics_tab():
     redraw_all()
 
 
+def plume_contrast(with_volume, without_volume):
+    """(mean display luminance of the plume's pixels, of the same pixels without the Volume, the
+    plume's share of the image): the plume's pixels are those the Volume changes by more than 0.08
+    in some channel."""
+    import numpy as np
+
+    a, w, h = pixels(with_volume)
+    b, w2, h2 = pixels(without_volume)
+    check((w, h) == (w2, h2), "both viewport screenshots have one size")
+    plume = np.abs(a - b).max(axis=2) > 0.08
+    if not plume.any():
+        return 0.0, 0.0, 0.0
+    luminance = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)  # Rec. 709 weights
+    return float((a[plume] @ luminance).mean()), float((b[plume] @ luminance).mean()), float(plume.mean())
+
+
+def next_phase(name):
+    state.update(phase=name, waits=0)
+
+
+def settling(ticks):
+    """Counts this phase's ticks: True (after a redraw) for the first ticks - 1 of them, so the
+    window has redrawn before the phase acts."""
+    state["waits"] += 1
+    if state["waits"] < ticks:
+        redraw_all()
+        return True
+    return False
+
+
 def step():
     phase = state["phase"]
     scene = bpy.context.scene
@@ -185,40 +218,49 @@ def step():
             scene.frame_set(FRAMES)
             frame_viewport()
             redraw_all()
-            state["phase"] = "shoot"
-            state["waits"] = 0
+            next_phase("shoot")
     elif phase == "shoot":
-        state["waits"] += 1
-        if state["waits"] < 5:  # a few redraws first
-            redraw_all()
+        if settling(5):
             return 0.2
         state["with_smoke"] = screenshot("VIEW_3D", "viewport_solid.png")
         screenshot_to(os.path.join(OUT, "window.png"))
         settings(scene).volume_object.hide_viewport = True
         redraw_all()
-        state["phase"] = "shoot_without"
-        state["waits"] = 0
+        next_phase("shoot_without")
     elif phase == "shoot_without":
-        state["waits"] += 1
-        if state["waits"] < 5:
-            redraw_all()
+        if settling(5):
             return 0.2
         without = screenshot("VIEW_3D", "viewport_solid_no_volume.png")
-        a, w, h = pixels(state["with_smoke"])
-        b, w2, h2 = pixels(without)
-        check((w, h) == (w2, h2), "both viewport screenshots have one size")
-        changed = int((abs(a - b).max(axis=2) > 0.08).sum())
-        share = changed / (w * h)
-        check(share > 0.01, f"the smoke covers a visible region of the Solid viewport: {changed} of {w * h} pixels "
-                            f"({100 * share:.1f} %)")
+        plume, background, share = plume_contrast(state["with_smoke"], without)
+        check(share > 0.01, f"the smoke covers a visible region of the Solid viewport ({100 * share:.1f} % of it)")
+        ratio = max(plume, background) / max(min(plume, background), 1e-3)
+        check(ratio >= 3.0, f"the plume stands out in Solid mode: mean luminance {plume:.3f} on the plume's pixels, "
+                            f"{background:.3f} there without it (x {ratio:.1f}, at least x 3)")
+        area_of("VIEW_3D").spaces.active.shading.type = "MATERIAL"
+        next_phase("material_without")
+    elif phase == "material_without":
+        if settling(30):  # EEVEE compiles its shaders and accumulates samples first (llvmpipe: seconds)
+            return 0.3
+        state["material_without"] = screenshot("VIEW_3D", "viewport_material_no_volume.png")
+        settings(scene).volume_object.hide_viewport = False
+        next_phase("material")
+    elif phase == "material":
+        if settling(30):
+            return 0.3
+        shot = screenshot("VIEW_3D", "viewport_material.png")
+        plume, background, share = plume_contrast(shot, state["material_without"])
+        # Blender 3.4's EEVEE shows the material's emission (brighter); 4.3's EEVEE Next, under Xvfb,
+        # its absorption (darker): either way the plume must differ by 0.08 over 1 % of the view.
+        check(share > 0.01 and abs(plume - background) >= 0.08,
+              f"the plume stands out in Material Preview (a scene without lights): it covers {100 * share:.1f} % of "
+              f"the viewport, mean luminance {plume:.3f} on its pixels, {background:.3f} without it")
         # The panel, large: the 3D view becomes a Properties editor on the Scene tab, scrolled
         # down to the add-on's panel; a changed setting shows "cache out of date".
         settings(scene).vorticity = 0.9
         big = area_of("VIEW_3D")
         big.type = "PROPERTIES"  # its tabs exist after its first draw: the Scene tab is chosen then
         redraw_all()
-        state["phase"] = "scroll"
-        state["waits"] = 0
+        next_phase("scroll")
     elif phase == "scroll":
         state["waits"] += 1
         big = area_of("PROPERTIES")
@@ -233,8 +275,7 @@ def step():
             return 0.2
         screenshot("PROPERTIES", "panel_scene_tab.png")
         show_physics_tab()
-        state["phase"] = "physics"
-        state["waits"] = 0
+        next_phase("physics")
     elif phase == "physics":
         state["waits"] += 1
         big = area_of("PROPERTIES")
@@ -247,12 +288,9 @@ def step():
         want = {"hapticfluid", "Resolution", "Fluid", "Cache", "Display"}  # Pressure Solver starts closed
         check(want <= state["drawn"], f"the Physics tab drew the Domain's panels: {sorted(state['drawn'])}")
         big.ui_type = "TIMELINE"  # the window's own Timeline is a few pixels high at 1024 x 768
-        state["phase"] = "timeline"
-        state["waits"] = 0
+        next_phase("timeline")
     elif phase == "timeline":
-        state["waits"] += 1
-        if state["waits"] < 6:
-            redraw_all()
+        if settling(6):
             return 0.2
         if "outdated" not in state:  # vorticity was changed for the Scene tab's shot
             check_cache_bar("timeline_out_of_date.png", "outdated", lambda c: c[0] > 0.8 and c[0] - c[2] > 0.4)

@@ -9,7 +9,7 @@ import time
 
 import bpy
 
-from support import check, cube, drive, fail, invoke, region, set_roles, settings, uv_sphere, window
+from support import check, drive, fail, invoke, live_scene, region, settings, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops  # noqa: E402
@@ -25,18 +25,7 @@ state = {"phase": "start", "t0": time.time(), "phase_t": time.time(), "ticks": 0
 
 def setup():
     hapticfluid_blender.register()
-    scene = bpy.context.scene
-    for obj in list(scene.objects):
-        if obj.type == "MESH":
-            bpy.data.objects.remove(obj)
-    domain = cube(1.0, (0.5, 0.5, 0.5))
-    domain.display_type = "WIRE"
-    bake = set_roles(scene, domain, uv_sphere(0.1, (0.4, 0.5, 0.5)), uv_sphere(0.06, (0.5, 0.5, 0.12)))
-    bake.pressure_iterations = 20
-    live = scene.hapticfluid_live
-    live.device = "SIMULATED_FALCON"
-    live.auto_resolution = False
-    live.resolution = 16
+    live_scene()
 
 
 def next_phase(name):

@@ -12,11 +12,10 @@ cancels and joins the worker (``shutdown``) and shows what finished.
 
 import logging
 import threading
-import time
 
 import bpy
 
-from . import blender_scene, properties, roles, volume
+from . import blender_scene, modal_guard, properties, roles, volume
 
 TIMER_S = 0.2
 log = logging.getLogger(__name__)
@@ -111,44 +110,21 @@ def _finish_job(job, collection=None):
     return ("WARNING" if result.status == "cancelled" else "INFO"), settings.status
 
 
-# Blender 4.3 (not 3.4) crashes in modal_handler_add while a window still lists the handler of a
-# modal operator whose class was unregistered as it ran: unregister_class frees the operator and
-# leaves its handler to be dropped the next time that window handles an event. Disabling the add-on
-# during a UI bake leaves one; shutdown() keeps the bake's timer ticking in its window for
-# HANDLER_DROP_S (at least two events there) and the bake operators refuse to start until then.
-HANDLER_DROP_S = 2.5 * TIMER_S
-_dropping = {"timers": [], "until": 0.0}  # event timers kept for the drop, till when (main thread only)
-
-
-def handler_drop_pending():
-    """Whether a modal bake ended by disabling the add-on may still be listed by its window."""
-    if _dropping["timers"] and time.monotonic() >= _dropping["until"]:
-        _end_handler_drop()  # the timer may not have run yet
-    return bool(_dropping["timers"])
-
-
-def _end_handler_drop():
-    wm = bpy.context.window_manager
-    for timer in _dropping["timers"]:
-        if wm is not None:
-            wm.event_timer_remove(timer)  # a no-op for a timer the window manager no longer has
-    _dropping["timers"] = []
-    return None  # one-shot
+# Disabling the add-on during a UI bake: its timer keeps ticking for modal_guard.DROP_S (Blender
+# 4.3's crash in modal_handler_add; see modal_guard).
+HANDLER_DROP_S = modal_guard.DROP_S
 
 
 def shutdown():
     """The add-on is being disabled: cancel and join every running bake, end its progress, and
     show what finished (the complete frames; Resume continues after them). A modal bake's timer
-    ends HANDLER_DROP_S later (see above)."""
+    ends HANDLER_DROP_S later (modal_guard)."""
     wm = bpy.context.window_manager
     for job in list(_jobs):
         job.cancel.set()
         job.thread.join()
         if job.timer is not None and wm is not None:
-            if not _dropping["timers"]:
-                bpy.app.timers.register(_end_handler_drop, first_interval=HANDLER_DROP_S)
-            _dropping["timers"].append(job.timer)
-            _dropping["until"] = time.monotonic() + HANDLER_DROP_S
+            modal_guard.keep_ticking(job.timer)
             wm.progress_end()
             job.timer = None
         _finish_job(job)
@@ -224,10 +200,8 @@ class _BakeBase(_IdleOnly):
 
     # -- modal (UI) -----------------------------------------------------------------------------
     def invoke(self, context, _event):
-        if handler_drop_pending():
-            self._refuse(roles.settings_of(context.scene),
-                         "Try again in a moment: Blender is still dropping the bake that disabling the add-on "
-                         "ended (a new bake started now would crash Blender 4.x)")
+        if modal_guard.pending():
+            self._refuse(roles.settings_of(context.scene), modal_guard.REFUSAL.format(what="bake or live session"))
             return {"CANCELLED"}
         self._collection = context.view_layer.active_layer_collection.collection
         self._job = self._start(context)

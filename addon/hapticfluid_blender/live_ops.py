@@ -4,7 +4,8 @@ Start (invoked from the UI) is modal: an event timer on Blender's main thread ca
 ``LiveController.tick()`` ~40 times a second; Esc, or a right-click in a 3D viewport, or Stop ends
 it. Every session is also in ``_RUNNING`` so that opening another file (load_pre), disabling the
 add-on (unregister), quitting Blender (atexit) or Stop from a script ends it: force down through
-the slew limit, threads joined, draw handlers removed. Run from a script (execute), Start starts
+the slew limit, threads joined, draw handlers removed. After a disable, Start refuses for a moment
+(modal_guard: Blender 4.3 crashed in modal_handler_add). Run from a script (execute), Start starts
 the session and a ``bpy.app.timers`` ticker drives it (headless tests call ``tick()`` directly).
 """
 
@@ -13,7 +14,7 @@ import logging
 
 import bpy
 
-from . import live_session
+from . import live_session, modal_guard
 
 log = logging.getLogger(__name__)
 
@@ -32,9 +33,10 @@ class _Run:
         self.timer = None       # (window_manager, timer) of a modal operator
         self.app_timer = None   # function registered with bpy.app.timers
 
-    def end(self, reason=None, keep_drawing=False):
+    def end(self, reason=None, keep_drawing=False, disabling=False):
         """Stops the session. keep_drawing: the last frame stays drawn (without the force arrow)
-        until the next Start, a file load or the add-on's unregister."""
+        until the next Start, a file load or the add-on's unregister. disabling: the add-on is
+        being disabled, so a modal Start's timer goes to modal_guard (Blender 4.3's crash)."""
         report = self.controller.stop(reason)
         if self.drawer is not None:
             if keep_drawing:
@@ -44,10 +46,13 @@ class _Run:
                 self.drawer.remove()
         if self.timer is not None:
             wm, timer = self.timer
-            try:
-                wm.event_timer_remove(timer)
-            except (ReferenceError, ValueError):
-                pass
+            if disabling:
+                modal_guard.keep_ticking(timer)
+            else:
+                try:
+                    wm.event_timer_remove(timer)
+                except (ReferenceError, ValueError):
+                    pass
             self.timer = None
         if self.app_timer is not None and bpy.app.timers.is_registered(self.app_timer):
             bpy.app.timers.unregister(self.app_timer)
@@ -115,10 +120,10 @@ def clear_kept_drawings():
         _KEPT_DRAWERS.pop().remove()
 
 
-def stop_all(reason=None):
+def stop_all(reason=None, disabling=False):
     """Ends every live session and removes every drawing; returns their reports (None for a
-    clean stop)."""
-    reports = [run.end(reason) for run in list(_RUNNING)]
+    clean stop). disabling: see _Run.end."""
+    reports = [run.end(reason, disabling=disabling) for run in list(_RUNNING)]
     clear_kept_drawings()
     return reports
 
@@ -200,6 +205,11 @@ class HAPTICFLUID_OT_live_start(bpy.types.Operator):
         return {"FINISHED"}
 
     def invoke(self, context, _event):
+        if modal_guard.pending():
+            message = modal_guard.REFUSAL.format(what="live session or bake")
+            context.scene.hapticfluid_live.status = message
+            self.report({"ERROR"}, message)
+            return {"CANCELLED"}
         self._run = self._start(context)
         if self._run is None:
             return {"CANCELLED"}
@@ -285,7 +295,7 @@ def register():
 
 
 def unregister():
-    stop_all("Enable the add-on and start the session again: disabling the add-on stopped it")
+    stop_all("Enable the add-on and start the session again: disabling the add-on stopped it", disabling=True)
     if stop_on_load in bpy.app.handlers.load_pre:
         bpy.app.handlers.load_pre.remove(stop_on_load)
     if not bpy.app.background:

@@ -112,127 +112,100 @@ class _RolePanel:
         return self.layout.column(), roles.role_settings(context.object)
 
 
-class HAPTICFLUID_PT_domain_resolution(_RolePanel, bpy.types.Panel):
-    bl_label = "Resolution"
-    bl_idname = "HAPTICFLUID_PT_domain_resolution"
-    role = "DOMAIN"
+def _draw_resolution(col, s, _context):
+    col.prop(s, "resolution")
+    steps = col.column(heading="Time Steps")
+    steps.prop(s, "adaptive_substeps", text="Adaptive")
+    if s.adaptive_substeps:
+        col.prop(s, "cfl")
+        col.prop(s, "max_substeps")
+    else:
+        col.prop(s, "substeps")
+
+
+def _draw_fluid(col, s, context):
+    col.prop(s, "fluid_density")
+    scene = context.scene
+    col.prop(scene, "use_gravity", text="Scene Gravity")
+    sub = col.column()
+    sub.active = scene.use_gravity
+    sub.prop(scene, "gravity", text="Gravity (m/s²)")
+    for name in ("open_top", "vorticity", "heat_buoyancy", "smoke_dissipation", "heat_dissipation"):
+        col.prop(s, name)
+
+
+def _draw_cache(col, s, _context):
+    frames = col.column(align=True)  # one per line: readable at the default width
+    frames.prop(s, "frame_start", text="Frame Start")
+    frames.prop(s, "frame_end", text="End")
+    col.prop(s, "cache_dir")
+    grids = col.column(heading="Grids", align=True)
+    grids.label(text="Density (always)")
+    grids.prop(s, "write_velocity")
+    grids.prop(s, "write_pressure")
+    files = col.column(heading="Files")
+    files.prop(s, "half_float")
+    col.prop(s, "compression")
+    col.prop(s, "tolerance")
+
+
+def _draw_probe_velocity(col, _s, context):
+    panels.wrapped_label(col, context, "Bake: the object's animation (its world matrix at every frame; the "
+                                       "velocity is the motion between substeps, m/s)")
+    live = getattr(context.scene, "hapticfluid_live", None)
+    if live is not None:
+        col.prop(live, "device", text="Live")
+
+
+# The roles' sub-panels, in registration (and so display) order:
+# (bl_idname, bl_label, role, what it draws, bl_options). What it draws is either a function
+# (column, the role's settings group, context) or the properties of that group to draw one per
+# line, each a name or (name, text).
+SUB_PANEL_TABLE = (
+    ("HAPTICFLUID_PT_domain_resolution", "Resolution", "DOMAIN", _draw_resolution, set()),
+    ("HAPTICFLUID_PT_domain_fluid", "Fluid", "DOMAIN", _draw_fluid, set()),
+    ("HAPTICFLUID_PT_domain_solver", "Pressure Solver", "DOMAIN",
+     (("pressure_solver", "Solver"), ("pressure_iterations", "Iterations"), ("pressure_tolerance", "Tolerance")),
+     {"DEFAULT_CLOSED"}),
+    ("HAPTICFLUID_PT_domain_cache", "Cache", "DOMAIN", _draw_cache, set()),
+    ("HAPTICFLUID_PT_domain_display", "Display", "DOMAIN", ("density_scale", "volume_object"), set()),
+    ("HAPTICFLUID_PT_probe_shape", "Shape", "PROBE", (("probe_shape", "Shape"),), set()),
+    ("HAPTICFLUID_PT_probe_velocity", "Velocity Source", "PROBE", _draw_probe_velocity, set()),
+    ("HAPTICFLUID_PT_source_emission", "Emission", "SOURCE",
+     (("source_density", "Density"), ("source_temperature", "Temperature (K)")), set()),
+)
+
+
+def _prop_lines(props):
+    """A draw function for a tuple of property names or (name, text) pairs."""
+    def draw_props(col, s, _context):
+        for entry in props:
+            name, text = (entry, None) if isinstance(entry, str) else entry
+            if text is None:
+                col.prop(s, name)
+            else:
+                col.prop(s, name, text=text)
+    return draw_props
+
+
+def _sub_panel(idname, label, role, contents, options):
+    draw_contents = contents if callable(contents) else _prop_lines(contents)
 
     def draw(self, context):
         col, s = self._layout(context)
-        col.prop(s, "resolution")
-        steps = col.column(heading="Time Steps")
-        steps.prop(s, "adaptive_substeps", text="Adaptive")
-        if s.adaptive_substeps:
-            col.prop(s, "cfl")
-            col.prop(s, "max_substeps")
-        else:
-            col.prop(s, "substeps")
+        draw_contents(col, s, context)
+
+    attrs = {"bl_idname": idname, "bl_label": label, "role": role, "draw": draw, "__module__": __name__,
+             "__doc__": f"Physics > hapticfluid > {label} ({role.lower()} role)"}
+    if options:
+        attrs["bl_options"] = set(options)
+    return type(idname, (_RolePanel, bpy.types.Panel), attrs)
 
 
-class HAPTICFLUID_PT_domain_fluid(_RolePanel, bpy.types.Panel):
-    bl_label = "Fluid"
-    bl_idname = "HAPTICFLUID_PT_domain_fluid"
-    role = "DOMAIN"
+# bl_idname -> the generated panel class.
+SUB_PANELS = {row[0]: _sub_panel(*row) for row in SUB_PANEL_TABLE}
 
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "fluid_density")
-        scene = context.scene
-        col.prop(scene, "use_gravity", text="Scene Gravity")
-        sub = col.column()
-        sub.active = scene.use_gravity
-        sub.prop(scene, "gravity", text="Gravity (m/s²)")
-        col.prop(s, "open_top")
-        col.prop(s, "vorticity")
-        col.prop(s, "heat_buoyancy")
-        col.prop(s, "smoke_dissipation")
-        col.prop(s, "heat_dissipation")
-
-
-class HAPTICFLUID_PT_domain_solver(_RolePanel, bpy.types.Panel):
-    bl_label = "Pressure Solver"
-    bl_idname = "HAPTICFLUID_PT_domain_solver"
-    bl_options = {"DEFAULT_CLOSED"}
-    role = "DOMAIN"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "pressure_solver", text="Solver")
-        col.prop(s, "pressure_iterations", text="Iterations")
-        col.prop(s, "pressure_tolerance", text="Tolerance")
-
-
-class HAPTICFLUID_PT_domain_cache(_RolePanel, bpy.types.Panel):
-    bl_label = "Cache"
-    bl_idname = "HAPTICFLUID_PT_domain_cache"
-    role = "DOMAIN"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        frames = col.column(align=True)  # one per line: readable at the default width
-        frames.prop(s, "frame_start", text="Frame Start")
-        frames.prop(s, "frame_end", text="End")
-        col.prop(s, "cache_dir")
-        grids = col.column(heading="Grids", align=True)
-        grids.label(text="Density (always)")
-        grids.prop(s, "write_velocity")
-        grids.prop(s, "write_pressure")
-        files = col.column(heading="Files")
-        files.prop(s, "half_float")
-        col.prop(s, "compression")
-        col.prop(s, "tolerance")
-
-
-class HAPTICFLUID_PT_domain_display(_RolePanel, bpy.types.Panel):
-    bl_label = "Display"
-    bl_idname = "HAPTICFLUID_PT_domain_display"
-    role = "DOMAIN"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "density_scale")
-        col.prop(s, "volume_object")
-
-
-class HAPTICFLUID_PT_probe_shape(_RolePanel, bpy.types.Panel):
-    bl_label = "Shape"
-    bl_idname = "HAPTICFLUID_PT_probe_shape"
-    role = "PROBE"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "probe_shape", text="Shape")
-
-
-class HAPTICFLUID_PT_probe_velocity(_RolePanel, bpy.types.Panel):
-    bl_label = "Velocity Source"
-    bl_idname = "HAPTICFLUID_PT_probe_velocity"
-    role = "PROBE"
-
-    def draw(self, context):
-        col, _s = self._layout(context)
-        panels.wrapped_label(col, context, "Bake: the object's animation (its world matrix at every frame; the "
-                                           "velocity is the motion between substeps, m/s)")
-        live = getattr(context.scene, "hapticfluid_live", None)
-        if live is not None:
-            col.prop(live, "device", text="Live")
-
-
-class HAPTICFLUID_PT_source_emission(_RolePanel, bpy.types.Panel):
-    bl_label = "Emission"
-    bl_idname = "HAPTICFLUID_PT_source_emission"
-    role = "SOURCE"
-
-    def draw(self, context):
-        col, s = self._layout(context)
-        col.prop(s, "source_density", text="Density")
-        col.prop(s, "source_temperature", text="Temperature (K)")
-
-
-classes = (HAPTICFLUID_OT_set_role, HAPTICFLUID_PT_physics, HAPTICFLUID_PT_domain_resolution,
-           HAPTICFLUID_PT_domain_fluid, HAPTICFLUID_PT_domain_solver, HAPTICFLUID_PT_domain_cache,
-           HAPTICFLUID_PT_domain_display, HAPTICFLUID_PT_probe_shape, HAPTICFLUID_PT_probe_velocity,
-           HAPTICFLUID_PT_source_emission)
+classes = (HAPTICFLUID_OT_set_role, HAPTICFLUID_PT_physics, *SUB_PANELS.values())
 
 
 def attach():

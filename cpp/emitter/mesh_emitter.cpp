@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
-#include <vector>
 
 #include "common/error.h"
 #include "gl/workgroup.h"
@@ -33,7 +32,6 @@ MeshEmitter::MeshEmitter(const fluid::Grid& grid)
       crossings_(grid.cells() * 2 * sizeof(std::int32_t),
                  "smoke source crossings of the " + gridText(grid.res) + " grid (8 bytes per cell)"),
       coverage_(grid.res, gl::TexelFormat::R32F, "smoke source coverage"),
-      transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
       crossings_program_("emit_mesh_crossings.comp", gl::linearGroupDefines()),
       coverage_program_("emit_mesh_coverage.comp", gl::cellGroupDefines()),
       emit_("emit_coverage.comp", gl::cellGroupDefines()) {
@@ -55,15 +53,7 @@ MeshEmitter::MeshEmitter(const fluid::Grid& grid)
 void MeshEmitter::setSource(const MeshSource& source) {
   if (!source.mesh) throw Error("MeshEmitter::setSource: no mesh");
   if (source.mesh != uploaded_) {
-    const obstacle::TriangleMesh& mesh = *source.mesh;
-    const std::size_t nv = mesh.vertices_m.size(), nt = mesh.triangles.size();
-    std::vector<glm::vec4> v(nv);
-    for (std::size_t i = 0; i < nv; ++i) v[i] = glm::vec4(mesh.vertices_m[i], 1.0f);
-    local_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "smoke source vertices");
-    local_vertices_->upload(v.data(), nv * sizeof(glm::vec4));
-    grid_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "smoke source vertices in grid units");
-    indices_ = std::make_unique<gl::StorageBuffer>(nt * sizeof(glm::uvec3), "smoke source triangles");
-    indices_->upload(mesh.triangles.data(), nt * sizeof(glm::uvec3));
+    gpu_mesh_.upload(*source.mesh, "smoke source");
     uploaded_ = source.mesh;
   }
   source_ = source;
@@ -71,26 +61,8 @@ void MeshEmitter::setSource(const MeshSource& source) {
 
 void MeshEmitter::voxelize() {
   if (!uploaded_) throw Error("MeshEmitter::voxelize: no source was set");
-  const auto nv = static_cast<unsigned>(source_.mesh->vertices_m.size());
-  const auto nt = static_cast<unsigned>(source_.mesh->triangles.size());
-  // local -> world -> grid units (cell i spans [i, i+1]), composed in double
-  const glm::dmat4 m(source_.transform);
-  const double h = grid_.cell_size_m;
-  glm::dmat4 to_grid(1.0);
-  for (int c = 0; c < 3; ++c) to_grid[c] = glm::dvec4(glm::dvec3(m[c]) / h, 0.0);
-  to_grid[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h, 1.0);
-  local_vertices_->bind(0);
-  grid_vertices_->bind(1);
-  transform_.set("u_to_grid", glm::mat4(to_grid));
-  transform_.set("u_count", nv);
-  transform_.dispatch(glm::ivec3(static_cast<int>(nv), 1, 1));
-
-  crossings_.clear();
-  grid_vertices_->bind(0);
-  indices_->bind(1);
-  crossings_.bind(2);
-  crossings_program_.set("u_count", nt);
-  crossings_program_.dispatch(glm::ivec3(static_cast<int>(nt), 1, 1));
+  gpu_mesh_.pose(obstacle::localToLattice(source_.transform, grid_.origin_m, grid_.cell_size_m));
+  gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
   crossings_.bind(0);
   coverage_.bindImage(0, GL_WRITE_ONLY);

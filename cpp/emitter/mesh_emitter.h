@@ -1,7 +1,7 @@
 #pragma once
 // A MeshSource on the GPU: each step its coverage of every cell (0..1, the fraction of the cell
 // inside the posed mesh), then the emission into smoke and heat, in four stages:
-//   voxelize_mesh_transform  local vertices -> grid units (shared with obstacle::MeshProbe)
+//   voxelize_mesh_transform  local vertices -> grid units (obstacle::PosedMesh, as MeshProbe)
 //   emit_mesh_crossings      each triangle visits the sub-columns under it (kSourceSubsamples^2
 //                            per cell, at (i + (a + 1/2)/S, j + (b + 1/2)/S)) and adds, in the
 //                            cell holding the hit, its signed crossing and the signed length
@@ -23,6 +23,7 @@
 #include "gl/storage_buffer.h"
 #include "gl/texture3d.h"
 #include "obstacle/obstacle.h"
+#include "obstacle/posed_mesh.h"
 
 namespace hf::emitter {
 
@@ -46,10 +47,10 @@ class MeshEmitter {
   int subcell_ = 2 * kSourceSubsamples;  // fixed-point lattice steps per cell (a multiple of 2 S)
   MeshSource source_;
   std::shared_ptr<const obstacle::TriangleMesh> uploaded_;
-  std::unique_ptr<gl::StorageBuffer> local_vertices_, grid_vertices_, indices_;
+  obstacle::PosedMesh gpu_mesh_;
   gl::StorageBuffer crossings_;  // per cell: signed crossing count, signed fixed-point length
   gl::Texture3D coverage_;
-  gl::ComputeProgram transform_, crossings_program_, coverage_program_, emit_;
+  gl::ComputeProgram crossings_program_, coverage_program_, emit_;
 };
 
 }  // namespace hf::emitter

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
-#include <vector>
 
 #include "common/error.h"
 #include "gl/workgroup.h"
@@ -29,7 +28,6 @@ MeshProbe::MeshProbe(const fluid::Grid& grid)
       crossings_(grid.cells() * sizeof(std::int32_t), "mesh crossings of the " + std::to_string(grid.res.x) + "x" +
                                                           std::to_string(grid.res.y) + "x" + std::to_string(grid.res.z) +
                                                           " grid (4 bytes per cell)"),
-      transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()),
       crossings_program_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
       fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()),
       fine_crossings_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
@@ -57,14 +55,7 @@ int MeshProbe::fineCellsFor(std::size_t box_cells) {
 void MeshProbe::setMesh(std::shared_ptr<const TriangleMesh> mesh) {
   if (!mesh) throw Error("MeshProbe::setMesh: no mesh");
   if (mesh == mesh_) return;
-  const std::size_t nv = mesh->vertices_m.size(), nt = mesh->triangles.size();
-  std::vector<glm::vec4> v(nv);
-  for (std::size_t i = 0; i < nv; ++i) v[i] = glm::vec4(mesh->vertices_m[i], 1.0f);
-  local_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "mesh vertices");
-  local_vertices_->upload(v.data(), nv * sizeof(glm::vec4));
-  grid_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), "mesh vertices in grid units");
-  indices_ = std::make_unique<gl::StorageBuffer>(nt * sizeof(glm::uvec3), "mesh triangles");
-  indices_->upload(mesh->triangles.data(), nt * sizeof(glm::uvec3));
+  gpu_mesh_.upload(*mesh, "mesh");
   mesh_ = std::move(mesh);
   extent_ = meshExtent(*mesh_);
 }
@@ -73,21 +64,8 @@ void MeshProbe::setPose(const RigidPose& pose) { pose_ = pose; }
 
 void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
   if (!mesh_) throw Error("MeshProbe::voxelize: no mesh was set");
-  const auto nt = static_cast<unsigned>(mesh_->triangles.size());
-  // local -> world -> grid units (cell i spans [i, i+1]), composed in double
-  const glm::dmat4 m(pose_.transform);
-  const double h = grid_.cell_size_m;
-  glm::dmat4 to_grid(1.0);
-  for (int c = 0; c < 3; ++c) to_grid[c] = glm::dvec4(glm::dvec3(m[c]) / h, 0.0);
-  to_grid[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h, 1.0);
-  transformVertices(to_grid);
-
-  crossings_.clear();
-  grid_vertices_->bind(0);
-  indices_->bind(1);
-  crossings_.bind(2);
-  crossings_program_.set("u_count", nt);
-  crossings_program_.dispatch(glm::ivec3(static_cast<int>(nt), 1, 1));
+  gpu_mesh_.pose(localToLattice(pose_.transform, grid_.origin_m, grid_.cell_size_m));
+  gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
   crossings_.bind(0);
   solid.bindImage(0, GL_WRITE_ONLY);
@@ -96,15 +74,6 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
   fill_.set("u_velocity", pose_.velocity_m_s);
   fill_.set("u_angular", pose_.angular_velocity_rad_s);
   fill_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
-}
-
-void MeshProbe::transformVertices(const glm::dmat4& to_grid) {
-  const auto nv = static_cast<unsigned>(mesh_->vertices_m.size());
-  local_vertices_->bind(0);
-  grid_vertices_->bind(1);
-  transform_.set("u_to_grid", glm::mat4(to_grid));
-  transform_.set("u_count", nv);
-  transform_.dispatch(glm::ivec3(static_cast<int>(nv), 1, 1));
 }
 
 bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open) {
@@ -130,21 +99,10 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open) {
                                                             std::to_string(fine_cells) + " fine cells, 4 bytes each)");
   }
   // local -> fine grid units: s x (grid units - the box's first cell)
-  const glm::dmat4 m(pose_.transform);
-  const double h_fine = grid_.cell_size_m / s;
-  glm::dmat4 to_fine(1.0);
-  for (int c = 0; c < 3; ++c) to_fine[c] = glm::dvec4(glm::dvec3(m[c]) / h_fine, 0.0);
-  to_fine[3] = glm::dvec4((glm::dvec3(m[3]) - glm::dvec3(grid_.origin_m)) / h_fine - glm::dvec3(box.origin * s), 1.0);
-  transformVertices(to_fine);
-
-  fine_winding_->clear();
-  grid_vertices_->bind(0);
-  indices_->bind(1);
-  fine_winding_->bind(2);
+  gpu_mesh_.pose(localToLattice(pose_.transform, grid_.origin_m, grid_.cell_size_m / s, box.origin * s));
   fine_crossings_.set("u_res", fine_res);
   fine_crossings_.set("u_subcell", subcell);
-  fine_crossings_.set("u_count", static_cast<unsigned>(mesh_->triangles.size()));
-  fine_crossings_.dispatch(glm::ivec3(static_cast<int>(mesh_->triangles.size()), 1, 1));
+  gpu_mesh_.dispatchCrossings(fine_crossings_, *fine_winding_);
 
   fine_winding_->bind(0);
   winding_.set("u_res", fine_res);

@@ -1,7 +1,7 @@
 #pragma once
 // A rigid closed triangle mesh voxelized on the GPU every step by ray parity along z
 // (see triangle_mesh.h for the rule), in three stages:
-//   voxelize_mesh_transform  local vertices -> grid units (the pose's matrix)
+//   voxelize_mesh_transform  local vertices -> grid units (the pose's matrix; PosedMesh)
 //   voxelize_mesh_crossings  each triangle visits the cell columns under it and adds its signed
 //                            crossing (+1 entering, -1 leaving) at the first cell above the hit
 //   voxelize_mesh_fill       each column sums its crossings bottom-up: solid where nonzero; the
@@ -19,6 +19,7 @@
 #include "gl/compute_program.h"
 #include "gl/storage_buffer.h"
 #include "obstacle/obstacle.h"
+#include "obstacle/posed_mesh.h"
 #include "obstacle/triangle_mesh.h"
 
 namespace hf::obstacle {
@@ -48,14 +49,12 @@ class MeshProbe : public Obstacle {
   std::shared_ptr<const TriangleMesh> mesh_;
   MeshExtent extent_;
   RigidPose pose_;
-  std::unique_ptr<gl::StorageBuffer> local_vertices_, grid_vertices_, indices_;
+  PosedMesh gpu_mesh_;
   gl::StorageBuffer crossings_;
-  gl::ComputeProgram transform_, crossings_program_, fill_;
+  gl::ComputeProgram crossings_program_, fill_;
   bool cut_cells_ = false;
   std::unique_ptr<gl::StorageBuffer> fine_winding_;  // grown to the largest fine grid used
   gl::ComputeProgram fine_crossings_, winding_, fractions_;
-
-  void transformVertices(const glm::dmat4& to_grid);
 };
 
 }  // namespace hf::obstacle

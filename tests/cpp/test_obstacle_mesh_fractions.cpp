@@ -59,6 +59,29 @@ glm::dvec3 controlLow(const glm::ivec3& idx, int axis) {
   return lo;
 }
 
+// Visits the three faces of every texel of `f.open`: fn(idx, axis, got, in_grid), where in_grid
+// says the face is one of the grid's (an x face has i <= res.x, j < res.y, k < res.z, ...).
+template <class Fn>
+void forEachFace(const glm::ivec3& res, const Fractions& f, Fn fn) {
+  for (int k = 0; k <= res.z; ++k)
+    for (int j = 0; j <= res.y; ++j)
+      for (int i = 0; i <= res.x; ++i) {
+        const glm::ivec3 idx(i, j, k);
+        const glm::vec4 got = f.open[i + (res.x + 1) * (j + (res.y + 1) * static_cast<std::size_t>(k))];
+        for (int a = 0; a < 3; ++a) fn(idx, a, got[a], glm::all(glm::lessThan(idx, res + glm::ivec3(a == 0, a == 1, a == 2))));
+      }
+}
+
+// Counts faces off their expected value and describes the first.
+struct Misses {
+  int count = 0;
+  std::ostringstream first;
+  template <class Want>
+  void add(const glm::ivec3& idx, int axis, float got, const Want& want) {
+    if (count++ == 0) first << "face " << axis << " (" << idx.x << ", " << idx.y << ", " << idx.z << "): " << got << " want " << want;
+  }
+};
+
 class MeshFractionsTest : public test::GlTest {};
 
 TEST_F(MeshFractionsTest, AxisAlignedBoxGivesTheExactControlVolumeOverlap) {
@@ -72,28 +95,20 @@ TEST_F(MeshFractionsTest, AxisAlignedBoxGivesTheExactControlVolumeOverlap) {
   const TriangleMesh box = test::boxMesh(glm::vec3(lo * 0.1), glm::vec3(hi * 0.1));
   ASSERT_EQ(MeshProbe::fineCellsFor(1000), kFineCells);
   const Fractions f = faceFractions(g, box, p);
-  int partial = 0, wrong = 0;
-  std::ostringstream first;
-  for (int k = 0; k <= g.res.z; ++k)
-    for (int j = 0; j <= g.res.y; ++j)
-      for (int i = 0; i <= g.res.x; ++i) {
-        const glm::ivec3 idx(i, j, k);
-        const glm::vec4 got = f.open[i + (g.res.x + 1) * (j + (g.res.y + 1) * static_cast<std::size_t>(k))];
-        for (int a = 0; a < 3; ++a) {
-          float want = 1.0f;
-          if (idx[a] < g.res[a] + 1 && glm::all(glm::lessThan(idx, g.res + glm::ivec3(a == 0, a == 1, a == 2)))) {
-            const glm::dvec3 c = controlLow(idx, a);
-            double overlap = 1.0;
-            for (int b = 0; b < 3; ++b) overlap *= std::max(0.0, std::min(c[b] + 1.0, hi[b]) - std::max(c[b], lo[b]));
-            want = cutOff(static_cast<float>(1.0 - overlap));
-            partial += want > 0.0f && want < 1.0f;
-          }
-          if (std::abs(got[a] - want) > 1e-5f && wrong++ == 0) {
-            first << "face " << a << " (" << i << ", " << j << ", " << k << "): " << got[a] << " want " << want;
-          }
-        }
-      }
-  EXPECT_EQ(wrong, 0) << first.str();
+  int partial = 0;
+  Misses wrong;
+  forEachFace(g.res, f, [&](const glm::ivec3& idx, int a, float got, bool in_grid) {
+    float want = 1.0f;
+    if (in_grid) {
+      const glm::dvec3 c = controlLow(idx, a);
+      double overlap = 1.0;
+      for (int b = 0; b < 3; ++b) overlap *= std::max(0.0, std::min(c[b] + 1.0, hi[b]) - std::max(c[b], lo[b]));
+      want = cutOff(static_cast<float>(1.0 - overlap));
+      partial += want > 0.0f && want < 1.0f;
+    }
+    if (std::abs(got - want) > 1e-5f) wrong.add(idx, a, got, want);
+  });
+  EXPECT_EQ(wrong.count, 0) << wrong.first.str();
   EXPECT_GT(partial, 200);
 }
 
@@ -139,36 +154,31 @@ TEST_F(MeshFractionsTest, PosedMeshesMatchACpuWindingNumberReference) {
           const double w = std::abs(test::windingNumber(c.mesh, t, x));
           fine[i + fr.x * (j + static_cast<std::size_t>(fr.y) * k)] = std::abs(w - 0.5) < 0.02 ? -1 : (w > 0.5);
         }
-    int partial = 0, wrong = 0;
-    std::ostringstream first;
-    for (int k = 0; k <= g.res.z; ++k)
-      for (int j = 0; j <= g.res.y; ++j)
-        for (int i = 0; i <= g.res.x; ++i) {
-          const glm::ivec3 idx(i, j, k);
-          const glm::vec4 got = f.open[i + (g.res.x + 1) * (j + (g.res.y + 1) * static_cast<std::size_t>(k))];
-          for (int a = 0; a < 3; ++a) {
-            if (!glm::all(glm::lessThan(idx, g.res + glm::ivec3(a == 0, a == 1, a == 2)))) continue;
-            glm::ivec3 lo = (idx - f.box.origin) * s;
-            lo[a] -= s / 2;
-            int solid = 0, unsure = 0;
-            for (int z = lo.z; z < lo.z + s; ++z)
-              for (int y = lo.y; y < lo.y + s; ++y)
-                for (int x = lo.x; x < lo.x + s; ++x) {
-                  if (x < 0 || y < 0 || z < 0 || x >= fr.x || y >= fr.y || z >= fr.z) continue;
-                  const signed char v = fine[x + fr.x * (y + static_cast<std::size_t>(fr.y) * z)];
-                  solid += v == 1;
-                  unsure += v == -1;
-                }
-            const float cube = float(s * s * s);
-            const float most = cutOff(1.0f - solid / cube), least = cutOff(1.0f - (solid + unsure) / cube);
-            partial += most > 0.0f && most < 1.0f;
-            if ((got[a] < least - 1e-5f || got[a] > most + 1e-5f) && wrong++ == 0) {
-              first << "face " << a << " (" << i << ", " << j << ", " << k << "): " << got[a] << " want " << least
-                    << " .. " << most;
-            }
+    int partial = 0;
+    Misses wrong;
+    forEachFace(g.res, f, [&](const glm::ivec3& idx, int a, float got, bool in_grid) {
+      if (!in_grid) return;
+      glm::ivec3 lo = (idx - f.box.origin) * s;
+      lo[a] -= s / 2;
+      int solid = 0, unsure = 0;
+      for (int z = lo.z; z < lo.z + s; ++z)
+        for (int y = lo.y; y < lo.y + s; ++y)
+          for (int x = lo.x; x < lo.x + s; ++x) {
+            if (x < 0 || y < 0 || z < 0 || x >= fr.x || y >= fr.y || z >= fr.z) continue;
+            const signed char v = fine[x + fr.x * (y + static_cast<std::size_t>(fr.y) * z)];
+            solid += v == 1;
+            unsure += v == -1;
           }
-        }
-    EXPECT_EQ(wrong, 0) << c.name << ": first " << first.str();
+      const float cube = float(s * s * s);
+      const float most = cutOff(1.0f - solid / cube), least = cutOff(1.0f - (solid + unsure) / cube);
+      partial += most > 0.0f && most < 1.0f;
+      if (got < least - 1e-5f || got > most + 1e-5f) {
+        std::ostringstream range;
+        range << least << " .. " << most;
+        wrong.add(idx, a, got, range.str());
+      }
+    });
+    EXPECT_EQ(wrong.count, 0) << c.name << ": first " << wrong.first.str();
     EXPECT_GT(partial, 100) << c.name;
   }
 }

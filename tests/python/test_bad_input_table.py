@@ -147,29 +147,28 @@ BAD_TRIANGLES = {"out_of_range": np.array([[0, 1, 9]] * 4), "negative": np.array
                  "none": None, "empty": np.zeros((0, 3), int)}
 
 
-@pytest.mark.parametrize("kind,value", _kinds(BAD_VERTICES))
-def test_set_mesh_probe_vertices(small_sim, kind, value):
-    _, t = _tetra()
-    _expect(lambda: small_sim.set_mesh_probe(value, t), "vertices")
+# The two setters that take a closed mesh check vertices, triangles and transform alike, and
+# each its own keyword arguments.
+MESH_SETTER_ARGS = {
+    "set_mesh_probe": [(a, k, v) for a in ("velocity", "angular_velocity", "torque_centre")
+                       for k, v in BAD_VEC3.items() if k != "none"],
+    "set_smoke_source_mesh": [(a, k, v) for a in ("density", "temperature") for k, v in BAD_NONNEG_FLOAT.items()]
+                             + [("emission", k, v) for k, v in BAD_STRING_CHOICE.items()],
+}
+MESH_ARGS = ([("vertices", k, v) for k, v in BAD_VERTICES.items()]
+             + [("triangles", k, v) for k, v in BAD_TRIANGLES.items()]
+             + [("transform", k, v) for k, v in BAD_MATRIX.items()])
 
 
-@pytest.mark.parametrize("kind,value", _kinds(BAD_TRIANGLES))
-def test_set_mesh_probe_triangles(small_sim, kind, value):
-    v, _ = _tetra()
-    _expect(lambda: small_sim.set_mesh_probe(v, value), "triangles")
-
-
-@pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
-def test_set_mesh_probe_transform(small_sim, kind, value):
+@pytest.mark.parametrize("setter,arg,kind,value", [pytest.param(s, a, k, v, id=f"{s}-{a}-{k}")
+                                                   for s, extra in MESH_SETTER_ARGS.items()
+                                                   for a, k, v in MESH_ARGS + extra])
+def test_mesh_setters(small_sim, setter, arg, kind, value):
     v, t = _tetra()
-    _expect(lambda: small_sim.set_mesh_probe(v, t, transform=value), "transform")
-
-
-@pytest.mark.parametrize("arg,kind,value", [(a, k, v) for a in ("velocity", "angular_velocity", "torque_centre")
-                                            for k, v in BAD_VEC3.items() if k != "none"])
-def test_set_mesh_probe_vectors(small_sim, arg, kind, value):
-    v, t = _tetra()
-    _expect(lambda: small_sim.set_mesh_probe(v, t, **{arg: value}), arg)
+    positional = {"vertices": v, "triangles": t}
+    keywords = {}
+    (positional if arg in positional else keywords)[arg] = value
+    _expect(lambda: getattr(small_sim, setter)(positional["vertices"], positional["triangles"], **keywords), arg)
 
 
 @pytest.mark.parametrize("kind,value", [(k, v) for k, v in BAD_MATRIX.items() if k != "singular"])
@@ -356,14 +355,6 @@ def _set(d, path, value):
     d[path[-1]] = value
 
 
-@pytest.mark.parametrize("name,path,value", [pytest.param(n, p, v, id=f"{n}-{i}")
-                                             for n, p, vals in SCENE_BAD for i, v in enumerate(vals)])
-def test_scene_dict(tmp_path, name, path, value):
-    data = _scene()
-    _set(data, path, value)
-    _expect(lambda: scene_from_dict(data, tmp_path), name, hf.InvalidArgumentError)
-
-
 def _mesh_source_scene():
     data = _scene()
     v, t = _tetra()
@@ -388,10 +379,11 @@ def test_the_mesh_source_scene_loads(tmp_path):
     assert scene_from_dict(_mesh_source_scene(), tmp_path).source.shape == "mesh"
 
 
-@pytest.mark.parametrize("name,path,value", [pytest.param(n, p, v, id=f"{n}-{i}")
-                                             for n, p, vals in SOURCE_BAD for i, v in enumerate(vals)])
-def test_scene_dict_mesh_source(tmp_path, name, path, value):
-    data = _mesh_source_scene()
+@pytest.mark.parametrize("base,name,path,value", [pytest.param(base, n, p, v, id=f"{n}-{i}")
+                                                  for base, table in ((_scene, SCENE_BAD), (_mesh_source_scene, SOURCE_BAD))
+                                                  for n, p, vals in table for i, v in enumerate(vals)])
+def test_scene_dict(tmp_path, base, name, path, value):
+    data = base()
     _set(data, path, value)
     _expect(lambda: scene_from_dict(data, tmp_path), name, hf.InvalidArgumentError)
 
@@ -441,32 +433,6 @@ def test_cli_arguments(capsys, command, option, value):
 
 
 # ----------------------------------------------------------------------------- mesh smoke source
-
-@pytest.mark.parametrize("kind,value", _kinds(BAD_VERTICES))
-def test_set_smoke_source_mesh_vertices(small_sim, kind, value):
-    _, t = _tetra()
-    _expect(lambda: small_sim.set_smoke_source_mesh(value, t), "vertices")
-
-
-@pytest.mark.parametrize("kind,value", _kinds(BAD_TRIANGLES))
-def test_set_smoke_source_mesh_triangles(small_sim, kind, value):
-    v, _ = _tetra()
-    _expect(lambda: small_sim.set_smoke_source_mesh(v, value), "triangles")
-
-
-@pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
-def test_set_smoke_source_mesh_transform(small_sim, kind, value):
-    v, t = _tetra()
-    _expect(lambda: small_sim.set_smoke_source_mesh(v, t, transform=value), "transform")
-
-
-@pytest.mark.parametrize("arg,kind,value", [(a, k, v) for a in ("density", "temperature")
-                                            for k, v in BAD_NONNEG_FLOAT.items()]
-                         + [("emission", k, v) for k, v in BAD_STRING_CHOICE.items()])
-def test_set_smoke_source_mesh_values(small_sim, arg, kind, value):
-    v, t = _tetra()
-    _expect(lambda: small_sim.set_smoke_source_mesh(v, t, **{arg: value}), arg)
-
 
 @pytest.mark.parametrize("kind,value", _kinds(BAD_MATRIX))
 def test_set_smoke_source_pose_transform(small_sim, kind, value):

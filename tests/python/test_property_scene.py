@@ -96,24 +96,39 @@ def test_any_json_value_loads_or_is_refused(tmp_path, data):
     _parse(data, tmp_path)
 
 
-@SETTINGS
-@given(path=st.sampled_from(VALID_PATHS), value=json_values)
-def test_one_changed_value_loads_or_is_refused(tmp_path, path, value):
-    data = valid_scene()
-    _replace(data, path, value)
-    _parse(data, tmp_path)
+# Each valid document: how to make it, the paths in it to change or remove, and the keys whose
+# removal must be refused.
+DOCUMENTS = {
+    "probe scene": (valid_scene, VALID_PATHS,
+                    (("domain",), ("resolution",), ("frames",), ("cache",), ("probe", "keys"))),
+    "mesh source scene": (valid_mesh_source_scene, MESH_SOURCE_PATHS,
+                          (("source", "keys"), ("source", "vertices"), ("source", "triangles"))),
+}
 
 
+@pytest.mark.parametrize("document", list(DOCUMENTS))
 @SETTINGS
-@given(path=st.sampled_from([p for p in VALID_PATHS if isinstance(p[-1], str)]))
-def test_one_removed_key_loads_or_is_refused(tmp_path, path):
-    data = valid_scene()
-    parent = data
+@given(data=st.data())
+def test_one_changed_value_loads_or_is_refused(tmp_path, document, data):
+    make, paths, _required = DOCUMENTS[document]
+    doc = make()
+    _replace(doc, data.draw(st.sampled_from(paths), label="path"), data.draw(json_values, label="value"))
+    _parse(doc, tmp_path)
+
+
+@pytest.mark.parametrize("document", list(DOCUMENTS))
+@SETTINGS
+@given(data=st.data())
+def test_one_removed_key_loads_or_is_refused(tmp_path, document, data):
+    make, paths, required = DOCUMENTS[document]
+    path = data.draw(st.sampled_from([p for p in paths if isinstance(p[-1], str)]), label="path")
+    doc = make()
+    parent = doc
     for k in path[:-1]:
         parent = parent[k]
     del parent[path[-1]]
-    scene = _parse(data, tmp_path)
-    if path in (("domain",), ("resolution",), ("frames",), ("cache",), ("probe", "keys")):
+    scene = _parse(doc, tmp_path)
+    if path in required:
         assert scene is None, f"removing required key {path} was accepted"
 
 
@@ -121,27 +136,6 @@ def test_the_valid_mesh_source_scene_loads(tmp_path):
     scene = _parse(valid_mesh_source_scene(), tmp_path)
     assert scene is not None and scene.source.shape == "mesh" and scene.source.emission == "rate"
     assert scene.source.trajectory.pose(2.5).translation[0] == pytest.approx(0.4)
-
-
-@SETTINGS
-@given(path=st.sampled_from(MESH_SOURCE_PATHS), value=json_values)
-def test_one_changed_mesh_source_value_loads_or_is_refused(tmp_path, path, value):
-    data = valid_mesh_source_scene()
-    _replace(data, path, value)
-    _parse(data, tmp_path)
-
-
-@SETTINGS
-@given(path=st.sampled_from([p for p in MESH_SOURCE_PATHS if isinstance(p[-1], str)]))
-def test_one_removed_mesh_source_key_loads_or_is_refused(tmp_path, path):
-    data = valid_mesh_source_scene()
-    parent = data
-    for k in path[:-1]:
-        parent = parent[k]
-    del parent[path[-1]]
-    scene = _parse(data, tmp_path)
-    if path in (("source", "keys"), ("source", "vertices"), ("source", "triangles")):
-        assert scene is None, f"removing required key {path} was accepted"
 
 
 @SETTINGS
