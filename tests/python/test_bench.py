@@ -93,7 +93,12 @@ def test_engine_rows_have_positive_timings_per_stage(quick_run):
         # (5 % and 0.5 ms for the two clocks' granularity).
         assert r["GPU ms total"] <= 1.05 * r["wall ms median"] + 0.5
         assert 0.0 <= r["rel. residual"] < 1.0
-        assert r["pressure iterations"] == settings[r["solver"]]["pressure_iterations"]
+        solver = settings[r["solver"]]
+        if "pressure_tolerance" in solver:  # to a tolerance: within the cap, and the tolerance reached
+            assert 0 <= r["pressure iterations"] <= solver["pressure_iterations"]
+            assert r["rel. residual"] <= solver["pressure_tolerance"]
+        else:
+            assert r["pressure iterations"] == solver["pressure_iterations"]
 
 
 def test_readback_bytes_are_the_field_sizes(quick_run):
