@@ -77,9 +77,15 @@ def test_ctrl_c_while_closing_aborts_but_never_leaves_the_writer_running():
         os.kill(os.getpid(), signal.SIGINT)  # Python's default handler: KeyboardInterrupt in close()
         threading.Timer(0.3, release.set).start()
 
-    threading.Timer(0.2, ctrl_c_then_release).start()
-    with pytest.raises(KeyboardInterrupt):
-        w.close()
+    # Python's own SIGINT handler, whatever this process inherited (a job started in the
+    # background by a non-interactive shell ignores SIGINT, and Python then keeps it ignored).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        threading.Timer(0.2, ctrl_c_then_release).start()
+        with pytest.raises(KeyboardInterrupt):
+            w.close()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert done == [1]  # close() returned only once the frame being written was written
     assert seen == [1]  # and frame 2 was dropped
 
