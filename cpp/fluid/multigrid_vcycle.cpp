@@ -64,24 +64,39 @@ void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture
   coarsen_faces_.dispatch(coarse_res + 1);
 }
 
-void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess) {
+// One red-black sweep of `colour` with mg_smooth.comp's program (plain or PROLONG): its images
+// (faces, x at 0, b at 1, mask at 2) and uniforms; PROLONG's coarse x is bound by the caller.
+void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask,
+                            const gl::Texture3D& faces, gl::Texture3D& x, const gl::Texture3D& b, int colour,
+                            bool zero_guess) {
   faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   x.bindImage(0, GL_READ_WRITE);
   b.bindImage(1, GL_READ_ONLY);
   mask.bindImage(2, GL_READ_ONLY);
-  smooth_.set("u_res", res);
-  smooth_.set("u_colour", colour);
-  smooth_.set("u_zero_guess", zero_guess ? 1 : 0);
-  smooth_.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
+  program.set("u_res", res);
+  program.set("u_colour", colour);
+  program.set("u_zero_guess", zero_guess ? 1 : 0);
+  program.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
 }
 
-void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                               const gl::Texture3D& x, const gl::Texture3D& b, gl::Texture3D& out) {
+// The residual's inputs, shared by mg_residual and mg_residual_restrict: faces, x at 1, b at 2,
+// mask at 3 (the output at 0 is the caller's).
+void MultigridVCycle::bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
+                                         const gl::Texture3D& b) {
   faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   x.bindImage(1, GL_READ_ONLY);
   b.bindImage(2, GL_READ_ONLY);
   mask.bindImage(3, GL_READ_ONLY);
+}
+
+void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess) {
+  sweep(smooth_, res, mask, faces, x, b, colour, zero_guess);
+}
+
+void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+                               const gl::Texture3D& x, const gl::Texture3D& b, gl::Texture3D& out) {
+  bindResidualInputs(mask, faces, x, b);
   out.bindImage(0, GL_WRITE_ONLY);
   residual_.set("u_res", res);
   residual_.dispatch(res);
@@ -111,25 +126,15 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D
 void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
                                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x,
                                       int colour) {
-  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  x.bindImage(0, GL_READ_WRITE);
-  b.bindImage(1, GL_READ_ONLY);
-  mask.bindImage(2, GL_READ_ONLY);
   coarse_x.bindImage(3, GL_READ_ONLY);
-  smooth_prolong_.set("u_res", res);
-  smooth_prolong_.set("u_colour", colour);
-  smooth_prolong_.set("u_zero_guess", 0);
-  smooth_prolong_.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
+  sweep(smooth_prolong_, res, mask, faces, x, b, colour, false);
 }
 
 void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
                                        const gl::Texture3D& fine_faces, const gl::Texture3D& fine_x,
                                        const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
                                        gl::Texture3D& coarse_b, float scale) {
-  fine_faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  fine_x.bindImage(1, GL_READ_ONLY);
-  fine_b.bindImage(2, GL_READ_ONLY);
-  fine_mask.bindImage(3, GL_READ_ONLY);
+  bindResidualInputs(fine_mask, fine_faces, fine_x, fine_b);
   coarse_b.bindImage(0, GL_WRITE_ONLY);
   residual_restrict_.set("u_res", coarse_res);
   residual_restrict_.set("u_fine_size", fine_res);

@@ -85,6 +85,11 @@ class MultigridVCycle {
   gl::Texture3D& faces(int level) { return coarse_[static_cast<std::size_t>(level - 1)].faces; }
 
  private:
+  void sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
+             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess);
+  static void bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
+                                 const gl::Texture3D& b);
+
   struct Coarse {
     explicit Coarse(const glm::ivec3& res);
     gl::Texture3D mask, faces, x, b;
