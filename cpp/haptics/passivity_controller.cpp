@@ -46,13 +46,13 @@ double PassivityController::allowedPush(double energy_j, double speed_m_s, doubl
   const double b = speed_m_s * dt_s;
   if (!(energy_j < 0.0)) return -energy_j / b;  // owed: a force against the motion pays it this period
   if (!(slew_rate_n_s_ > 0.0f)) return -energy_j / b;
-  const double a = speed_m_s / (2.0 * kPlanSlewFraction * slew_rate_n_s_);
+  const double s = kPlanSlewFraction * slew_rate_n_s_;
+  const double a = speed_m_s / (2.0 * s);
   double p = 2.0 * -energy_j / (b + std::sqrt(b * b - 4.0 * a * energy_j));  // the quadratic's positive root, stably
   if (!(accel_m_s2 > 0.0)) return p;
   // With the cubic term the root is smaller: Newton from the quadratic's root (above it; the
   // budget is convex and increasing in p, so the steps fall monotonically onto the root).
   for (int i = 0; i < 8; ++i) {
-    const double s = kPlanSlewFraction * slew_rate_n_s_;
     const double g = energy_j + p * b + unwindEnergy(p, speed_m_s, accel_m_s2);
     const double slope = b + p * speed_m_s / s + accel_m_s2 * p * p / (2.0 * s * s);
     if (!(g > 0.0) || !(slope > 0.0)) break;
