@@ -79,6 +79,14 @@ HapticLoopSettings loopSettings() {
   return s;
 }
 
+// loopSettings() with a quick stale-force fade: a force older than 0.05 s fades over 0.05 s.
+HapticLoopSettings fadingSettings() {
+  HapticLoopSettings s = loopSettings();
+  s.pipeline.safety.stale_after_s = 0.05;
+  s.pipeline.safety.fade_s = 0.05;
+  return s;
+}
+
 using test::waitFor;
 
 TEST(HapticLoop, RunsPublishesPosesAndBoundsTheForce) {
@@ -168,10 +176,7 @@ TEST(HapticLoop, StalledSimulationFadesTheCommandToZero) {
   device->pushPose(glm::vec3(0.0f));
   Mailbox<PoseFrame> poses;
   Mailbox<ForceFrame> forces;
-  HapticLoopSettings s = loopSettings();
-  s.pipeline.safety.stale_after_s = 0.05;
-  s.pipeline.safety.fade_s = 0.05;
-  HapticLoop loop(device, poses, forces, s);
+  HapticLoop loop(device, poses, forces, fadingSettings());
   ForceFrame f;
   f.force_n = glm::vec3(0.0f, 0.0f, -2.0f);
   f.publish_time_s = monotonicNowS();  // published once, then the "simulation" stalls
@@ -201,10 +206,8 @@ TEST(HapticLoop, SlowSimulationKeepsTheForceAndAStalledOneFades) {
   device->pushPose(glm::vec3(0.0f));
   Mailbox<PoseFrame> poses;
   Mailbox<ForceFrame> forces;
-  HapticLoopSettings s = loopSettings();
-  s.pipeline.safety.stale_after_s = 0.05;
+  HapticLoopSettings s = fadingSettings();
   s.pipeline.safety.stale_after_max_s = 0.9;
-  s.pipeline.safety.fade_s = 0.05;
   HapticLoop loop(device, poses, forces, s);
   constexpr double kRateHz = 4.0;
   const auto publish = [&] {
