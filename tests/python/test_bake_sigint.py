@@ -41,9 +41,16 @@ def start_bake(tmp_path, name):
     proc = subprocess.Popen([sys.executable, "-m", "hapticfluid", "bake", str(scene_file), "--quiet"],
                             stdout=out, stderr=err, env=env)
     deadline = time.monotonic() + 120
-    while len(list_frames(tmp_path / name)) < 1:  # baking: frames, checkpoints and steps interleave
-        assert proc.poll() is None and time.monotonic() < deadline, "the bake did not start"
-        time.sleep(0.002)
+    try:
+        while len(list_frames(tmp_path / name)) < 1:  # baking: frames, checkpoints and steps interleave
+            assert proc.poll() is None and time.monotonic() < deadline, "the bake did not start"
+            time.sleep(0.002)
+    except BaseException:  # no bake left running behind a failed test
+        proc.kill()
+        proc.wait()
+        out.close()
+        err.close()
+        raise
     return proc, out, err
 
 

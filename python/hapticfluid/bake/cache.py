@@ -56,11 +56,16 @@ def manifest_path(cache_dir: "str | os.PathLike") -> Path:
 
 
 def list_frames(cache_dir: "str | os.PathLike") -> List[int]:
-    """Frame numbers of the complete frame files in the cache (temporary files excluded)."""
-    folder = Path(cache_dir) / DATA_DIR
-    if not folder.is_dir():
+    """Frame numbers of the complete frame files in the cache (temporary files excluded); none
+    if there is no data folder. Safe beside a running bake: a fresh bake frees the cache (its
+    empty data folder removed) and makes the folder again, so the folder can vanish between a
+    check and the listing (a test polling a starting bake met it once, in a fresh-clone run of
+    the README's test command)."""
+    try:
+        names = os.listdir(Path(cache_dir) / DATA_DIR)
+    except (FileNotFoundError, NotADirectoryError):
         return []
-    return sorted(int(m.group(1)) for m in (FRAME_PATTERN.match(p.name) for p in folder.iterdir()) if m)
+    return sorted(int(m.group(1)) for m in (FRAME_PATTERN.match(name) for name in names) if m)
 
 
 def prepare_cache(cache_dir: "str | os.PathLike") -> Path:
