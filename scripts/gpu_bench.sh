@@ -17,4 +17,4 @@ mkdir -p "$OUT"
 [ -d "$HF_BUILD/python/hapticfluid" ] || { echo "gpu_bench.sh: no module in $HF_BUILD/python: build it first (README)" >&2; exit 2; }
 export HAPTICFLUID_EGL_DEVICE=hardware
 PYTHONPATH="$HF_BUILD/python" "${HF_PYTHON:-/usr/bin/python3}" -m hapticfluid bench \
-  --sections engine,readback,pressure,bake --json "$OUT/gpu.json" --plot "$OUT/gpu.png" --markdown
+  --sections engine,readback,pressure,bake,floor --json "$OUT/gpu.json" --plot "$OUT/gpu.png" --markdown

@@ -180,7 +180,9 @@ void ComputeProgram::dispatch(const glm::ivec3& invocations) const {
   glUseProgram(id_);
   glDispatchCompute(static_cast<GLuint>(groups.x), static_cast<GLuint>(groups.y), static_cast<GLuint>(groups.z));
   if (barrier_bits_ != 0) glMemoryBarrier(barrier_bits_);
-  countDispatch();
+  std::uint64_t launched = 1;
+  for (int a = 0; a < 3; ++a) launched *= static_cast<std::uint64_t>(groups[a]) * static_cast<std::uint64_t>(local_size_[a]);
+  countDispatch(launched);
   checkDebug("dispatching " + name_);
 }
 

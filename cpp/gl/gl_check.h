@@ -28,14 +28,16 @@ void installDebugOutput();
 // In debug mode, checkGl(stage) plus the debug messages of type error since the last check.
 void checkDebug(const std::string& stage);
 
-// Counts since the process started (all contexts): compute dispatches and the GPU-to-CPU
-// syncs (read-backs that wait for the GPU). The benchmark reports them per step.
+// Counts since the process started (all contexts): compute dispatches, the shader invocations
+// they launched (workgroups x local size, the padding of partial workgroups included), and the
+// GPU-to-CPU syncs (read-backs that wait for the GPU). The benchmark reports them per step.
 struct GlCounters {
   std::uint64_t dispatches = 0;
+  std::uint64_t invocations = 0;
   std::uint64_t syncs = 0;
 };
 GlCounters glCounters();
-void countDispatch();
+void countDispatch(std::uint64_t invocations);
 void countSync();
 
 }  // namespace hf::gl

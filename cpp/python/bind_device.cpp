@@ -1,6 +1,9 @@
 // Which GL device the engine would use, without making a simulation.
 #include <pybind11/stl.h>
 
+#include <array>
+
+#include "gl/dispatch_floor.h"
 #include "gl/egl_context.h"
 #include "gl/gl_check.h"
 #include "gl/gl_worker.h"
@@ -37,11 +40,43 @@ void addDevice(py::module_& m) {
         const gl::GlCounters c = gl::glCounters();
         py::dict d;
         d["dispatches"] = c.dispatches;
+        d["invocations"] = c.invocations;
         d["syncs"] = c.syncs;
         return d;
       },
-      "Compute dispatches and GPU-to-CPU syncs (read-backs) since the process started, all\n"
-      "simulations together: {'dispatches': int, 'syncs': int}.");
+      "Compute dispatches, the shader invocations they launched (workgroups x local size) and\n"
+      "GPU-to-CPU syncs (read-backs) since the process started, all simulations together:\n"
+      "{'dispatches': int, 'invocations': int, 'syncs': int}.");
+  m.def(
+      "measure_dispatch_floor",
+      [](const std::array<int, 3>& resolution, int repeats, const std::string& device) {
+        gl::DispatchFloor f;
+        {
+          py::gil_scoped_release release;
+          gl::GlWorker worker(device);
+          const glm::ivec3 cells(resolution[0], resolution[1], resolution[2]);
+          f = worker.call([&] { return gl::measureDispatchFloor(cells, repeats); });
+        }
+        py::dict d;
+        d["resolution"] = py::make_tuple(f.cells.x, f.cells.y, f.cells.z);
+        d["repeats"] = f.repeats;
+        d["launched"] = f.launched;
+        d["empty_wall_ns"] = f.empty_wall_ns;
+        d["empty_cpu_ns"] = f.empty_cpu_ns;
+        d["store_wall_ns"] = f.store_wall_ns;
+        d["store_cpu_ns"] = f.store_cpu_ns;
+        return d;
+      },
+      py::arg("resolution"), py::arg("repeats") = 20, py::arg("device") = "",
+      "Benchmarks only: what one launched compute invocation costs on a GL device before a stage\n"
+      "does any work. Makes a context (device: as probe_device), then times `repeats` dispatches\n"
+      "of one invocation per cell of `resolution` (nx, ny, nz cells), in the cell stages'\n"
+      "workgroup shape: first with invocations that do nothing, then with each storing one\n"
+      "float texel. Returns nanoseconds per launched invocation: {'empty_wall_ns',\n"
+      "'empty_cpu_ns', 'store_wall_ns', 'store_cpu_ns'} (wall: until glFinish; cpu: this\n"
+      "process's CPU time, llvmpipe's shader threads included), with 'resolution', 'repeats' and\n"
+      "'launched' (invocations per dispatch). InvalidArgumentError for a cell count outside\n"
+      "1..the device's 3D texture size or repeats < 1.");
 }
 
 }  // namespace hf::python
