@@ -2,7 +2,7 @@
 # The GPU benchmark (issue 20, goal 5), one command for the day a GPU machine is lent:
 #   scripts/gpu_bench.sh [OUT_DIR]          (default out/bench/gpu)
 # Runs the engine (64^3, 100x100x70, 128^3, 256^3 with Jacobi-40, multigrid-4 and the warm-started
-# multigrid solve to 1e-4), readback, pressure and bake sections on a HARDWARE EGL device
+# multigrid solve to 1e-4), readback, pressure, bake and floor sections on a HARDWARE EGL device
 # (HAPTICFLUID_EGL_DEVICE=hardware: a machine whose GPU gives no OpenGL 4.5 context fails here
 # instead of quietly measuring llvmpipe), prints Markdown tables and writes OUT_DIR/gpu.json and
 # OUT_DIR/gpu.png (ms per step against cells, with the targets: a whole step <= 1 ms at 128^3 and
