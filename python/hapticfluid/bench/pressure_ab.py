@@ -6,8 +6,8 @@ Per grid and build: the benchmark scene (``BenchScene``: hot plume, sphere probe
 through it) with the multigrid solve to a relative residual of 1e-3 every step, the box closed
 as in the bake (``--closed``, default for 100x100x70) or open at the top as in the haptic scene;
 ``WARMUP`` steps, then ``--steps`` steps measured: process CPU time per step (all threads, the
-llvmpipe workers included) and the step's pressure-stage GPU ms (``StepReport.gpu_ms``), their
-medians, and the CG iterations per step. ``--pairs`` rounds, the builds taking turns going first.
+llvmpipe workers included), the step's pressure-stage GPU ms and its probe stages' (voxelize +
+classify) GPU ms (``StepReport.gpu_ms``), their medians, and the CG iterations per step. ``--pairs`` rounds, the builds taking turns going first.
 
 Run: ``python3 python/hapticfluid/bench/pressure_ab.py --a DIR_A --b DIR_B --grid 48 48 48``
 (DIR: a folder holding a built ``hapticfluid`` package, e.g. ``build/python``). Prints JSON.
@@ -44,7 +44,7 @@ def child(grid: List[int], steps: int, closed: bool, iterations: int = 0) -> Dic
     sim.set_smoke_source(scene.source_centre_m, scene.source_radius_m, density=p.source_density,
                          temperature=p.source_temperature)
     scene.place_probe(sim, 0.0)
-    cpu, gpu, its, res = [], [], [], []
+    cpu, gpu, probe, its, res = [], [], [], [], []
     try:
         for n in range(WARMUP + steps):
             c0 = time.process_time()
@@ -53,13 +53,14 @@ def child(grid: List[int], steps: int, closed: bool, iterations: int = 0) -> Dic
             if n >= WARMUP:
                 cpu.append((c1 - c0) * 1000.0)
                 gpu.append(float(r.gpu_ms.get("pressure", float("nan"))))
+                probe.append(float(r.gpu_ms.get("voxelize", 0.0) + r.gpu_ms.get("classify", 0.0)))
                 its.append(r.pressure_iterations)
                 res.append(r.relative_residual)
                 if not iterations and not r.converged:
                     raise RuntimeError(f"step {n}: the solve stopped at {r.relative_residual:g}")
     finally:
         sim.close()
-    return {"cpu_ms": cpu, "pressure_gpu_ms": gpu, "iterations": its, "residual": res}
+    return {"cpu_ms": cpu, "pressure_gpu_ms": gpu, "probe_gpu_ms": probe, "iterations": its, "residual": res}
 
 
 def run_build(package: str, grid: List[int], steps: int, closed: bool, iterations: int = 0) -> Dict[str, object]:
@@ -98,6 +99,7 @@ def main(argv=None) -> int:
             rnd[name] = {"cpu_ms_median": statistics.median(r["cpu_ms"]), "cpu_ms_min": min(r["cpu_ms"]),
                          "pressure_gpu_ms_median": statistics.median(r["pressure_gpu_ms"]),
                          "pressure_gpu_ms_min": min(r["pressure_gpu_ms"]),
+                         "probe_gpu_ms_median": statistics.median(r["probe_gpu_ms"]),
                          "iterations_mean": sum(r["iterations"]) / len(r["iterations"]),
                          "worst_residual": max(r["residual"])}
             print(json.dumps({"pair": k + 1, "build": name, **rnd[name]}), file=sys.stderr, flush=True)
@@ -106,7 +108,7 @@ def main(argv=None) -> int:
     for name in ("a", "b"):
         summary[name] = {key: statistics.median(r[name][key] for r in rounds)
                          for key in ("cpu_ms_median", "cpu_ms_min", "pressure_gpu_ms_median", "pressure_gpu_ms_min",
-                                     "iterations_mean")}
+                                     "probe_gpu_ms_median", "iterations_mean")}
     print(json.dumps({"grid": a.grid, "closed": a.closed, "steps": a.steps, "iterations": a.iterations, "a": a.a, "b": a.b,
                       "rounds": rounds, "median_of_rounds": summary}, indent=1))
     return 0
