@@ -10,11 +10,12 @@ layout(r8ui, binding = 1) uniform writeonly uimage3D u_nbmask;
 layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
 
 uniform int u_open_top;  // 1: the +z wall is open (pressure 0 beyond it)
+uniform ivec3 u_origin;  // first cell of the region dispatched (StepPipeline: the probe's move)
 
 bool solidAt(ivec3 c) { return imageLoad(u_solid, c).r != 0u; }
 
 void main() {
-  ivec3 c = ivec3(gl_GlobalInvocationID);
+  ivec3 c = ivec3(gl_GlobalInvocationID) + u_origin;
   if (!inGrid(c)) return;
   bool solid = solidAt(c);
   uint mask = 0u;

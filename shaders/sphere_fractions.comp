@@ -15,6 +15,7 @@ layout(rgba32f, binding = 0) uniform writeonly image3D u_face_open;
 uniform vec3 u_centre;        // sphere centre, grid units
 uniform float u_ramp_radius;  // where the ramp is half covered, grid units
 uniform float u_min_open;     // obstacle::kMinOpenFraction
+uniform ivec3 u_origin;       // first face texel of the region dispatched
 
 const int SAMPLES = 12;
 
@@ -42,7 +43,7 @@ float openFraction(ivec3 idx, int axis) {
 }
 
 void main() {
-  ivec3 idx = ivec3(gl_GlobalInvocationID);
+  ivec3 idx = ivec3(gl_GlobalInvocationID) + u_origin;
   if (any(greaterThan(idx, u_res))) return;
   vec4 w = vec4(1.0);
   for (int a = 0; a < 3; ++a) {

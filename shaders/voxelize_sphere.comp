@@ -11,9 +11,10 @@ uniform float u_radius;        // grid units
 uniform vec3 u_velocity;       // m/s
 uniform vec3 u_angular;        // rad/s
 uniform float u_cell_size;     // m
+uniform ivec3 u_origin;        // first cell of the region dispatched (StepPipeline: the probe's move)
 
 void main() {
-  ivec3 c = ivec3(gl_GlobalInvocationID);
+  ivec3 c = ivec3(gl_GlobalInvocationID) + u_origin;
   if (!inGrid(c)) return;
   vec3 r = vec3(c) + 0.5 - u_centre;
   bool solid = dot(r, r) <= u_radius * u_radius;

@@ -15,20 +15,25 @@ Classifier::Classifier(const fluid::Grid& grid)
   binary_.set("u_res", grid.res);
 }
 
-void Classifier::binaryFractions(const gl::Texture3D& solid, gl::Texture3D& face_open) {
+void Classifier::binaryFractions(const gl::Texture3D& solid, gl::Texture3D& face_open, const CellBox& region) {
+  const CellBox faces = faceBox(region, grid_.res);
+  if (isEmpty(faces)) return;
   solid.bindImage(1, GL_READ_ONLY);
   face_open.bindImage(0, GL_WRITE_ONLY);
-  binary_.dispatch(grid_.res + 1);
+  binary_.set("u_origin", faces.origin);
+  binary_.dispatch(faces.extent);
 }
 
 void Classifier::classify(const gl::Texture3D& solid, const gl::Texture3D& face_open, gl::Texture3D& cell_class,
-                          gl::Texture3D& nbmask, bool open_top) {
+                          gl::Texture3D& nbmask, bool open_top, const CellBox& region) {
+  if (isEmpty(region)) return;
   solid.bindImage(2, GL_READ_ONLY);
   face_open.bindImage(fluid::kFaceOpenUnit, GL_READ_ONLY);
   cell_class.bindImage(0, GL_WRITE_ONLY);
   nbmask.bindImage(1, GL_WRITE_ONLY);
   program_.set("u_open_top", open_top ? 1 : 0);
-  program_.dispatch(grid_.res);
+  program_.set("u_origin", region.origin);
+  program_.dispatch(region.extent);
 }
 
 }  // namespace hf::obstacle

@@ -62,7 +62,7 @@ void MeshProbe::setMesh(std::shared_ptr<const TriangleMesh> mesh) {
 
 void MeshProbe::setPose(const RigidPose& pose) { pose_ = pose; }
 
-void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
+void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& /*region*/) {
   if (!mesh_) throw Error("MeshProbe::voxelize: no mesh was set");
   gpu_mesh_.pose(localToLattice(pose_.transform, grid_.origin_m, grid_.cell_size_m));
   gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
@@ -76,7 +76,7 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
   fill_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
 }
 
-bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open) {
+bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& /*region*/) {
   if (!cut_cells_ || !mesh_) return false;
   const CellBox box = bounds();
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return false;

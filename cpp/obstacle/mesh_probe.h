@@ -34,9 +34,11 @@ class MeshProbe : public Obstacle {
   // must have passed validateMesh().
   void setMesh(std::shared_ptr<const TriangleMesh> mesh);
   void setPose(const RigidPose& pose);
-  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) override;
+  // Both write the whole grid whatever the region asked for (the step asks a mesh probe for the
+  // whole grid anyway: StepPipeline limits its passes to the sphere's moves).
+  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) override;
   // The faces' open fractions from the fine voxelization when cut cells are on; else false.
-  bool writeFaceFractions(gl::Texture3D& face_open) override;
+  bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) override;
   void setCutCells(bool on) { cut_cells_ = on; }
   // Fine cells per cell and axis for a cell box of `box_cells` cells (even, >= 2).
   static int fineCellsFor(std::size_t box_cells);

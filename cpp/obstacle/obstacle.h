@@ -1,7 +1,8 @@
 #pragma once
 // A solid body in the grid. Each step it writes which cells it covers (R8UI solid mask) and the
 // rigid velocity at their centres (RGBA32F, m/s); the fluid reads those without knowing the
-// shape: SphereProbe and MeshProbe implement it.
+// shape: SphereProbe and MeshProbe implement it. A step may ask for a region only (the cells its
+// move can change, StepPipeline): the body must bring at least those cells up to date.
 #include <glm/glm.hpp>
 
 #include "gl/texture3d.h"
@@ -26,15 +27,48 @@ inline CellBox paddedCellBox(const glm::ivec3& res, const glm::vec3& lo, const g
   return {first, glm::max(end - first, glm::ivec3(0))};
 }
 
+inline bool isEmpty(const CellBox& b) { return glm::any(glm::lessThanEqual(b.extent, glm::ivec3(0))); }
+
+// Every cell of a grid of `res` cells.
+inline CellBox wholeGrid(const glm::ivec3& res) { return {glm::ivec3(0), res}; }
+
+// The smallest box holding both (an empty box adds nothing).
+inline CellBox unionBox(const CellBox& a, const CellBox& b) {
+  if (isEmpty(a)) return b;
+  if (isEmpty(b)) return a;
+  const glm::ivec3 first = glm::min(a.origin, b.origin);
+  const glm::ivec3 end = glm::max(a.origin + a.extent, b.origin + b.extent);
+  return {first, end - first};
+}
+
+// `b` grown by `cells` on every side, clamped to a grid of `res` cells (empty stays empty).
+inline CellBox grownBox(const CellBox& b, int cells, const glm::ivec3& res) {
+  if (isEmpty(b)) return b;
+  const glm::ivec3 first = glm::max(b.origin - cells, glm::ivec3(0));
+  const glm::ivec3 end = glm::min(b.origin + b.extent + cells, res);
+  return {first, glm::max(end - first, glm::ivec3(0))};
+}
+
+// The face texels (common.glsl's face-fraction image, res + 1 per axis) of a box of cells: its
+// cells' low faces and, one texel further on each axis, their high faces.
+inline CellBox faceBox(const CellBox& cells, const glm::ivec3& res) {
+  if (isEmpty(cells)) return cells;
+  return {cells.origin, glm::min(cells.extent + 1, res + 1 - cells.origin)};
+}
+
 class Obstacle {
  public:
   virtual ~Obstacle() = default;
-  virtual void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) = 0;
-  // Cut cells: writes the open fraction of every MAC face from the body's geometry into
-  // `face_open` (shaders/common.glsl) and returns true; false (the default) when the body has no
-  // cut cells, and the faces are then open or covered by its voxels (Classifier::binaryFractions).
-  virtual bool writeFaceFractions(gl::Texture3D& face_open) {
+  // Writes the solid mask and the rigid velocity of at least the cells of `region` (the velocity
+  // is read only beside faces the body covers, which lie in its bounds()).
+  virtual void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) = 0;
+  // Cut cells: writes the open fraction of the MAC faces from the body's geometry into
+  // `face_open` (shaders/common.glsl), at least those of the cells of `region` (faceBox), and
+  // returns true; false (the default) when the body has no cut cells, and the faces are then
+  // open or covered by its voxels (Classifier::binaryFractions).
+  virtual bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
     (void)face_open;
+    (void)region;
     return false;
   }
   // Cells that can hold its boundary cells (the force reduction visits only these).

@@ -18,22 +18,27 @@ SphereProbe::SphereProbe(const fluid::Grid& grid)
   program_.set("u_cell_size", grid.cell_size_m);
 }
 
-void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) {
+void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) {
+  if (isEmpty(region)) return;
   solid.bindImage(0, GL_WRITE_ONLY);
   solid_velocity.bindImage(1, GL_WRITE_ONLY);
   program_.set("u_centre", grid_.toGrid(pose_.centre_m));
   program_.set("u_radius", pose_.radius_m / grid_.cell_size_m);
   program_.set("u_velocity", pose_.velocity_m_s);
   program_.set("u_angular", pose_.angular_velocity_rad_s);
-  program_.dispatch(grid_.res);
+  program_.set("u_origin", region.origin);
+  program_.dispatch(region.extent);
 }
 
-bool SphereProbe::writeFaceFractions(gl::Texture3D& face_open) {
+bool SphereProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
   if (!cut_cells_) return false;
+  const CellBox faces = faceBox(region, grid_.res);
+  if (isEmpty(faces)) return true;
   face_open.bindImage(0, GL_WRITE_ONLY);
   fractions_.set("u_centre", grid_.toGrid(pose_.centre_m));
   fractions_.set("u_ramp_radius", rampRadius(pose_.radius_m / grid_.cell_size_m));
-  fractions_.dispatch(grid_.res + 1);
+  fractions_.set("u_origin", faces.origin);
+  fractions_.dispatch(faces.extent);
   return true;
 }
 

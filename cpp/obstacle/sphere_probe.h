@@ -18,10 +18,12 @@ class SphereProbe : public Obstacle {
   explicit SphereProbe(const fluid::Grid& grid);
   void setPose(const SpherePose& pose) { pose_ = pose; }
   const SpherePose& pose() const { return pose_; }
-  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity) override;
+  // Both dispatch over the region asked for, from its first cell (the last workgroups may write
+  // a few cells past it, with their current values).
+  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) override;
   // The faces' open fractions from the sphere itself (shaders/sphere_fractions.comp) when cut
   // cells are on (setCutCells); otherwise false, and the voxels' binary fractions are used.
-  bool writeFaceFractions(gl::Texture3D& face_open) override;
+  bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) override;
   void setCutCells(bool on) { cut_cells_ = on; }
   // Cut cells smooth the sphere's indicator into a radial ramp one cell wide; the ramp's centre
   // radius (grid units) whose ball-plus-ramp volume, 4/3 pi (rc^3 + rc / 4), is the sphere's

@@ -30,6 +30,8 @@ struct StepPipeline::Pass {
   explicit Pass(const StepInputs& inputs) : in(inputs) {}
   const StepInputs& in;
   obstacle::Obstacle* body = nullptr;  // the probe voxelized this step, if any
+  Footprint footprint;                 // what voxelize and classify compute this step
+  obstacle::CellBox region;            // the cells they bring up to date
   fluid::SolveStats stats;             // of the pressure solve
   glm::vec3 p0_m{0.0f};                // the point the force stage summed torques about
   bool cut_cells = false;              // the body wrote geometric face fractions (else binary)
@@ -80,19 +82,44 @@ void StepPipeline::voxelize(Pass& pass) {
     mesh_->setCutCells(pass.in.params.cut_cells);
     pass.body = mesh_.get();
   }
+  Footprint now;
+  now.body = !probe ? Footprint::Body::None
+                    : (probe->kind == ProbeState::Kind::Sphere ? Footprint::Body::Sphere : Footprint::Body::Mesh);
+  now.cut_cells = pass.in.params.cut_cells;
+  now.open_top = pass.in.params.open_top;
+  if (pass.body) now.bounds = pass.body->bounds();
+  pass.region = changedRegion(now);
+  pass.footprint = now;
+  footprint_.reset();  // until classify has brought every field up to date
   if (pass.body) {
-    pass.body->voxelize(f.solid, f.solid_velocity);
-  } else {
+    pass.body->voxelize(f.solid, f.solid_velocity, pass.region);
+  } else if (!obstacle::isEmpty(pass.region)) {
     f.solid.clear();
     f.solid_velocity.clear();
   }
 }
 
+obstacle::CellBox StepPipeline::changedRegion(const Footprint& now) const {
+  const obstacle::CellBox whole = obstacle::wholeGrid(grid_.res);
+  if (!limit_to_probe_moves_ || !footprint_) return whole;
+  const Footprint& last = *footprint_;
+  // A mesh probe voxelizes the whole grid anyway; a change of body or setting changes any cell.
+  if (now.body == Footprint::Body::Mesh || now.body != last.body || now.cut_cells != last.cut_cells ||
+      now.open_top != last.open_top) {
+    return whole;
+  }
+  // The cells whose solid flag, faces or neighbours' flags can change lie in the last and the new
+  // bounds (each already a cell wider than the body and its cut faces' ramp); a cell beside them
+  // sees a changed neighbour or face, hence one more cell.
+  return obstacle::grownBox(obstacle::unionBox(last.bounds, now.bounds), 1, grid_.res);
+}
+
 void StepPipeline::classify(Pass& pass) {
   auto& f = solver_.fields();
-  pass.cut_cells = pass.body && pass.body->writeFaceFractions(f.face_open);
-  if (!pass.cut_cells) classifier_.binaryFractions(f.solid, f.face_open);
-  classifier_.classify(f.solid, f.face_open, f.cell_class, f.nbmask, pass.in.params.open_top);
+  pass.cut_cells = pass.body && pass.body->writeFaceFractions(f.face_open, pass.region);
+  if (!pass.cut_cells) classifier_.binaryFractions(f.solid, f.face_open, pass.region);
+  classifier_.classify(f.solid, f.face_open, f.cell_class, f.nbmask, pass.in.params.open_top, pass.region);
+  footprint_ = pass.footprint;
 }
 
 void StepPipeline::advect(Pass& pass) { solver_.advect(pass.in.dt_s, pass.in.params); }

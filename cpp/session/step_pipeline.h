@@ -49,6 +49,13 @@ class StepPipeline {
   fluid::FluidFields& fields() { return solver_.fields(); }
   void reset() { solver_.reset(); }  // fluid at rest: velocity, smoke, heat, pressure zero
 
+  // On (the default): a step that follows a step with the same kind of probe (a sphere, or none)
+  // and the same cut-cell and open-top settings voxelizes and classifies only the cells the
+  // probe's move can change (its last and new bounds, grown by a cell), not the whole grid: the
+  // solid mask, face fractions, classes and neighbour mask are the same to the bit. Off: every
+  // step does the whole grid (the tests compare the two).
+  void setLimitToProbeMoves(bool on) { limit_to_probe_moves_ = on; }
+
  private:
   struct Pass;  // one step in flight: its inputs and what the stages hand on
   struct Stage {
@@ -70,7 +77,19 @@ class StepPipeline {
   void force(Pass& pass);       // force, torque, centroid over the body's cells
   StepReport report(const Pass& pass, const std::vector<glm::vec4>& results);  // + the finite check
 
+  // What the last voxelize and classify were computed for: the next step may redo only what
+  // its probe's move changes when this is the same but for the bounds.
+  struct Footprint {
+    enum class Body { None, Sphere, Mesh } body = Body::None;
+    bool cut_cells = false;
+    bool open_top = false;
+    obstacle::CellBox bounds;  // the body's cells (empty for none)
+  };
+  obstacle::CellBox changedRegion(const Footprint& now) const;
+
   fluid::Grid grid_;
+  std::optional<Footprint> footprint_;  // none before the first step
+  bool limit_to_probe_moves_ = true;
   fluid::FluidSolver solver_;
   obstacle::SphereProbe sphere_;
   std::unique_ptr<obstacle::MeshProbe> mesh_;  // its programs made on first use

@@ -71,9 +71,9 @@ class ClassifierTest : public test::GlTest {
       std::vector<GpuResult> out;
       for (const Scene& s : scenes) {
         probe.setPose(poseFor(g, s));
-        probe.voxelize(solid, velocity);
-        classifier.binaryFractions(solid, face_open);
-        classifier.classify(solid, face_open, cls, nbmask, s.open_top);
+        probe.voxelize(solid, velocity, obstacle::wholeGrid(g.res));
+        classifier.binaryFractions(solid, face_open, obstacle::wholeGrid(g.res));
+        classifier.classify(solid, face_open, cls, nbmask, s.open_top, obstacle::wholeGrid(g.res));
         GpuResult r;
         r.solid.resize(g.cells());
         r.cls.resize(g.cells());

@@ -44,7 +44,7 @@ std::vector<Voxels> voxelize(const fluid::Grid& g, const std::vector<std::pair<T
     for (const auto& [mesh, pose] : cases) {
       probe.setMesh(std::make_shared<const TriangleMesh>(mesh));
       probe.setPose(pose);
-      probe.voxelize(solid, velocity);
+      probe.voxelize(solid, velocity, obstacle::wholeGrid(g.res));
       Voxels v;
       v.solid.resize(g.cells());
       v.velocity.resize(g.cells());

@@ -35,9 +35,9 @@ Fractions faceFractions(const fluid::Grid& g, const TriangleMesh& mesh, const Ri
     probe.setMesh(std::make_shared<const TriangleMesh>(mesh));
     probe.setPose(pose);
     probe.setCutCells(true);
-    probe.voxelize(solid, velocity);
+    probe.voxelize(solid, velocity, obstacle::wholeGrid(g.res));
     Fractions f;
-    EXPECT_TRUE(probe.writeFaceFractions(open));
+    EXPECT_TRUE(probe.writeFaceFractions(open, obstacle::wholeGrid(g.res)));
     f.box = probe.bounds();
     const glm::ivec3 t = g.res + 1;
     f.open.resize(static_cast<std::size_t>(t.x) * t.y * t.z);

@@ -177,8 +177,8 @@ std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& gr
     solid.upload(shape.solid.data(), shape.solid.size());
     obstacle::Classifier classifier(grid);
     gl::Texture3D face_open(grid.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
-    classifier.binaryFractions(solid, face_open);
-    classifier.classify(solid, face_open, cls, nbmask, false);
+    classifier.binaryFractions(solid, face_open, obstacle::wholeGrid(grid.res));
+    classifier.classify(solid, face_open, cls, nbmask, false, obstacle::wholeGrid(grid.res));
     force::ForceReducer reducer(grid);
     GroupReducer groups(force::ForceReducer::partialsNeeded(grid), 3);
     std::vector<force::BodyForce> out;

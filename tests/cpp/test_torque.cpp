@@ -60,8 +60,8 @@ BodyForce gpuForce(const BoxScene& s, bool dynamic, const glm::vec3& rho_g, cons
     pressure.upload(p.data(), p.size() * sizeof(float));
     gl::Texture3D face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
     obstacle::Classifier classifier(g);
-    classifier.binaryFractions(solid, face_open);
-    classifier.classify(solid, face_open, cls, nbmask, false);
+    classifier.binaryFractions(solid, face_open, obstacle::wholeGrid(g.res));
+    classifier.classify(solid, face_open, cls, nbmask, false, obstacle::wholeGrid(g.res));
     ForceReducer reducer(g);
     gl::GroupReducer groups(ForceReducer::partialsNeeded(g), 6);
     const ForceSlots slots{5, 1, 3};  // any slots
