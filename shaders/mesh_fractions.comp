@@ -14,6 +14,7 @@ uniform ivec3 u_box_origin;  // first cell of the fine grid's box
 uniform ivec3 u_fine_res;    // fine cells per axis (u_fine x the box's cells)
 uniform int u_fine;          // fine cells per cell and axis (even)
 uniform float u_min_open;    // obstacle::kMinOpenFraction
+uniform ivec3 u_first;       // the dispatch's first face texel (StepPipeline: the probe's move)
 
 float openFraction(ivec3 idx, int axis) {
   ivec3 lo = (idx - u_box_origin) * u_fine;  // fine index of the face's corner
@@ -31,7 +32,7 @@ float openFraction(ivec3 idx, int axis) {
 }
 
 void main() {
-  ivec3 idx = ivec3(gl_GlobalInvocationID);
+  ivec3 idx = ivec3(gl_GlobalInvocationID) + u_first;
   if (any(greaterThan(idx, u_res))) return;
   vec4 w = vec4(1.0);
   for (int a = 0; a < 3; ++a) {

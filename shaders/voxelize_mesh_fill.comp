@@ -12,9 +12,10 @@ uniform vec3 u_origin;      // the body's origin (transform translation), grid u
 uniform vec3 u_velocity;    // of the origin, m/s
 uniform vec3 u_angular;     // rad/s, world frame
 uniform float u_cell_size;  // m
+uniform ivec3 u_first_column;  // .xy: the dispatch's first column (StepPipeline: the probe's move)
 
 void main() {
-  ivec2 col = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 col = ivec2(gl_GlobalInvocationID.xy) + u_first_column.xy;
   if (any(greaterThanEqual(col, u_res.xy))) return;
   int winding = 0;
   for (int k = 0; k < u_res.z; ++k) {

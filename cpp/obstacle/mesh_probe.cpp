@@ -62,8 +62,9 @@ void MeshProbe::setMesh(std::shared_ptr<const TriangleMesh> mesh) {
 
 void MeshProbe::setPose(const RigidPose& pose) { pose_ = pose; }
 
-void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& /*region*/) {
+void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) {
   if (!mesh_) throw Error("MeshProbe::voxelize: no mesh was set");
+  if (isEmpty(region)) return;
   gpu_mesh_.pose(localToLattice(pose_.transform, grid_.origin_m, grid_.cell_size_m));
   gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
@@ -73,10 +74,11 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, co
   fill_.set("u_origin", grid_.toGrid(pose_.originM()));
   fill_.set("u_velocity", pose_.velocity_m_s);
   fill_.set("u_angular", pose_.angular_velocity_rad_s);
-  fill_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
+  fill_.set("u_first_column", region.origin);
+  fill_.dispatch(glm::ivec3(region.extent.x, region.extent.y, 1));  // each column whole, bottom to top
 }
 
-bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& /*region*/) {
+bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
   if (!cut_cells_ || !mesh_) return false;
   const CellBox box = bounds();
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return false;
@@ -108,11 +110,14 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& /*re
   winding_.set("u_res", fine_res);
   winding_.dispatch(glm::ivec3(fine_res.x, fine_res.y, 1));
 
+  const CellBox faces = faceBox(region, grid_.res);
+  if (isEmpty(faces)) return true;
   face_open.bindImage(0, GL_WRITE_ONLY);
   fractions_.set("u_box_origin", box.origin);
   fractions_.set("u_fine_res", fine_res);
   fractions_.set("u_fine", s);
-  fractions_.dispatch(grid_.res + 1);
+  fractions_.set("u_first", faces.origin);
+  fractions_.dispatch(faces.extent);
   return true;
 }
 

@@ -34,8 +34,9 @@ class MeshProbe : public Obstacle {
   // must have passed validateMesh().
   void setMesh(std::shared_ptr<const TriangleMesh> mesh);
   void setPose(const RigidPose& pose);
-  // Both write the whole grid whatever the region asked for (the step asks a mesh probe for the
-  // whole grid anyway: StepPipeline limits its passes to the sphere's moves).
+  // voxelize fills the region's columns whole (bottom to top: a column's winding numbers start
+  // at its floor); writeFaceFractions writes the region's faces (faceBox). The crossings and the
+  // fine voxelization cover the mesh wherever it is.
   void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) override;
   // The faces' open fractions from the fine voxelization when cut cells are on; else false.
   bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) override;

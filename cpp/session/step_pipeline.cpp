@@ -103,9 +103,8 @@ obstacle::CellBox StepPipeline::changedRegion(const Footprint& now) const {
   const obstacle::CellBox whole = obstacle::wholeGrid(grid_.res);
   if (!limit_to_probe_moves_ || !footprint_) return whole;
   const Footprint& last = *footprint_;
-  // A mesh probe voxelizes the whole grid anyway; a change of body or setting changes any cell.
-  if (now.body == Footprint::Body::Mesh || now.body != last.body || now.cut_cells != last.cut_cells ||
-      now.open_top != last.open_top) {
+  // A change of body kind or of a setting can change any cell.
+  if (now.body != last.body || now.cut_cells != last.cut_cells || now.open_top != last.open_top) {
     return whole;
   }
   // The cells whose solid flag, faces or neighbours' flags can change lie in the last and the new

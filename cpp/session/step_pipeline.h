@@ -49,9 +49,9 @@ class StepPipeline {
   fluid::FluidFields& fields() { return solver_.fields(); }
   void reset() { solver_.reset(); }  // fluid at rest: velocity, smoke, heat, pressure zero
 
-  // On (the default): a step that follows a step with the same kind of probe (a sphere, or none)
-  // and the same cut-cell and open-top settings voxelizes and classifies only the cells the
-  // probe's move can change (its last and new bounds, grown by a cell), not the whole grid: the
+  // On (the default): a step that follows a step with the same kind of probe (a sphere, a mesh,
+  // or none) and the same cut-cell and open-top settings voxelizes and classifies only the cells
+  // the probe's move can change (its last and new bounds, grown by a cell), not the whole grid: the
   // solid mask, face fractions, classes and neighbour mask are the same to the bit. Off: every
   // step does the whole grid (the tests compare the two).
   void setLimitToProbeMoves(bool on) { limit_to_probe_moves_ = on; }

@@ -1,7 +1,7 @@
 // StepPipeline's probe region: a step that redoes only the cells the probe's move can change
 // leaves every field the same to the bit as a step that redoes the whole grid, through moves,
 // jumps, radius changes, the walls, cut cells and the open top switched, the probe removed and
-// put back and a mesh probe in between; and it does launch less work.
+// put back, a mesh probe moving and jumping with and without cut cells; and it launches less.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -145,10 +145,19 @@ TEST_F(ProbeRegionTest, LimitedStepsEqualWholeGridStepsToTheBit) {
   moves.push_back(back);
   back.centre_m = glm::vec3(0.88f, 0.76f, 0.62f);
   moves.push_back(back);
-  Move box;  // a mesh probe, then the sphere again
+  Move box;  // a mesh probe moving, its cut cells off then on, then the sphere again
   box.probe = P::Mesh;
   box.centre_m = glm::vec3(0.5f, 0.4f, 0.4f);
+  box.velocity_m_s = glm::vec3(0.0f, 0.5f, 0.2f);
   box.cut_cells = false;
+  moves.push_back(box);
+  box.centre_m = glm::vec3(0.5f, 0.43f, 0.41f);
+  moves.push_back(box);
+  box.cut_cells = true;
+  moves.push_back(box);
+  box.centre_m = glm::vec3(0.52f, 0.47f, 0.43f);
+  moves.push_back(box);
+  box.centre_m = glm::vec3(0.25f, 0.6f, 0.3f);  // a jump
   moves.push_back(box);
   Move after;
   after.centre_m = glm::vec3(0.45f, 0.45f, 0.45f);
