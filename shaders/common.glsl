@@ -44,14 +44,6 @@ float cutOffOpen(float w, float min_open) {
   return max(2.0 * (w - min_open), 0.0);
 }
 
-// A closed box's CG residual whose mean over the fluid cells is not yet subtracted
-// (PressureMultigrid defers pressure_shift's pass into the residual's readers): results[slot].x
-// / .y, pressure_shift's arithmetic, or 0 for slot < 0. A reader subtracts it from r at fluid
-// cells only (as the shift did); it declares the Results block at storage binding 1.
-#define PENDING_MEAN(results, slot) ((slot) < 0 ? 0.0 : meanOfSum(results[max((slot), 0)]))
-// The mean of a sum and count (.x, .y) from a reduction; 0 when nothing was counted.
-float meanOfSum(vec4 sum) { return sum.y > 0.0 ? sum.x / sum.y : 0.0; }
-
 const ivec3 NEIGHBOUR[6] = ivec3[6](ivec3(-1, 0, 0), ivec3(1, 0, 0), ivec3(0, -1, 0),
                                      ivec3(0, 1, 0), ivec3(0, 0, -1), ivec3(0, 0, 1));
 

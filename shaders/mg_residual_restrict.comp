@@ -10,17 +10,14 @@ layout(r32f, binding = 2) readonly uniform image3D u_b;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_mask;
 layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_faces;
 layout(r32f, binding = 0) uniform writeonly image3D u_coarse_b;
-layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
 
 uniform ivec3 u_fine_size;  // fine cells per axis
 uniform float u_scale;      // coarse operator scaling (see MultigridVCycle::kCoarseScale)
-uniform int u_b_mean_slot;  // >= 0: b is a residual whose mean is still to subtract (PENDING_MEAN)
 
 void main() {
   ivec3 C = ivec3(gl_GlobalInvocationID);
   if (!inGrid(C)) return;
   float sum = 0.0;
-  float b_mean = PENDING_MEAN(results, u_b_mean_slot);
   for (int o = 0; o < 8; ++o) {
     ivec3 c = 2 * C + ivec3(o & 1, (o >> 1) & 1, (o >> 2) & 1);
     if (any(greaterThanEqual(c, u_fine_size))) continue;
@@ -33,7 +30,7 @@ void main() {
     for (int d = 0; d < 6; ++d) {
       if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
     }
-    sum += (imageLoad(u_b, c).r - b_mean) - ax;
+    sum += imageLoad(u_b, c).r - ax;
   }
   imageStore(u_coarse_b, C, vec4(u_scale * sum));
 }

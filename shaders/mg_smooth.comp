@@ -15,7 +15,6 @@ layout(r32f, binding = 0) uniform image3D u_x;
 layout(r32f, binding = 1) readonly uniform image3D u_b;
 layout(r8ui, binding = 2) readonly uniform uimage3D u_mask;
 layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_faces;
-layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
 
 #ifdef PROLONG
 layout(r32f, binding = 3) readonly uniform image3D u_coarse_x;
@@ -26,7 +25,6 @@ layout(r32f, binding = 3) readonly uniform image3D u_coarse_x;
 
 uniform int u_colour;      // 0 or 1
 uniform int u_zero_guess;  // 1: x starts at 0, so the other colour's values are taken as 0
-uniform int u_b_mean_slot; // >= 0: b is a residual whose mean is still to subtract (PENDING_MEAN)
 
 void main() {
   ivec3 g = ivec3(gl_GlobalInvocationID);
@@ -49,6 +47,5 @@ void main() {
       if (((m >> uint(d)) & 1u) != 0u) sum += w[d] * NEIGHBOUR_X(c + NEIGHBOUR[d]);
     }
   }
-  float b = imageLoad(u_b, c).r - PENDING_MEAN(results, u_b_mean_slot);
-  imageStore(u_x, c, vec4((b + sum) / n));
+  imageStore(u_x, c, vec4((imageLoad(u_b, c).r + sum) / n));
 }

@@ -7,18 +7,14 @@ layout(r32f, binding = 1) readonly uniform image3D u_a;
 layout(r32f, binding = 2) readonly uniform image3D u_b;
 layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
-layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
-
-uniform int u_a_mean_slot;  // >= 0: a is a residual whose mean is still to subtract (PENDING_MEAN)
 
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID.xy);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
   float acc = 0.0;
-  float a_mean = PENDING_MEAN(results, u_a_mean_slot);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    if ((imageLoad(u_nbmask, c).r & NB_SOLID) == 0u) acc += (imageLoad(u_a, c).r - a_mean) * imageLoad(u_b, c).r;
+    if ((imageLoad(u_nbmask, c).r & NB_SOLID) == 0u) acc += imageLoad(u_a, c).r * imageLoad(u_b, c).r;
   }
   partials[row.x + u_res.y * row.y] = vec4(acc, 0.0, 0.0, 0.0);
 }

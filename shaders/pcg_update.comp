@@ -15,7 +15,6 @@ layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
 
 uniform uint u_slot_rz;  // results[u_slot_rz].x = r.z
 uniform uint u_slot_sq;  // results[u_slot_sq].x = s.q
-uniform int u_r_mean_slot;  // >= 0: r's mean is still to subtract (PENDING_MEAN): r = r - mean - alpha q
 
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID.xy);
@@ -23,12 +22,11 @@ void main() {
   float sq = results[u_slot_sq].x;
   float alpha = sq > 0.0 ? results[u_slot_rz].x / sq : 0.0;
   vec4 acc = vec4(0.0);
-  float r_mean = PENDING_MEAN(results, u_r_mean_slot);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
     if ((imageLoad(u_nbmask, c).r & NB_SOLID) != 0u) continue;
     imageStore(u_pressure, c, vec4(imageLoad(u_pressure, c).r + alpha * imageLoad(u_s, c).r));
-    float r = (imageLoad(u_r, c).r - r_mean) - alpha * imageLoad(u_q, c).r;
+    float r = imageLoad(u_r, c).r - alpha * imageLoad(u_q, c).r;
     imageStore(u_r, c, vec4(r));
     acc += vec4(r, 1.0, r * r, 0.0);
   }

@@ -13,6 +13,7 @@ uniform uint u_slot;
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c) || (imageLoad(u_nbmask, c).r & NB_SOLID) != 0u) return;
-  float mean = meanOfSum(results[u_slot]);
+  vec4 sum = results[u_slot];
+  float mean = sum.y > 0.0 ? sum.x / sum.y : 0.0;
   imageStore(u_pressure, c, vec4(imageLoad(u_pressure, c).r - mean));
 }

@@ -68,7 +68,7 @@ void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture
 // (faces, x at 0, b at 1, mask at 2) and uniforms; PROLONG's coarse x is bound by the caller.
 void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask,
                             const gl::Texture3D& faces, gl::Texture3D& x, const gl::Texture3D& b, int colour,
-                            bool zero_guess, int b_mean_slot) {
+                            bool zero_guess) {
   faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
   x.bindImage(0, GL_READ_WRITE);
   b.bindImage(1, GL_READ_ONLY);
@@ -76,7 +76,6 @@ void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, 
   program.set("u_res", res);
   program.set("u_colour", colour);
   program.set("u_zero_guess", zero_guess ? 1 : 0);
-  program.set("u_b_mean_slot", b_mean_slot);
   program.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
 }
 
@@ -91,8 +90,8 @@ void MultigridVCycle::bindResidualInputs(const gl::Texture3D& mask, const gl::Te
 }
 
 void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess, int b_mean_slot) {
-  sweep(smooth_, res, mask, faces, x, b, colour, zero_guess, b_mean_slot);
+                             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess) {
+  sweep(smooth_, res, mask, faces, x, b, colour, zero_guess);
 }
 
 void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
@@ -126,21 +125,20 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D
 
 void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
                                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x,
-                                      int colour, int b_mean_slot) {
+                                      int colour) {
   coarse_x.bindImage(3, GL_READ_ONLY);
-  sweep(smooth_prolong_, res, mask, faces, x, b, colour, false, b_mean_slot);
+  sweep(smooth_prolong_, res, mask, faces, x, b, colour, false);
 }
 
 void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
                                        const gl::Texture3D& fine_faces, const gl::Texture3D& fine_x,
                                        const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
-                                       gl::Texture3D& coarse_b, float scale, int b_mean_slot) {
+                                       gl::Texture3D& coarse_b, float scale) {
   bindResidualInputs(fine_mask, fine_faces, fine_x, fine_b);
   coarse_b.bindImage(0, GL_WRITE_ONLY);
   residual_restrict_.set("u_res", coarse_res);
   residual_restrict_.set("u_fine_size", fine_res);
   residual_restrict_.set("u_scale", scale);
-  residual_restrict_.set("u_b_mean_slot", b_mean_slot);
   residual_restrict_.dispatch(coarse_res);
 }
 
@@ -167,7 +165,7 @@ void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask, const gl::Textu
 }
 
 void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
-                            gl::Texture3D& z, int r_mean_slot) {
+                            gl::Texture3D& z) {
   // Level l's textures: level 0 is (fine_mask, fine_faces, z, r).
   struct View {
     const gl::Texture3D* mask;
@@ -180,26 +178,25 @@ void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D&
   for (auto& c : coarse_) v.push_back({&c.mask, &c.faces, &c.x, &c.b});
   const int last = levels() - 1;
   auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
-  auto mean_slot = [&](int l) { return l == 0 ? r_mean_slot : -1; };  // only the fine level's b is r
 
   for (int l = 0; l < last; ++l) {
     for (int s = 0; s < kSmoothSweeps; ++s) {
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0, mean_slot(l));
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false, mean_slot(l));
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0);
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
     }
     residualRestrict(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, level(l + 1),
-                     coarse_[static_cast<std::size_t>(l)].b, kCoarseScale, mean_slot(l));
+                     coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
   }
   solveCoarsest(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b);
   for (int l = last - 1; l >= 0; --l) {
     // The coarse correction is folded into the first sweep (prolongAdd then smooth, in one pass).
     for (int s = 0; s < kSmoothSweeps; ++s) {
       if (s == 0) {
-        smoothProlonged(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, *v[l + 1].x, 1, mean_slot(l));
+        smoothProlonged(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, *v[l + 1].x, 1);
       } else {
-        smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false, mean_slot(l));
+        smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
       }
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, false, mean_slot(l));
+      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, false);
     }
   }
 }

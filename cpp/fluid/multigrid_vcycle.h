@@ -48,20 +48,17 @@ class MultigridVCycle {
   // Rebuilds every coarse mask and face-fraction image from the fine ones (once per step: the
   // solid moves). `fine_faces`: the fine level's face fractions (shaders/common.glsl).
   void buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces);
-  // z = M r from z = 0. Call buildMasks first. `r_mean_slot` >= 0: r's mean over the fluid cells
-  // (results[slot].x / .y of the reduction results bound at storage binding 1 by the caller) is
-  // still to be subtracted: the fine level reads r minus it (shaders/common.glsl PENDING_MEAN).
+  // z = M r from z = 0. Call buildMasks first.
   void apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
-             gl::Texture3D& z, int r_mean_slot = -1);
+             gl::Texture3D& z);
 
   // The stages, public for tests. `res` is the resolution of the level the textures have.
   void coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const glm::ivec3& coarse_res,
                    gl::Texture3D& coarse_mask);
   void coarsenFaces(const glm::ivec3& fine_res, const gl::Texture3D& fine_faces, const glm::ivec3& coarse_res,
                     gl::Texture3D& coarse_faces);
-  // `b_mean_slot` (smooth, smoothProlonged, residualRestrict): as apply()'s r_mean_slot, for b.
   void smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-              const gl::Texture3D& b, int colour, bool zero_guess, int b_mean_slot = -1);
+              const gl::Texture3D& b, int colour, bool zero_guess);
   void residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
                 const gl::Texture3D& b, gl::Texture3D& out);
   void restrictResidual(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const gl::Texture3D& fine_res_tex,
@@ -73,11 +70,10 @@ class MultigridVCycle {
   // next sweep rewrites the other colour). residualRestrict: residual() then restrictResidual()
   // without storing the fine residual (mg_residual_restrict.comp).
   void smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x, int colour,
-                       int b_mean_slot = -1);
+                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x, int colour);
   void residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces,
                         const gl::Texture3D& fine_x, const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
-                        gl::Texture3D& coarse_b, float scale, int b_mean_slot = -1);
+                        gl::Texture3D& coarse_b, float scale);
   // The coarsest level's kCoarsestSweeps symmetric pairs of red-black sweeps from x = 0, in one
   // dispatch (mg_coarsest.comp: the same arithmetic as the smooth() calls). Every axis of `res`
   // must be at most kCoarsestCells.
@@ -90,7 +86,7 @@ class MultigridVCycle {
 
  private:
   void sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess, int b_mean_slot);
+             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess);
   static void bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
                                  const gl::Texture3D& b);
 

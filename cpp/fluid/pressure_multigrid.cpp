@@ -42,16 +42,12 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
   for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &predict_}) p->set("u_res", grid.res);
 }
 
-void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first,
-                                      int r_mean_slot) {
-  reducer_.bindResults(1);  // the V-cycle's fine level reads r's pending mean there
-  vcycle_.apply(f.nbmask, f.face_open, r_, z_, r_mean_slot);
+void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
+  vcycle_.apply(f.nbmask, f.face_open, r_, z_);
   r_.bindImage(1, GL_READ_ONLY);
   z_.bindImage(2, GL_READ_ONLY);
   f.nbmask.bindImage(3, GL_READ_ONLY);
   reducer_.bindPartials(0);
-  reducer_.bindResults(1);
-  dot_.set("u_a_mean_slot", r_mean_slot);
   dot_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), rz_slot);
   s_.bindImage(0, GL_READ_WRITE);
@@ -106,8 +102,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   }
 
   std::size_t rz_new = kRzSlotA, rz_old = kRzSlotB;
-  int r_mean_slot = -1;  // r's mean still to subtract (closed box, deferred): its sums' slot
-  nextDirection(f, rz_new, rz_old, true, r_mean_slot);
+  nextDirection(f, rz_new, rz_old, true);
   for (int k = 0; k < params.pressure_iterations; ++k) {
     // q = A s and s.q
     s_.bindImage(1, GL_READ_ONLY);
@@ -127,15 +122,9 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     reducer_.bindResults(1);
     update_.set("u_slot_rz", static_cast<unsigned>(rz_new));
     update_.set("u_slot_sq", static_cast<unsigned>(kSqSlot));
-    update_.set("u_r_mean_slot", r_mean_slot);
     update_.dispatch(rowInvocations(grid_.res));
     reducer_.reduce(groups, kRrSlot);
-    r_mean_slot = -1;
-    if (closed && defer_residual_mean_) {
-      r_mean_slot = static_cast<int>(kRrSlot);
-    } else if (closed) {
-      removeResidualMean(f, kRrSlot);
-    }
+    if (closed) removeResidualMean(f, kRrSlot);
     stats.iterations = k + 1;
     bool restart = false;
     if (tolerance > 0.0f) {
@@ -143,8 +132,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
       if (stats.relative_residual <= tolerance) {
         // In float the updated residual drifts from the true one: confirm with rhs - A p, and
         // if that is still too large go on from it (CG restarted from the true residual).
-        startResidual(f, closed, false);  // a new r, its mean removed
-        r_mean_slot = -1;
+        startResidual(f, closed, false);
         stats.relative_residual = relativeResidual(reducer_.readResults()[kInitSlot].z, bb);
         if (stats.relative_residual <= tolerance) break;
         restart = true;
@@ -152,7 +140,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     }
     if (k + 1 == params.pressure_iterations) break;  // no direction needed after the last update
     std::swap(rz_new, rz_old);
-    nextDirection(f, rz_new, rz_old, restart, r_mean_slot);
+    nextDirection(f, rz_new, rz_old, restart);
   }
   stats.converged = tolerance <= 0.0f || stats.relative_residual <= tolerance;
   return stats;

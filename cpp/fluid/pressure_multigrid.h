@@ -11,8 +11,8 @@
 // most the tolerance (read back after every iteration; confirmed against the true residual
 // rhs - A p, since in float the updated one drifts), after at most pressure_iterations.
 // In a closed box the rhs must have zero mean over the fluid cells (FluidSolver::removeRhsMean
-// does that before the solve), the CG residual's mean is removed every iteration (by its
-// readers: setDeferResidualMean), and the pressure's free constant is removed after the solve.
+// does that before the solve), the CG residual's mean is removed every iteration, and the
+// pressure's free constant is removed after the solve.
 #include "fluid/multigrid_vcycle.h"
 #include "fluid/pressure_solver.h"
 #include "gl/compute_program.h"
@@ -25,11 +25,6 @@ class PressureMultigrid : public PressureSolver {
   explicit PressureMultigrid(const Grid& grid);
   const char* name() const override { return "multigrid"; }
   SolveStats solve(FluidFields& fields, const FluidParams& params) override;
-  // On (the default): in a closed box the CG residual's mean is not subtracted by a pass of its
-  // own after every update; its readers (the V-cycle's fine level, r.z, the next update)
-  // subtract it as they read r (PENDING_MEAN). The same arithmetic: the pressure equals the
-  // shifted solve's to the bit (a test switches this off to compare).
-  void setDeferResidualMean(bool on) { defer_residual_mean_ = on; }
 
  private:
   // r = -rhs - A p, its sums into the init slot (and with `predictor_sums` b.r, Ap.Ap, b.Ap into
@@ -43,16 +38,14 @@ class PressureMultigrid : public PressureSolver {
   // singular (constants); a residual with a constant part, which float rounding leaves, would
   // make the V-cycle return a huge constant and CG's step sizes meaningless.
   void removeResidualMean(FluidFields& f, std::size_t slot);
-  // z = M r, r.z into results[rz_slot], then s = z + beta s (s = z when `first`). `r_mean_slot`:
-  // r's mean still to subtract (-1: none).
-  void nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first, int r_mean_slot);
+  // z = M r, r.z into results[rz_slot], then s = z + beta s (s = z when `first`).
+  void nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first);
 
   Grid grid_;
   MultigridVCycle vcycle_;
   gl::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
   gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, predict_;
   gl::GroupReducer reducer_;
-  bool defer_residual_mean_ = true;
 };
 
 }  // namespace hf::fluid
