@@ -64,15 +64,22 @@ void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture
   coarsen_faces_.dispatch(coarse_res + 1);
 }
 
+// A level's images as mg_smooth and mg_coarsest bind them: faces, x at 0 (`x_access`), b at 1,
+// mask at 2.
+void MultigridVCycle::bindSmoothInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
+                                       unsigned x_access, const gl::Texture3D& b) {
+  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  x.bindImage(0, x_access);
+  b.bindImage(1, GL_READ_ONLY);
+  mask.bindImage(2, GL_READ_ONLY);
+}
+
 // One red-black sweep of `colour` with mg_smooth.comp's program (plain or PROLONG): its images
-// (faces, x at 0, b at 1, mask at 2) and uniforms; PROLONG's coarse x is bound by the caller.
+// (bindSmoothInputs) and uniforms; PROLONG's coarse x is bound by the caller.
 void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask,
                             const gl::Texture3D& faces, gl::Texture3D& x, const gl::Texture3D& b, int colour,
                             bool zero_guess) {
-  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  x.bindImage(0, GL_READ_WRITE);
-  b.bindImage(1, GL_READ_ONLY);
-  mask.bindImage(2, GL_READ_ONLY);
+  bindSmoothInputs(mask, faces, x, GL_READ_WRITE, b);
   program.set("u_res", res);
   program.set("u_colour", colour);
   program.set("u_zero_guess", zero_guess ? 1 : 0);
@@ -144,10 +151,7 @@ void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Tex
 
 void MultigridVCycle::solveCoarsest(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
                                     gl::Texture3D& x, const gl::Texture3D& b) {
-  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  x.bindImage(0, GL_WRITE_ONLY);
-  b.bindImage(1, GL_READ_ONLY);
-  mask.bindImage(2, GL_READ_ONLY);
+  bindSmoothInputs(mask, faces, x, GL_WRITE_ONLY, b);
   coarsest_.set("u_res", res);
   coarsest_.set("u_pairs", kCoarsestSweeps);
   coarsest_.dispatch(glm::ivec3(kCoarsestCells));
