@@ -81,7 +81,7 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, co
 bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
   if (!cut_cells_ || !mesh_) return false;
   const CellBox box = bounds();
-  if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return false;
+  if (isEmpty(box)) return false;
   const std::size_t box_cells = static_cast<std::size_t>(box.extent.x) * box.extent.y * box.extent.z;
   const int s = fineCellsFor(box_cells);
   const glm::ivec3 fine_res = box.extent * s;
@@ -100,6 +100,8 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& regi
                                                         "cut cells: the mesh probe's fine voxelization (" +
                                                             std::to_string(fine_cells) + " fine cells, 4 bytes each)");
   }
+  const CellBox faces = faceBox(region, grid_.res);
+  if (isEmpty(faces)) return true;  // nothing asked for: no fine voxelization either
   // local -> fine grid units: s x (grid units - the box's first cell)
   gpu_mesh_.pose(localToLattice(pose_.transform, grid_.origin_m, grid_.cell_size_m / s, box.origin * s));
   fine_crossings_.set("u_res", fine_res);
@@ -110,8 +112,6 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& regi
   winding_.set("u_res", fine_res);
   winding_.dispatch(glm::ivec3(fine_res.x, fine_res.y, 1));
 
-  const CellBox faces = faceBox(region, grid_.res);
-  if (isEmpty(faces)) return true;
   face_open.bindImage(0, GL_WRITE_ONLY);
   fractions_.set("u_box_origin", box.origin);
   fractions_.set("u_fine_res", fine_res);
