@@ -71,20 +71,20 @@ StepReport StepPipeline::step(const StepInputs& in) {
 void StepPipeline::voxelize(Pass& pass) {
   auto& f = solver_.fields();
   const std::optional<ProbeState>& probe = pass.in.probe;
+  Footprint now;
   if (probe && probe->kind == ProbeState::Kind::Sphere) {
     sphere_.setPose(probe->sphere);
     sphere_.setCutCells(pass.in.params.cut_cells);
     pass.body = &sphere_;
+    now.body = Footprint::Body::Sphere;
   } else if (probe) {
     if (!mesh_) mesh_ = std::make_unique<obstacle::MeshProbe>(grid_);
     mesh_->setMesh(probe->mesh);
     mesh_->setPose(probe->pose);
     mesh_->setCutCells(pass.in.params.cut_cells);
     pass.body = mesh_.get();
+    now.body = Footprint::Body::Mesh;
   }
-  Footprint now;
-  now.body = !probe ? Footprint::Body::None
-                    : (probe->kind == ProbeState::Kind::Sphere ? Footprint::Body::Sphere : Footprint::Body::Mesh);
   now.cut_cells = pass.in.params.cut_cells;
   now.open_top = pass.in.params.open_top;
   if (pass.body) now.bounds = pass.body->bounds();
