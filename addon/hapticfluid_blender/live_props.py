@@ -2,7 +2,7 @@
 
 The domain, probe and smoke source are the objects holding those roles (Physics tab, read through
 ``roles.settings_of(scene)``), the same for the bake and the live session.
-Defaults of the haptic settings come from the engine (``hapticfluid.haptic_session_defaults()``),
+Defaults of the haptic settings come from the engine (``hapticfluid.HapticSessionSettings()``),
 so the add-on and the Python API behave alike; without the package the properties register with
 no default (no session can start then, and the panel says why).
 """
@@ -16,9 +16,11 @@ def _engine_defaults():
     try:
         import hapticfluid
 
-        return hapticfluid.haptic_session_defaults()
+        defaults = hapticfluid.HapticSessionSettings().to_dict()
     except ImportError:
         return {}
+    defaults["workspace_scale"] = defaults["workspace_scale"][0]  # the same on every axis: one number here
+    return defaults
 
 
 _DEFAULTS = _engine_defaults()

@@ -196,11 +196,11 @@ class _Engine:
             else:
                 scale = max(math.sqrt(sum(matrix[r][c] ** 2 for r in range(3))) for c in range(3))
                 self.sim.set_probe(tuple(matrix[r][3] for r in range(3)), shape["radius"] * scale)
+        except hf.MeshNotClosedError as exc:
+            raise SessionError(f"Close the probe '{plan.probe_name}' mesh (Edit Mode: Mesh > Clean Up > Fill Holes, "
+                               f"then Mesh > Normals > Recalculate Outside) or use the Sphere probe shape: "
+                               f"{exc}") from None
         except hf.InvalidArgumentError as exc:
-            if "not closed" in str(exc):
-                raise SessionError(f"Close the probe '{plan.probe_name}' mesh (Edit Mode: Mesh > Clean Up > Fill Holes, "
-                                   f"then Mesh > Normals > Recalculate Outside) or use the Sphere probe shape: "
-                                   f"{exc}") from None
             raise SessionError(_fix_first(str(exc))) from None
         args = dict(plan.session_args)
         info = self.device.info()
@@ -232,24 +232,24 @@ class _Engine:
         try:
             # No homing wait: the session commands no force until the user has homed it.
             return hf.open_falcon(firmware=plan.firmware, home=False, max_force=plan.max_force)
-        except (hf.HapticFluidError, hf.InvalidArgumentError) as exc:
-            text = str(exc)
-            if "may not open" in text:  # the driver's message ends with the udev rule and how to install it
-                raise SessionError(f"Install the udev rule below, then unplug and replug the Falcon: {text}") from None
-            if "is plugged in" in text:
-                raise SessionError(f"Plug in the Falcon's USB cable and power supply, or choose the Simulated Falcon "
-                                   f"device (no Novint Falcon is plugged in)") from None
-            raise SessionError(_fix_first(f"Falcon: {text}")) from None
+        except hf.DeviceAccessDeniedError as exc:  # the driver's message ends with the udev rule to install
+            raise SessionError(f"Install the udev rule below, then unplug and replug the Falcon: {exc}") from None
+        except hf.DeviceNotFoundError:
+            raise SessionError("Plug in the Falcon's USB cable and power supply, or choose the Simulated Falcon "
+                               "device (no Novint Falcon is plugged in)") from None
+        except hf.HapticFluidError as exc:
+            raise SessionError(_fix_first(f"Falcon: {exc}")) from None
 
     def close(self):
         """Stops the session (force slewed to zero, threads joined) and frees the device and GPU;
-        returns the error that ended the session, or None."""
+        returns the report for the error that ended the session (fix first), or None."""
         error = None
         if self.session is not None:
+            failed = self.session.state == "failed"
             try:
                 self.session.stop(timeout=STOP_TIMEOUT_S)
             except Exception as exc:  # the error that ended the session (device gone, solver) or a slow step
-                error = str(exc)
+                error = _failure_report(exc) if failed else _fix_first(str(exc))
                 try:
                     self.session.stop(timeout=STOP_TIMEOUT_S)  # a slow last step: once more
                 except Exception:
@@ -275,12 +275,13 @@ def _fix_first(message: str) -> str:
     return message
 
 
-def _failure_report(error: str) -> str:
-    """The report for a session the engine ended (fix first, then the engine's words)."""
-    if error.startswith("simulation thread"):
-        return (f"Start the session again (the fluid is reset); if it recurs, raise the pressure iterations or move "
-                f"the probe more slowly: {error}")
-    return f"Check the device's cable and power, then start the session again: {error}"
+def _failure_report(error: Exception) -> str:
+    """The report for a session the engine ended (fix first, then the engine's words): the device's
+    error (a hapticfluid.DeviceError: unplugged, powered off) or the simulation thread's."""
+    if isinstance(error, _import_hf().DeviceError):
+        return f"Check the device's cable and power, then start the session again: {error}"
+    return (f"Start the session again (the fluid is reset); if it recurs, raise the pressure iterations or move "
+            f"the probe more slowly: {error}")
 
 
 class LiveController:
@@ -357,7 +358,7 @@ class LiveController:
             return self.state
         session = self.session
         if session.state == "failed":
-            self._end(_failure_report(session.error or ""))
+            self._end(None)  # the engine's error, reported by its type (engine.close)
             return self.state
         now = self.clock()
         self.ticks += 1
@@ -520,7 +521,7 @@ class LiveController:
             self.stop_recording()
         error = self.engine.close()
         self.state = "stopped"
-        self.report = reason or (_fix_first(error) if error else None)
+        self.report = reason or error
         try:
             live = self.live
             live.is_running = False

@@ -1,7 +1,8 @@
 #pragma once
-// The engine's exception types. Every failure that crosses the API is one of these; the
-// Python bindings map InvalidArgument to hapticfluid.InvalidArgumentError (a ValueError) and
-// every other Error to hapticfluid.HapticFluidError.
+// The engine's exception types. Every failure that crosses the API is one of these or a subclass
+// defined by its layer (obstacle::MeshNotClosed, falcon::UsbUnplugged, io::VdbError, ...); the
+// Python bindings (python/bind_errors.cpp) give each its own Python class under
+// hapticfluid.HapticFluidError, so callers decide by type, never by message text.
 #include <stdexcept>
 #include <string>
 
@@ -21,6 +22,12 @@ class InvalidArgument : public Error {
 
 // A GL or EGL call failed; the message names the stage that made it.
 class GlError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A haptic device could not be found, opened or kept (the haptic loop's failures are these).
+class DeviceError : public Error {
  public:
   using Error::Error;
 };

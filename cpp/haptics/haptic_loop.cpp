@@ -94,6 +94,8 @@ void HapticLoop::setEnabled(bool on) { enabled_.store(on, std::memory_order_rele
 
 std::string HapticLoop::error() const { return failed() ? error_ : std::string(); }
 
+std::exception_ptr HapticLoop::cause() const { return failed() ? cause_ : nullptr; }
+
 void HapticLoop::run() {
   if (s_.realtime) {
     scheduling_ = requestRealtimePriority(s_.realtime_priority);
@@ -132,6 +134,7 @@ void HapticLoop::run() {
     device_->zeroForce();
   } catch (const std::exception& e) {
     error_ = std::string("haptic loop stopped: ") + e.what();
+    cause_ = std::current_exception();
     failed_.store(true, std::memory_order_release);
     device_->zeroForce();  // never throws: the device may be gone
   }

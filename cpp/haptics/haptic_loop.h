@@ -7,6 +7,7 @@
 // throws) ends the loop: it stops commanding force (one last zero is attempted) and error()
 // says what happened. The host reads stats(), latest() and drainTrace() from any one thread.
 #include <atomic>
+#include <exception>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -77,6 +78,8 @@ class HapticLoop {
   bool running() const { return running_.load(std::memory_order_acquire); }
   bool failed() const { return failed_.load(std::memory_order_acquire); }
   std::string error() const;    // "" unless failed()
+  // The device's exception that ended the loop (its own type, e.g. falcon::UsbUnplugged), or null.
+  std::exception_ptr cause() const;
   LoopStats stats() const;
   TickOutput latest() const;    // the latest period's forces
   DeviceState latestState() const;
@@ -97,6 +100,7 @@ class HapticLoop {
   std::mutex thread_mutex_;  // start() and stop() from several host threads: one joins
   std::atomic<bool> stop_{false}, running_{false}, failed_{false}, enabled_{true}, realtime_{false};
   std::string error_;       // written once by the loop before failed_ is set
+  std::exception_ptr cause_;  // the exception behind error_, written with it
   std::string scheduling_;  // written by the loop before sched_known_ is set
   std::atomic<bool> sched_known_{false};
 

@@ -85,7 +85,7 @@ void validateMesh(const TriangleMesh& mesh) {
   }
   if (open > 0) {
     const auto a = static_cast<std::uint32_t>(example >> 32), b = static_cast<std::uint32_t>(example & 0xffffffffu);
-    throw InvalidArgument("the mesh is not closed and consistently oriented: " + std::to_string(open) +
+    throw MeshNotClosed("the mesh is not closed and consistently oriented: " + std::to_string(open) +
                           " edges (e.g. between vertices " + std::to_string(a) + " " + vecText(mesh.vertices_m[a]) +
                           " and " + std::to_string(b) + " " + vecText(mesh.vertices_m[b]) +
                           ") are not used once in each direction; close the holes and make the normals "

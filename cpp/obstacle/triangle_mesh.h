@@ -15,7 +15,15 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "common/error.h"
+
 namespace hf::obstacle {
+
+// A mesh that is not closed and consistently oriented (validateMesh); the message says where.
+class MeshNotClosed : public InvalidArgument {
+ public:
+  using InvalidArgument::InvalidArgument;
+};
 
 inline constexpr std::size_t kMaxMeshElements = 10'000'000;  // vertices and triangles each
 

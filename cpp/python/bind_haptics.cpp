@@ -19,6 +19,7 @@
 #include "haptics/scripted_device.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/settings_class.h"
 #include "session/field_snapshot.h"
 #include "session/haptic_session.h"
 #include "session/simulation.h"
@@ -34,16 +35,6 @@ using haptics::DevicePtr;
 using haptics::DeviceState;
 using session::HapticSession;
 using Vec3 = std::array<float, 3>;
-
-// A float (the same on every axis) or three floats.
-glm::vec3 scaleArg(const py::object& v, const char* name) {
-  if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) return glm::vec3(v.cast<float>());
-  try {
-    return toVec3(v.cast<Vec3>());
-  } catch (const py::cast_error&) {
-    throw InvalidArgument(std::string(name) + " must be a number or three numbers (x, y, z)");
-  }
-}
 
 py::dict percentiles(py::dict d, const std::string& name, const haptics::Percentiles& p) {
   d[py::str(name + "_p50_ms")] = p.p50;
@@ -110,49 +101,10 @@ stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device.
 simulation: the Simulation to drive (kept alive by the session); the session steps it
   continuously and its probe follows the device.
 device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...).
-workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
-workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
-  of the device's workspace (DeviceInfo) at the domain's centre.
-force_gain: device newtons per fluid newton (>= 0); None = the gain the device can render: the
-  probe's added mass (rho V / 2) x workspace scale, rendered over the shortest simulation step T
-  (sim_dt, or min_sim_dt in real time) as a damping M / T and a stiffness M / T^2, kept within
-  the device's max_damping and max_stiffness (at most 1; 1 for devices that report no limits).
-  stats()['force_gain'] and ['force_gain_reason'] say what was chosen.
-passivity: a time-domain passivity observer and controller (Hannaford and Ryu 2002) between the
-  force gain and the safety stage: it sums the energy the device delivers to the hand
-  (F . dx, positive = into the hand) and, when the loop has made net energy, a damper
-  -alpha v removes it (alpha <= passivity_max_damping). False: observe only.
-passivity_max_damping: bound on alpha (N s/m); None = the device's max_damping (a device that
-  reports none is observed only).
-passivity_deadband: below this device speed (m/s) no damping is applied.
-passivity_reserve: most stored dissipation (J) the observer keeps, and passivity_memory the
-  time constant (s) over which it is forgotten, so old dissipation cannot license a burst.
-probe_radius: the probe becomes a sphere of this radius (m, at least one cell); None = keep the
-  simulation's probe (a sphere, or a mesh from set_mesh_probe with its orientation), or a
-  0.1 m sphere if it has none.
-filter: 'lowpass' (the seed's first-order low-pass) or 'none'.
-bandwidth_ratio: low-pass cutoff / measured simulation rate (dimensionless, > 0).
-prediction: update the force between frames with a fitted local drag model F0 + B (v - v0).
-max_force: bound on the commanded force (N), at most the device's maximum; None = that maximum.
-slew_rate: largest change of the commanded force (N/s).
-ramp_time: force ramps in linearly over this long after start/resume/homing (s).
-stale_after, stale_periods, stale_after_max, fade_time: a simulation force starts fading when it
-  is older than stale_periods of the simulation's measured periods, at least stale_after (s) and
-  at most stale_after_max (s: a stalled simulation's force still fades), and reaches zero
-  fade_time (s) later; stats()['stale_after'] is the threshold in use.
-rate: haptic loop rate (Hz, 100..10000).
-sim_dt: fixed simulation step (s), stepped as fast as the GPU goes; 0 = real time: each step
-  advances the smoothed wall time per step, within [min_sim_dt, max_sim_dt], and waits for
-  min_sim_dt of wall time (a voxelized probe gives force impulses ~ 1/dt as it crosses cells, so
-  the floor keeps them bounded and leaves the CPU/GPU some rest).
-min_sim_dt, max_sim_dt: real-time step range (s).
-realtime: ask for SCHED_FIFO priority (a warning in stats()['scheduling'] if not granted).
-trace: keep a record per haptic period for trace() (up to trace_seconds of them).
-snapshot: None: no field snapshots; 0: the simulation thread reads the density back after every
-  step; s > 0: after the first step at least that long (wall time) after the last snapshot.
-  snapshot() returns the newest without waiting for the GPU (for drawing).
-snapshot_temperature: snapshots carry the temperature too (one more read-back).
-Defaults come from the engine: haptic_session_defaults().
+settings: a HapticSessionSettings, or None for the engine's defaults; keywords set the settings
+  of the same names on a copy of it: HapticSession(sim, device, probe_radius=0.08).
+  HapticSessionSettings documents each (workspace map, force gain, filter, passivity, safety,
+  rates, trace, snapshots).
 )doc";
 
 // A snapshot field as a read-only array [x, y, z] (x fastest) that keeps the snapshot alive.
@@ -316,109 +268,20 @@ session on it fails to start; close() still stops it (the session then fails wit
       "extrapolate=True the 1 kHz loop carries the pose along the estimated velocity for up to one\n"
       "push interval. Not homed (no force) until the first push. max_force in N.");
 
-  const session::HapticSessionSettings defaults;  // the C++ defaults are the Python ones
-  const auto& dp = defaults.loop.pipeline;
   m.def(
       "haptic_session_defaults",
-      [defaults]() {
-        const auto& p = defaults.loop.pipeline;
-        py::dict d;
-        d["workspace_scale"] = p.map.scale.x;
-        d["force_gain"] = py::none();  // derived from the device's rendering limits
-        d["bandwidth_ratio"] = p.filter.bandwidth_ratio;
-        d["max_cutoff_per_rate"] = defaults.max_cutoff_per_rate;
-        d["prediction"] = p.prediction;
-        d["slew_rate"] = p.safety.slew_rate_n_s;
-        d["ramp_time"] = p.safety.ramp_s;
-        d["stale_after"] = p.safety.stale_after_s;
-        d["stale_periods"] = p.safety.stale_periods;
-        d["stale_after_max"] = p.safety.stale_after_max_s;
-        d["fade_time"] = p.safety.fade_s;
-        d["rate"] = defaults.loop.rate_hz;
-        d["sim_dt"] = defaults.sim_dt_s;
-        d["min_sim_dt"] = defaults.min_sim_dt_s;
-        d["max_sim_dt"] = defaults.max_sim_dt_s;
-        d["realtime"] = defaults.loop.realtime;
-        d["trace_seconds"] = session::kDefaultTraceS;
-        return d;
-      },
-      "The HapticSession's default settings (SI units, the names of its keyword arguments): the\n"
-      "engine defines them once; the Blender add-on takes its defaults from here. workspace_offset\n"
-      "None puts the middle of the device's workspace at the domain's centre; max_cutoff_per_rate\n"
-      "bounds the low-pass cutoff to that fraction of the haptic rate; force_gain None: the gain\n"
-      "the device can render, derived by the session (stats()['force_gain_reason']).");
+      [m]() { return m.attr("HapticSessionSettings")().attr("to_dict")(); },
+      "The HapticSession's default settings by name (SI units): HapticSessionSettings().to_dict().");
 
   py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
-  c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& workspace_scale,
-                    const py::object& workspace_offset, std::optional<float> force_gain, std::optional<float> probe_radius,
-                    const std::string& filter, double bandwidth_ratio, bool prediction,
-                    std::optional<float> max_force, float slew_rate, double ramp_time, double stale_after,
-                    double stale_periods, double stale_after_max, double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
-                    double trace_seconds, bool passivity, std::optional<float> passivity_max_damping,
-                    float passivity_deadband, double passivity_reserve, double passivity_memory,
-                    std::optional<double> snapshot, bool snapshot_temperature) {
+  c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& settings, const py::kwargs& kwargs) {
           if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
-          session::HapticSessionSettings s;
-          auto& p = s.loop.pipeline;
-          p.map.scale = scaleArg(workspace_scale, "workspace_scale");
-          if (!workspace_offset.is_none()) s.workspace_offset_m = scaleArg(workspace_offset, "workspace_offset");
-          s.derive_force_gain = !force_gain.has_value();
-          if (force_gain) p.map.force_gain = *force_gain;
-          p.passivity.enabled = passivity;
-          p.passivity.max_damping_n_s_m = passivity_max_damping.value_or(0.0f);
-          if (passivity_max_damping && !(*passivity_max_damping > 0.0f)) {
-            throw InvalidArgument("passivity_max_damping must be a positive number of N s/m, or None (the device's), got " +
-                                  std::to_string(*passivity_max_damping));
-          }
-          p.passivity.velocity_deadband_m_s = passivity_deadband;
-          p.passivity.max_reserve_j = passivity_reserve;
-          p.passivity.reserve_decay_s = passivity_memory;
-          if (filter != "lowpass" && filter != "none") {
-            throw InvalidArgument("filter must be 'lowpass' or 'none', got '" + filter + "'");
-          }
-          p.filter.enabled = filter == "lowpass";
-          p.filter.bandwidth_ratio = bandwidth_ratio;
-          p.prediction = prediction;
-          p.safety.max_force_n = max_force ? *max_force : device->info().max_force_n;
-          p.safety.slew_rate_n_s = slew_rate;
-          p.safety.ramp_s = ramp_time;
-          p.safety.stale_after_s = stale_after;
-          p.safety.stale_periods = stale_periods;
-          p.safety.stale_after_max_s = stale_after_max;
-          p.safety.fade_s = fade_time;
-          s.loop.rate_hz = rate;
-          s.loop.realtime = realtime;
-          if (trace) {  // trace_s 0 means no trace: with trace=True, 0 is a bad length
-            if (!(trace_seconds > 0.0)) {
-              throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
-                                    std::to_string(trace_seconds) + " s");
-            }
-            s.trace_s = trace_seconds;
-          }
-          s.probe_radius_m = probe_radius;
-          s.sim_dt_s = sim_dt;
-          s.min_sim_dt_s = min_sim_dt;
-          s.max_sim_dt_s = max_sim_dt;
-          s.snapshot_interval_s = snapshot;
-          s.snapshot_temperature = snapshot_temperature;
+          const auto s = settingsWithKeywords<session::HapticSessionSettings>(settings, kwargs, "HapticSession");
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
-        py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = dp.map.scale.x,
-        py::arg("workspace_offset") = py::none(), py::arg("force_gain") = py::none(),
-        py::arg("probe_radius") = py::none(), py::arg("filter") = "lowpass",
-        py::arg("bandwidth_ratio") = dp.filter.bandwidth_ratio, py::arg("prediction") = dp.prediction,
-        py::arg("max_force") = py::none(), py::arg("slew_rate") = dp.safety.slew_rate_n_s,
-        py::arg("ramp_time") = dp.safety.ramp_s, py::arg("stale_after") = dp.safety.stale_after_s,
-        py::arg("stale_periods") = dp.safety.stale_periods, py::arg("stale_after_max") = dp.safety.stale_after_max_s,
-        py::arg("fade_time") = dp.safety.fade_s, py::arg("rate") = defaults.loop.rate_hz,
-        py::arg("sim_dt") = defaults.sim_dt_s, py::arg("min_sim_dt") = defaults.min_sim_dt_s,
-        py::arg("max_sim_dt") = defaults.max_sim_dt_s, py::arg("realtime") = defaults.loop.realtime,
-        py::arg("trace") = false, py::arg("trace_seconds") = session::kDefaultTraceS,
-        py::arg("passivity") = dp.passivity.enabled, py::arg("passivity_max_damping") = py::none(),
-        py::arg("passivity_deadband") = dp.passivity.velocity_deadband_m_s,
-        py::arg("passivity_reserve") = dp.passivity.max_reserve_j,
-        py::arg("passivity_memory") = dp.passivity.reserve_decay_s,
-        py::arg("snapshot") = py::none(), py::arg("snapshot_temperature") = false, py::keep_alive<1, 2>());
+        py::arg("simulation"), py::arg("device"), py::arg("settings") = py::none(), py::keep_alive<1, 2>());
+  c.def_property_readonly("settings", [](const HapticSession& s) { return s.settings(); },
+                          "The HapticSessionSettings in use (a copy; force_gain None when derived: stats() has it).");
   // Started sessions join a WeakSet on the module; an atexit hook stops those still running
   // before the interpreter tears down (their threads must not outlive the objects they use).
   py::module_ weakref = py::module_::import("weakref");

@@ -11,6 +11,7 @@
 #include "python/convert.h"
 #include "python/convert_mesh.h"
 #include "python/ensure_array.h"
+#include "python/settings_class.h"
 #include "session/simulation.h"
 
 namespace py = pybind11;
@@ -23,32 +24,10 @@ using session::Simulation;
 using Vec3 = std::array<float, 3>;
 using IVec3 = std::array<int, 3>;
 
-fluid::Advection parseAdvection(const std::string& s) {
-  if (s == "semi_lagrangian") return fluid::Advection::SemiLagrangian;
-  if (s == "maccormack") return fluid::Advection::MacCormack;
-  throw InvalidArgument("advection must be 'semi_lagrangian' or 'maccormack', got '" + s + "'");
-}
-
-std::string advectionName(fluid::Advection a) {
-  return a == fluid::Advection::MacCormack ? "maccormack" : "semi_lagrangian";
-}
-
-fluid::PressureSolverKind parsePressureSolver(const std::string& s) {
-  if (s == "jacobi") return fluid::PressureSolverKind::Jacobi;
-  if (s == "multigrid") return fluid::PressureSolverKind::Multigrid;
-  throw InvalidArgument("pressure_solver must be 'jacobi' or 'multigrid', got '" + s + "'");
-}
-
-fluid::SourceEmission parseEmission(const std::string& s) {
-  if (s == "hold") return fluid::SourceEmission::Hold;
-  if (s == "rate") return fluid::SourceEmission::Rate;
-  throw InvalidArgument("emission must be 'hold' or 'rate', got '" + s + "'");
-}
-
-std::string emissionName(fluid::SourceEmission e) { return e == fluid::SourceEmission::Rate ? "rate" : "hold"; }
-
-std::string pressureSolverName(fluid::PressureSolverKind k) {
-  return k == fluid::PressureSolverKind::Multigrid ? "multigrid" : "jacobi";
+// An enum value's name ('multigrid'), as the Python enum calls it.
+template <class E>
+std::string enumName(E e) {
+  return py::cast(e).attr("name").template cast<std::string>();
 }
 
 py::array_t<float> readField(Simulation& sim, Field f) {
@@ -66,7 +45,7 @@ void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set
   c.def_property(
       name, [get](const Simulation& s) { return get(s.params()); },
       [set, name](Simulation& s, const py::object& value) {
-        const T v = castArg<T>(value, name);
+        const T v = settingArg<T>(value, name);
         s.updateParams([&](fluid::FluidParams& p) { set(p, v); });
       },
       doc);
@@ -189,61 +168,31 @@ All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid ha
 (domain_size / resolution must be equal on every axis), z is up. Arrays come back indexed
 [i, j, k] (x, y, z).
 )doc");
-  c.def(py::init([](const IVec3& resolution, const Vec3& domain_size, const Vec3& origin, float fluid_density,
-                    const Vec3& gravity, bool open_top, const std::string& advection, float vorticity,
-                    float smoke_weight, float heat_buoyancy, float smoke_dissipation, float heat_dissipation,
-                    int pressure_iterations, bool compute_residual, const std::string& pressure_solver,
-                    float pressure_tolerance, const std::string& device) {
-          session::SimulationConfig cfg;
-          cfg.resolution = glm::ivec3(resolution[0], resolution[1], resolution[2]);
-          cfg.domain_size_m = toVec3(domain_size);
-          cfg.origin_m = toVec3(origin);
-          cfg.params.density_kg_m3 = fluid_density;
-          cfg.params.gravity_m_s2 = toVec3(gravity);
-          cfg.params.open_top = open_top;
-          cfg.params.advection = parseAdvection(advection);
-          cfg.params.vorticity_confinement = vorticity;
-          cfg.params.smoke_weight_m_s2 = smoke_weight;
-          cfg.params.heat_buoyancy_m_s2_k = heat_buoyancy;
-          cfg.params.density_dissipation_1_s = smoke_dissipation;
-          cfg.params.temperature_dissipation_1_s = heat_dissipation;
-          cfg.params.pressure_iterations = pressure_iterations;
-          cfg.params.compute_residual = compute_residual;
-          cfg.params.pressure_solver = parsePressureSolver(pressure_solver);
-          cfg.params.pressure_tolerance = pressure_tolerance;
-          cfg.device = device;
+  c.def(py::init([](const py::object& settings, const py::kwargs& kwargs) {
+          const session::SimulationConfig cfg = settingsWithKeywords<session::SimulationConfig>(settings, kwargs, "Simulation");
           FlushLogAfter flush;  // the GL context's note (software renderer)
           py::gil_scoped_release release;
           return std::make_unique<Simulation>(cfg);
         }),
-        py::arg("resolution") = IVec3{64, 64, 64}, py::arg("domain_size") = Vec3{1.0f, 1.0f, 1.0f},
-        py::arg("origin") = Vec3{0.0f, 0.0f, 0.0f}, py::arg("fluid_density") = 1.2f,
-        py::arg("gravity") = Vec3{0.0f, 0.0f, -9.81f}, py::arg("open_top") = false,
-        py::arg("advection") = "semi_lagrangian", py::arg("vorticity") = 0.0f, py::arg("smoke_weight") = 0.0f,
-        py::arg("heat_buoyancy") = 0.0f, py::arg("smoke_dissipation") = 0.0f, py::arg("heat_dissipation") = 0.0f,
-        py::arg("pressure_iterations") = 40, py::arg("compute_residual") = true,
-        py::arg("pressure_solver") = "jacobi", py::arg("pressure_tolerance") = 0.0f, py::arg("device") = "",
-        R"doc(
-resolution: cells per axis (nx, ny, nz), each >= 8.
-domain_size: box edges (m); must give cubic cells with the resolution.
-origin: world position of the box's minimum corner (m).
-fluid_density: rho (kg/m^3); 1.2 for air, 1000 for water.
-gravity: acceleration (m/s^2); gives the hydrostatic pressure (buoyancy on the probe).
-open_top: the +z wall is open to 0 Pa instead of closed.
-advection: 'semi_lagrangian' or 'maccormack'.
-vorticity: vorticity confinement epsilon (dimensionless, >= 0).
-smoke_weight: downward acceleration per unit smoke concentration (m/s^2).
-heat_buoyancy: upward acceleration per kelvin above ambient (m/s^2/K).
-smoke_dissipation, heat_dissipation: exponential fade rates (1/s).
-pressure_iterations: per step, Jacobi sweeps or multigrid-preconditioned CG iterations (one
-    V-cycle each) (1..100000); with a pressure_tolerance, the most the solve may run.
-compute_residual: measure the pressure solve's relative residual each step.
-pressure_solver: 'jacobi' (cheap sweeps, slow to converge) or 'multigrid' (conjugate gradient
-    preconditioned by a geometric multigrid V-cycle: converges in tens of iterations).
-pressure_tolerance: relative residual ||rhs - A p|| / ||rhs|| (dimensionless) at which the solve
-    stops early; 0 runs exactly pressure_iterations. Between 1e-7 and 1 (exclusive), or 0.
-device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or an EGL device number.
+        py::arg("settings") = py::none(), R"doc(
+settings: a FluidSettings (the grid, the fluid, the GL device), or None for the engine's
+    defaults. Keywords set the FluidSettings of the same names on a copy of it:
+    Simulation(resolution=(32, 32, 32), fluid_density=1000.0). FluidSettings documents each.
+Raises InvalidArgumentError naming the setting the engine cannot use (cells that are not cubic,
+a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can be made.
 )doc");
+  c.def_property_readonly(
+      "settings",
+      [](const Simulation& s) {
+        session::SimulationConfig cfg;
+        cfg.resolution = s.grid().res;
+        cfg.domain_size_m = s.grid().sizeM();
+        cfg.origin_m = s.grid().origin_m;
+        cfg.params = s.params();
+        cfg.device = s.deviceInfo().device_index >= 0 ? std::to_string(s.deviceInfo().device_index) : std::string();
+        return cfg;
+      },
+      "The FluidSettings in use now (a copy; the GL device as the EGL device number in use).");
 
   c.def_property_readonly("device", [](const Simulation& s) { return deviceDict(s.deviceInfo()); },
                           "The GL device in use (renderer, vendor, version, platform, software, ...).");
@@ -272,9 +221,9 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
                       "Gravity (m/s^2).");
   paramProperty<bool>(c, "open_top", [](const fluid::FluidParams& p) { return p.open_top; },
                       [](fluid::FluidParams& p, bool v) { p.open_top = v; }, "+z wall open to 0 Pa.");
-  paramProperty<std::string>(c, "advection", [](const fluid::FluidParams& p) { return advectionName(p.advection); },
-                             [](fluid::FluidParams& p, const std::string& v) { p.advection = parseAdvection(v); },
-                             "'semi_lagrangian' or 'maccormack'.");
+  paramProperty<fluid::Advection>(c, "advection", [](const fluid::FluidParams& p) { return p.advection; },
+                                  [](fluid::FluidParams& p, fluid::Advection v) { p.advection = v; },
+                                  "Advection scheme: an Advection or its name.");
   paramProperty<float>(c, "vorticity", [](const fluid::FluidParams& p) { return p.vorticity_confinement; },
                        [](fluid::FluidParams& p, float v) { p.vorticity_confinement = v; },
                        "Vorticity confinement epsilon (dimensionless).");
@@ -298,10 +247,9 @@ device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware GPU first), 'software' or a
   paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
                      [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; },
                      "Jacobi sweeps or multigrid CG iterations per step (the most, with a pressure_tolerance).");
-  paramProperty<std::string>(c, "pressure_solver",
-                             [](const fluid::FluidParams& p) { return pressureSolverName(p.pressure_solver); },
-                             [](fluid::FluidParams& p, const std::string& v) { p.pressure_solver = parsePressureSolver(v); },
-                             "'jacobi' or 'multigrid' (CG preconditioned by a geometric multigrid V-cycle).");
+  paramProperty<fluid::PressureSolverKind>(c, "pressure_solver", [](const fluid::FluidParams& p) { return p.pressure_solver; },
+                                           [](fluid::FluidParams& p, fluid::PressureSolverKind v) { p.pressure_solver = v; },
+                                           "Pressure solver: a PressureSolver or its name.");
   paramProperty<float>(c, "pressure_tolerance", [](const fluid::FluidParams& p) { return p.pressure_tolerance; },
                        [](fluid::FluidParams& p, float v) { p.pressure_tolerance = v; },
                        "Relative residual (dimensionless) at which the pressure solve stops; 0 = run exactly\n"
@@ -420,14 +368,14 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
   c.def(
       "set_smoke_source",
       [](Simulation& s, const Vec3& centre, float radius, float density, float temperature,
-         const std::string& emission) {
+         const py::object& emission) {
         fluid::SmokeSource src;
         src.enabled = true;
         src.centre_m = toVec3(centre);
         src.radius_m = radius;
         src.density = density;
         src.temperature_k = temperature;
-        src.emission = parseEmission(emission);
+        src.emission = settingArg<fluid::SourceEmission>(emission, "emission");
         s.setSmokeSource(src);
       },
       py::arg("centre"), py::arg("radius"), py::arg("density") = 1.0f, py::arg("temperature") = 0.0f,
@@ -438,10 +386,10 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
   c.def(
       "set_smoke_source_mesh",
       [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
-         float density, float temperature, const std::string& emission) {
+         float density, float temperature, const py::object& emission) {
         obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
         const glm::mat4 m = toTransform(transform);
-        const fluid::SourceEmission e = parseEmission(emission);
+        const fluid::SourceEmission e = settingArg<fluid::SourceEmission>(emission, "emission");
         py::gil_scoped_release release;
         s.setMeshSmokeSource(std::move(mesh), m, density, temperature, e);
       },
@@ -489,7 +437,7 @@ Raises InvalidArgumentError if there is no mesh source or the pose is refused.
           d["triangle_count"] = m->mesh->triangles.size();
           d["density"] = m->density;
           d["temperature"] = m->temperature_k;
-          d["emission"] = emissionName(m->emission);
+          d["emission"] = enumName(m->emission);
           return std::move(d);
         }
         const fluid::SmokeSource src = s.smokeSource();
@@ -499,7 +447,7 @@ Raises InvalidArgumentError if there is no mesh source or the pose is refused.
         d["radius"] = src.radius_m;
         d["density"] = src.density;
         d["temperature"] = src.temperature_k;
-        d["emission"] = emissionName(src.emission);
+        d["emission"] = enumName(src.emission);
         return std::move(d);
       },
       "The smoke source as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m). Mesh: kind\n"
@@ -584,7 +532,7 @@ Raises InvalidArgumentError if there is no mesh source or the pose is refused.
   m.attr("MAX_TIME_STEP_S") = static_cast<double>(fluid::kMaxTimeStep);
   // Smoke sources: emission modes, value limits, mesh coverage sampling (vertical lines per cell
   // along x and along y).
-  m.attr("SOURCE_EMISSIONS") = py::make_tuple("hold", "rate");
+  m.attr("SOURCE_EMISSIONS") = py::tuple(m.attr("SourceEmission").attr("__members__"));  // the names
   m.attr("MAX_SOURCE_DENSITY") = static_cast<double>(fluid::kMaxFactor);
   m.attr("MAX_SOURCE_TEMPERATURE_K") = static_cast<double>(fluid::kMaxTemperature);
   m.attr("SOURCE_SUBSAMPLES") = emitter::kSourceSubsamples;

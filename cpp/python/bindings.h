@@ -6,6 +6,7 @@ namespace hf::python {
 
 void addErrors(pybind11::module_& m);
 void addDevice(pybind11::module_& m);
+void addSettings(pybind11::module_& m);  // before addSimulation and addHaptics: their enums and settings
 void addSimulation(pybind11::module_& m);
 void addHaptics(pybind11::module_& m);
 void addFalcon(pybind11::module_& m);  // after addHaptics: reuses its Device type

@@ -5,6 +5,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "Native engine of hapticfluid (private: import hapticfluid instead).";
   hf::python::addErrors(m);
   hf::python::addDevice(m);
+  hf::python::addSettings(m);
   hf::python::addSimulation(m);
   hf::python::addHaptics(m);
   hf::python::addFalcon(m);

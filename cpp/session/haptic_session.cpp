@@ -87,7 +87,7 @@ void HapticSessionSettings::validate() const {
   }
   // The rate is checked here too (loop.validate() says so with its own words) so the trace's
   // size below never meets a NaN or negative rate.
-  if (!(trace_s >= 0.0) || !(loop.rate_hz > 0.0) || trace_s * loop.rate_hz > double(std::size_t{1} << 24)) {
+  if (trace && (!(trace_s > 0.0) || !(loop.rate_hz > 0.0) || trace_s * loop.rate_hz > double(std::size_t{1} << 24))) {
     throw InvalidArgument("trace_seconds must be > 0 and at most 16777216 haptic periods, got " +
                           std::to_string(trace_s) + " s");
   }
@@ -106,7 +106,8 @@ HapticSessionSettings HapticSessionSettings::resolve(const glm::vec3& domain_ori
                                       : domain_origin_m + 0.5f * domain_size_m -
                                             p.map.scale * (0.5f * (device.workspace_min_m + device.workspace_max_m));
   p.filter.max_cutoff_hz = max_cutoff_per_rate * r.loop.rate_hz;
-  r.loop.trace_capacity = trace_s > 0.0 ? static_cast<std::size_t>(trace_s * r.loop.rate_hz) + 1 : 0;
+  r.loop.trace_capacity = trace ? static_cast<std::size_t>(trace_s * r.loop.rate_hz) + 1 : 0;
+  p.safety.max_force_n = max_force_n ? *max_force_n : device.max_force_n;
   r.loop.validate();
   return r;
 }
@@ -255,10 +256,13 @@ void HapticSession::resume() {
   cv_.notify_all();
 }
 
-void HapticSession::fail(const std::string& message) {
+void HapticSession::fail(const std::string& message, std::exception_ptr cause) {
   loop_.setEnabled(false);
   std::lock_guard<std::mutex> lock(mutex_);
-  if (error_.empty()) error_ = message;
+  if (error_.empty()) {
+    error_ = message;
+    cause_ = cause;
+  }
   state_.store(SessionState::Failed, std::memory_order_release);
 }
 
@@ -282,7 +286,7 @@ void HapticSession::stop(double timeout_s) {
   }
   cv_.notify_all();
   loop_.stop();  // slews down (at most kMaxWindDownS), joins; the device got its last zero
-  if (loop_.failed()) fail(loop_.error());
+  if (loop_.failed()) fail(loop_.error(), loop_.cause());
   std::unique_lock<std::mutex> lock(mutex_);
   // Force output has ended: say so now, even if the simulation's last step is still running.
   if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
@@ -300,6 +304,15 @@ void HapticSession::stop(double timeout_s) {
   if (state_.load() != SessionState::Failed) state_.store(SessionState::Stopped, std::memory_order_release);
   if (!error_.empty() && !error_raised_) {
     error_raised_ = true;
+    if (cause_) {  // the haptic loop's failure: the device's own error (its type kept), or a DeviceError
+      try {
+        std::rethrow_exception(cause_);
+      } catch (const DeviceError&) {
+        throw;
+      } catch (...) {
+        throw DeviceError(error_);
+      }
+    }
     throw Error(error_);
   }
 }
@@ -334,7 +347,7 @@ void HapticSession::simLoop() {
         if (stop_requested_ || state_.load() == SessionState::Failed) break;
       }
       if (loop_.failed()) {
-        fail(loop_.error());
+        fail(loop_.error(), loop_.cause());
         break;
       }
       haptics::PoseFrame pose;

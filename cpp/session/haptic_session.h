@@ -9,9 +9,11 @@
 //     timeout. With snapshots on, the simulation thread reads the fields back right after its
 //     step and publishes them (FieldSnapshot), so the host can draw them without the GPU.
 // An error on either thread (device gone: zero at once; solver failure: slewed to zero) stops force output and is
-// kept: error() returns it and stop() throws it as hf::Error after a clean shutdown.
+// kept: error() returns it and stop() throws it after a clean shutdown: the device's own exception
+// (its type kept, e.g. falcon::UsbUnplugged) or hf::Error for the simulation thread's.
 #include <atomic>
 #include <condition_variable>
+#include <exception>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -34,16 +36,21 @@ class SimulationClaim;
 inline constexpr double kDefaultTraceS = 600.0;  // trace length the Python API keeps when asked, s
 
 struct HapticSessionSettings {
-  // The session fills loop.pipeline.map.offset_m, loop.pipeline.filter.max_cutoff_hz and
-  // loop.trace_capacity from the three settings below (resolve()); the rest is used as set.
+  // The session fills loop.pipeline.map.offset_m, loop.pipeline.filter.max_cutoff_hz,
+  // loop.pipeline.safety.max_force_n and loop.trace_capacity from the settings below (resolve());
+  // the rest is used as set.
   haptics::HapticLoopSettings loop;
   // Domain position (m) of the device origin; none: the offset that puts the middle of the
   // device's workspace (DeviceInfo) at the domain's centre, for the map's scale.
   std::optional<glm::vec3> workspace_offset_m;
   // The low-pass cutoff is at most this fraction of the haptic rate (dimensionless, (0, 0.5]).
   double max_cutoff_per_rate = 0.2;
-  // Haptic periods kept for drainTrace(), in seconds of them at the loop's rate; 0: no trace.
-  double trace_s = 0.0;
+  // Keep a record of each haptic period for drainTrace(), trace_s seconds of them at the loop's rate.
+  bool trace = false;
+  double trace_s = kDefaultTraceS;
+  // Bound on the commanded force (N), at most the device's maximum; none: that maximum. resolve()
+  // writes it into loop.pipeline.safety.max_force_n.
+  std::optional<float> max_force_n;
   // Field snapshots: none: off; 0: after every step; > 0: after the first step that ends at least
   // this long (s, wall time) after the previous snapshot. Each costs one density read-back (and
   // one temperature read-back with snapshot_temperature) on the simulation thread.
@@ -51,7 +58,7 @@ struct HapticSessionSettings {
   bool snapshot_temperature = false;
   // A sphere of this radius (m, >= one cell) becomes the probe; none: the simulation's current
   // probe (sphere or mesh, its orientation kept) is moved, or a 0.1 m sphere if it has none.
-  std::optional<float> probe_radius_m = 0.1f;
+  std::optional<float> probe_radius_m;
   double sim_dt_s = 0.0;           // fixed simulation step, s (free-running); 0 = real time
   // Real time: each step advances the (smoothed) wall time since the last one, within
   // [min_sim_dt_s, max_sim_dt_s]; a step that finishes early waits for min_sim_dt_s of wall time.
@@ -138,7 +145,7 @@ class HapticSession {
  private:
   void simLoop();
   void publishSnapshot(double now_s);  // simulation thread
-  void fail(const std::string& message);
+  void fail(const std::string& message, std::exception_ptr cause = nullptr);
   void joinAll();
 
   Simulation& sim_;
@@ -166,6 +173,7 @@ class HapticSession {
   bool paused_ = false;
   bool sim_done_ = false;
   std::string error_;
+  std::exception_ptr cause_;  // the device's own exception when the haptic loop failed, else null
   bool error_raised_ = false;
 
   std::atomic<double> sim_rate_hz_{0.0};

@@ -1,6 +1,7 @@
 """Type stub of the native module hapticfluid._core (SI units throughout)."""
 
-from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union
+import enum
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -22,6 +23,13 @@ Matrix4 = Union[npt.ArrayLike, Sequence[Sequence[float]]]  # 4x4, rows; translat
 
 class HapticFluidError(RuntimeError): ...
 class InvalidArgumentError(HapticFluidError, ValueError): ...
+class MeshNotClosedError(InvalidArgumentError): ...
+class GlError(HapticFluidError): ...
+class DeviceError(HapticFluidError): ...
+class DeviceNotFoundError(DeviceError): ...
+class DeviceAccessDeniedError(DeviceError): ...
+class DeviceUnpluggedError(DeviceError): ...
+class VdbError(HapticFluidError): ...
 
 def list_egl_devices() -> str: ...
 def probe_device(device: str = "") -> Dict[str, object]: ...
@@ -68,27 +76,90 @@ class StepReport:
     @property
     def gpu_ms(self) -> Dict[str, float]: ...
 
+class Advection(enum.Enum):
+    semi_lagrangian = 0
+    maccormack = 1
+
+class PressureSolver(enum.Enum):
+    jacobi = 0
+    multigrid = 1
+
+class SourceEmission(enum.Enum):
+    hold = 0
+    rate = 1
+
+class ForceFilter(enum.Enum):
+    lowpass = 0
+    none = 1
+
+class FluidSettings:
+    """The grid, the fluid and its solver, the GL device (SI units); defaults are the engine's."""
+    def __init__(self, **settings: Any) -> None: ...
+    resolution: Tuple[int, int, int]
+    domain_size: Tuple[float, float, float]  # m
+    origin: Tuple[float, float, float]  # m
+    device: str
+    fluid_density: float  # kg/m^3
+    gravity: Tuple[float, float, float]  # m/s^2
+    open_top: bool
+    advection: Advection  # or its name
+    vorticity: float
+    smoke_weight: float  # m/s^2 per unit concentration
+    heat_buoyancy: float  # m/s^2/K
+    smoke_dissipation: float  # 1/s
+    heat_dissipation: float  # 1/s
+    conserve_smoke: bool
+    pressure_solver: PressureSolver  # or its name
+    pressure_iterations: int
+    pressure_tolerance: float  # relative residual; 0 = fixed iteration count
+    compute_residual: bool
+    cut_cells: bool
+    @staticmethod
+    def fields() -> List[str]: ...
+    def to_dict(self) -> Dict[str, object]: ...
+    def copy(self) -> "FluidSettings": ...
+
+class HapticSessionSettings:
+    """Everything a HapticSession is made with (SI units); defaults are the engine's."""
+    def __init__(self, **settings: Any) -> None: ...
+    workspace_scale: Union[float, Tuple[float, float, float]]  # domain m per device m
+    workspace_offset: Optional[Tuple[float, float, float]]  # m; None = workspace middle at domain centre
+    force_gain: Optional[float]  # device N per fluid N; None = what the device can render
+    probe_radius: Optional[float]  # m; None = keep the simulation's probe
+    filter: ForceFilter  # or its name
+    bandwidth_ratio: float
+    max_cutoff_per_rate: float
+    prediction: bool
+    max_force: Optional[float]  # N; None = the device's maximum
+    slew_rate: float  # N/s
+    ramp_time: float  # s
+    stale_after: float  # s
+    stale_periods: float
+    stale_after_max: float  # s
+    fade_time: float  # s
+    passivity: bool
+    passivity_max_damping: Optional[float]  # N s/m; None = the device's max_damping
+    passivity_deadband: float  # m/s
+    passivity_reserve: float  # J
+    passivity_memory: float  # s
+    rate: float  # Hz
+    sim_dt: float  # s; 0 = real time
+    min_sim_dt: float  # s
+    max_sim_dt: float  # s
+    realtime: bool
+    trace: bool
+    trace_seconds: float  # s
+    snapshot: Optional[float]  # s between field snapshots; 0 = every step; None = off
+    snapshot_temperature: bool
+    @staticmethod
+    def fields() -> List[str]: ...
+    def to_dict(self) -> Dict[str, object]: ...
+    def copy(self) -> "HapticSessionSettings": ...
+
 class Simulation:
-    def __init__(
-        self,
-        resolution: Sequence[int] = (64, 64, 64),
-        domain_size: Vec3 = (1.0, 1.0, 1.0),  # m
-        origin: Vec3 = (0.0, 0.0, 0.0),  # m
-        fluid_density: float = 1.2,  # kg/m^3
-        gravity: Vec3 = (0.0, 0.0, -9.81),  # m/s^2
-        open_top: bool = False,
-        advection: str = "semi_lagrangian",
-        vorticity: float = 0.0,
-        smoke_weight: float = 0.0,  # m/s^2 per unit concentration
-        heat_buoyancy: float = 0.0,  # m/s^2/K
-        smoke_dissipation: float = 0.0,  # 1/s
-        heat_dissipation: float = 0.0,  # 1/s
-        pressure_iterations: int = 40,
-        compute_residual: bool = True,
-        pressure_solver: str = "jacobi",  # 'jacobi' | 'multigrid'
-        pressure_tolerance: float = 0.0,  # relative residual; 0 = fixed iteration count
-        device: str = "",
-    ) -> None: ...
+    def __init__(self, settings: Optional[FluidSettings] = None, **settings_by_name: Any) -> None: ...
+    @property
+    def settings(self) -> FluidSettings: ...
     @property
     def device(self) -> Dict[str, object]: ...
     @property
@@ -108,7 +179,7 @@ class Simulation:
     fluid_density: float
     gravity: Tuple[float, float, float]
     open_top: bool
-    advection: str
+    advection: Advection
     vorticity: float
     smoke_weight: float
     heat_buoyancy: float
@@ -117,7 +188,7 @@ class Simulation:
     conserve_smoke: bool
     pressure_iterations: int
     compute_residual: bool
-    pressure_solver: str
+    pressure_solver: PressureSolver
     pressure_tolerance: float
     cut_cells: bool
     def set_probe(self, centre: Vec3, radius: float, velocity: Vec3 = ..., angular_velocity: Vec3 = ...) -> None: ...
@@ -145,7 +216,7 @@ class Simulation:
         radius: float,  # m
         density: float = 1.0,  # concentration ('hold') or per second ('rate')
         temperature: float = 0.0,  # K above ambient ('hold') or K/s ('rate')
-        emission: str = "hold",  # 'hold' or 'rate'
+        emission: Union[SourceEmission, str] = "hold",  # SourceEmission or its name
     ) -> None: ...
     def set_smoke_source_mesh(
         self,
@@ -154,7 +225,7 @@ class Simulation:
         transform: Optional[Matrix4] = None,  # local -> world (matrix_world), m
         density: float = 1.0,  # concentration ('hold') or per second ('rate')
         temperature: float = 0.0,  # K above ambient ('hold') or K/s ('rate')
-        emission: str = "hold",  # 'hold' or 'rate'
+        emission: Union[SourceEmission, str] = "hold",  # SourceEmission or its name
     ) -> None: ...
     def set_smoke_source_pose(self, transform: Optional[Matrix4]) -> None: ...  # local -> world, m
     @property
@@ -257,35 +328,11 @@ class HapticSession:
         self,
         simulation: Simulation,
         device: Device,
-        workspace_scale: Union[float, Vec3] = 1.0,  # domain m per device m
-        workspace_offset: Optional[Vec3] = None,  # m; None = workspace middle at domain centre
-        force_gain: Optional[float] = None,  # device N per fluid N; None = what the device can render
-        probe_radius: Optional[float] = None,  # m; None = keep the simulation's probe
-        filter: str = "lowpass",
-        bandwidth_ratio: float = 0.5,
-        prediction: bool = False,
-        max_force: Optional[float] = None,  # N
-        slew_rate: float = 200.0,  # N/s, >= max_force / 2 s (stop() winds down at it)
-        ramp_time: float = 2.0,  # s
-        stale_after: float = 0.1,  # s, at most 10: the least age at which a force fades
-        stale_periods: float = 3.0,  # measured simulation periods before a force is stale, 1..100
-        stale_after_max: float = 3.0,  # s, (0, 10]: a stalled simulation's force fades by then
-        fade_time: float = 0.2,  # s, at most 10
-        rate: float = 1000.0,  # Hz
-        sim_dt: float = 0.0,  # s; 0 = real time
-        min_sim_dt: float = 0.01,  # s
-        max_sim_dt: float = 0.05,  # s
-        realtime: bool = True,
-        trace: bool = False,
-        trace_seconds: float = 600.0,  # s
-        passivity: bool = True,  # passivity observer + controller (False: observe only)
-        passivity_max_damping: Optional[float] = None,  # N s/m; None = the device's max_damping
-        passivity_deadband: float = 0.001,  # m/s
-        passivity_reserve: float = 0.01,  # J
-        passivity_memory: float = 0.5,  # s
-        snapshot: Optional[float] = None,  # s between field snapshots; 0 = every step; None = off
-        snapshot_temperature: bool = False,
+        settings: Optional[HapticSessionSettings] = None,
+        **settings_by_name: Any,
     ) -> None: ...
+    @property
+    def settings(self) -> HapticSessionSettings: ...
     def start(self) -> None: ...
     def pause(self) -> None: ...
     def resume(self) -> None: ...

@@ -77,7 +77,7 @@ TEST(HapticSessionAbuse, ASessionSurvivesAnAbusivePoseStream) {
   session::Simulation sim(smallConfig());
   auto device = std::make_shared<HostDevice>(5.0f);
   session::HapticSessionSettings s = sessionSettings();
-  s.loop.pipeline.safety.max_force_n = 4.0f;
+  s.max_force_n = 4.0f;
   session::HapticSession hs(sim, device, s);
   device->pushPose(glm::vec3(0.0f), 1.0);
   hs.start();

@@ -104,6 +104,7 @@ TEST(HapticSessionSettings, ResolvesTheLoopsDerivedSettings) {
   HapticSessionSettings s;
   s.loop.pipeline.map.scale = glm::vec3(4.0f, 4.0f, -2.0f);
   s.loop.rate_hz = 500.0;
+  s.trace = true;
   s.trace_s = 3.0;
   const HapticSessionSettings r = s.resolve(glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(2.0f, 1.0f, 1.0f), info);
   // The workspace's middle (0, 0, 0.12) lands on the domain's centre (2, 0.5, 0.5).

@@ -142,11 +142,12 @@ def test_bad_probe_and_step_are_explained(small_sim):
 
 def test_settings_round_trip(small_sim):
     sim = hf.Simulation(resolution=(16, 16, 16), advection="maccormack", vorticity=0.3, open_top=True)
-    assert sim.advection == "maccormack" and sim.open_top and sim.vorticity == pytest.approx(0.3)
-    sim.advection = "semi_lagrangian"
+    assert sim.advection == hf.Advection.maccormack and sim.open_top and sim.vorticity == pytest.approx(0.3)
+    sim.advection = "semi_lagrangian"  # a member's name stands for it
     sim.heat_buoyancy = 1.5
     sim.smoke_weight = 0.2
-    assert sim.advection == "semi_lagrangian"
+    assert sim.advection == hf.Advection.semi_lagrangian
+    assert sim.settings.advection == hf.Advection.semi_lagrangian and sim.settings.smoke_weight == pytest.approx(0.2)
     assert sim.heat_buoyancy == pytest.approx(1.5) and sim.smoke_weight == pytest.approx(0.2)
     sim.set_smoke_source((0.5, 0.5, 0.2), 0.12, density=1.0, temperature=2.0)
     sim.advection = "maccormack"

@@ -388,7 +388,7 @@ def test_bake_uses_the_chosen_pressure_solver(tmp_path):
 
     sim = driver.make_simulation(scene)
     try:
-        assert sim.pressure_solver == "multigrid" and sim.pressure_iterations == 4
+        assert sim.pressure_solver == hf.PressureSolver.multigrid and sim.pressure_iterations == 4
     finally:
         sim.close()
     bad_tolerance = scene_from_dict(scene_dict(tmp_path / "tol", frames=1, fluid={"pressure_tolerance": 2.0}))

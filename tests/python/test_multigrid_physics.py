@@ -83,13 +83,13 @@ def test_added_mass_of_a_sphere_converges_to_potential_flow():
 
 def test_multigrid_settings_and_report():
     sim = hf.Simulation(resolution=(16, 16, 16), gravity=(0, 0, 0))
-    assert sim.pressure_solver == "jacobi" and sim.pressure_tolerance == 0.0  # the defaults
-    sim.pressure_solver = "multigrid"
+    assert sim.pressure_solver == hf.PressureSolver.jacobi and sim.pressure_tolerance == 0.0  # the defaults
+    sim.pressure_solver = "multigrid"  # a member's name stands for it
     sim.pressure_tolerance = 1e-4
     sim.pressure_iterations = 50
     sim.set_probe((0.5, 0.5, 0.5), 0.2, velocity=(SPEED, 0, 0))
     report = sim.step(DT)
-    assert sim.pressure_solver == "multigrid"
+    assert sim.pressure_solver == hf.PressureSolver.multigrid
     assert sim.pressure_tolerance == pytest.approx(1e-4)
     assert 0 < report.pressure_iterations < 50
     assert report.relative_residual <= 1.5e-4
@@ -108,7 +108,7 @@ def test_multigrid_settings_and_report():
 
 
 @pytest.mark.parametrize("name, value, message", [
-    ("pressure_solver", "sor", "pressure_solver must be 'jacobi' or 'multigrid'"),
+    ("pressure_solver", "sor", "pressure_solver must be one of 'jacobi', 'multigrid'"),
     ("pressure_tolerance", -1e-3, "pressure tolerance"),
     ("pressure_tolerance", 1.0, "pressure tolerance"),
     ("pressure_tolerance", 1e-9, "pressure tolerance"),

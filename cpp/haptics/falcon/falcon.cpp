@@ -40,7 +40,7 @@ std::vector<FalconListing> listFalcons(bool probeFirmware) {
 std::shared_ptr<FalconDevice> openFalcon(int index, FalconOptions options) {
   const std::vector<UsbFalconEntry> found = findUsbFalcons();
   if (found.empty())
-    throw Error("no Novint Falcon (USB 0403:cb48) is plugged in: plug in its USB cable and power supply, or use "
+    throw UsbNotFound("no Novint Falcon (USB 0403:cb48) is plugged in: plug in its USB cable and power supply, or use "
                 "open_simulated_falcon() to work without one");
   if (index < 0 || static_cast<std::size_t>(index) >= found.size())
     throw InvalidArgument("Falcon index " + std::to_string(index) + " does not exist: " +

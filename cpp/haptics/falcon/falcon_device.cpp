@@ -170,9 +170,15 @@ void FalconDevice::update(const FalconReport& report) {
   haveReading_ = true;
 }
 
+void FalconDevice::throwDead() const {
+  if (deadUnplugged_) throw UsbUnplugged(deadReason_);  // the type says why, for callers that decide by it
+  throw Error(deadReason_);
+}
+
 void FalconDevice::lost(const std::exception& e) {
   dead_ = true;
   const bool unplugged = dynamic_cast<const UsbUnplugged*>(&e) != nullptr;
+  deadUnplugged_ = unplugged;
   deadReason_ = info().name + " (" + usb_->describe() + ") " + (unplugged ? "was unplugged" : "stopped working") +
                 ": " + e.what() + ". Forces are off; open the device again.";
   if (!unplugged) {
@@ -183,7 +189,7 @@ void FalconDevice::lost(const std::exception& e) {
     }
   }
   usb_->close();
-  throw Error(deadReason_);
+  throwDead();
 }
 
 void FalconDevice::home(double timeout_s) {
@@ -210,7 +216,7 @@ void FalconDevice::home(double timeout_s) {
 DeviceState FalconDevice::read() {
   std::lock_guard<std::mutex> lock(mu_);
   if (closed_) throw Error(info().name + ": read() after close()");
-  if (dead_) throw Error(deadReason_);
+  if (dead_) throwDead();
   try {
     if (const auto report = exchange()) update(*report);
   } catch (const std::exception& e) {

@@ -81,6 +81,7 @@ class FalconDevice : public Device {
   void update(const FalconReport& report);
   double now() const;
   [[noreturn]] void lost(const std::exception& e);
+  [[noreturn]] void throwDead() const;  // UsbUnplugged when it was unplugged, else Error
 
   std::shared_ptr<UsbTransport> usb_;
   FalconOptions opt_;
@@ -95,6 +96,7 @@ class FalconDevice : public Device {
   bool closed_ = false;
   bool dead_ = false;
   std::string deadReason_;
+  bool deadUnplugged_ = false;
   int missedInRow_ = 0;
 };
 

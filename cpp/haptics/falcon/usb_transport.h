@@ -16,15 +16,21 @@
 namespace hf::haptics::falcon {
 
 // The device disappeared (unplugged, powered off): every later call fails the same way.
-class UsbUnplugged : public Error {
+class UsbUnplugged : public DeviceError {
  public:
-  using Error::Error;
+  using DeviceError::DeviceError;
 };
 
 // The user may not open the device (no udev rule); the message prints the rule to install.
-class UsbAccessDenied : public Error {
+class UsbAccessDenied : public DeviceError {
  public:
-  using Error::Error;
+  using DeviceError::DeviceError;
+};
+
+// No device of the kind asked for is plugged in.
+class UsbNotFound : public DeviceError {
+ public:
+  using DeviceError::DeviceError;
 };
 
 class UsbTransport {

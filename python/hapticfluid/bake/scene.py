@@ -68,25 +68,28 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from hapticfluid import InvalidArgumentError
+from hapticfluid import Advection, FluidSettings, InvalidArgumentError, PressureSolver
 from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
 
 GRID_NAMES = ("density", "velocity", "pressure")
 COMPRESSIONS = ("blosc", "zip", "none")
-FLUID_DEFAULTS: Dict[str, Any] = {
-    "fluid_density": 1.2,
-    "gravity": (0.0, 0.0, -9.81),
-    "open_top": False,
-    "advection": "semi_lagrangian",
-    "vorticity": 0.0,
-    "smoke_weight": 0.0,
-    "heat_buoyancy": 0.0,
-    "smoke_dissipation": 0.0,
-    "heat_dissipation": 0.0,
-    "pressure_iterations": 40,
-    "pressure_solver": "jacobi",
-    "pressure_tolerance": 0.0,
-}
+# The fluid settings a scene file may set, with the engine's defaults (hapticfluid.FluidSettings):
+# enums by their names, vectors as tuples, so the dict is what the JSON holds.
+FLUID_KEYS = ("fluid_density", "gravity", "open_top", "advection", "vorticity", "smoke_weight", "heat_buoyancy",
+              "smoke_dissipation", "heat_dissipation", "pressure_iterations", "pressure_solver", "pressure_tolerance")
+
+
+def _json_value(value: Any) -> Any:
+    """An engine setting as the JSON holds it: an enum by its name, a float32 by its shortest
+    decimal (1.2, not 1.2000000476837158), a vector as a tuple of those."""
+    if isinstance(value, tuple):
+        return tuple(_json_value(v) for v in value)
+    if isinstance(value, float):
+        return float(f"{value:.7g}")
+    return getattr(value, "name", value)
+
+
+FLUID_DEFAULTS: Dict[str, Any] = {k: _json_value(getattr(FluidSettings(), k)) for k in FLUID_KEYS}
 
 
 def _err(where: str, message: str) -> InvalidArgumentError:
@@ -437,23 +440,20 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     resolution = _resolution("resolution", top["resolution"])
 
     fluid = dict(FLUID_DEFAULTS)
-    for k, v in _table("fluid", top.get("fluid", {}), tuple(FLUID_DEFAULTS)).items():
+    for k, v in _table("fluid", top.get("fluid", {}), FLUID_KEYS).items():
         if k == "gravity":
             fluid[k] = _vec("fluid.gravity", v)
         elif k == "open_top":
             if not isinstance(v, bool):
                 raise _err("fluid.open_top", f"expected true or false, got {v!r}")
             fluid[k] = v
-        elif k == "advection":
-            if v not in ("semi_lagrangian", "maccormack"):
-                raise _err("fluid.advection", f"must be 'semi_lagrangian' or 'maccormack', got {v!r}")
+        elif k in ("advection", "pressure_solver"):
+            names = tuple((Advection if k == "advection" else PressureSolver).__members__)
+            if not isinstance(v, str) or v not in names:
+                raise _err(f"fluid.{k}", "must be " + " or ".join(repr(n) for n in names) + f", got {v!r}")
             fluid[k] = v
         elif k == "pressure_iterations":
             fluid[k] = _integer("fluid.pressure_iterations", v, 1)
-        elif k == "pressure_solver":
-            if v not in ("jacobi", "multigrid"):
-                raise _err("fluid.pressure_solver", f"must be 'jacobi' or 'multigrid', got {v!r}")
-            fluid[k] = v
         elif k == "fluid_density":
             fluid[k] = _number("fluid.fluid_density", v, positive=True)  # kg/m^3
         elif k == "pressure_tolerance":

@@ -1,0 +1,247 @@
+// hapticfluid._core settings as data: the enums (Advection, PressureSolver, SourceEmission,
+// ForceFilter), FluidSettings (session::SimulationConfig: grid, fluid, GL device) and
+// HapticSessionSettings (session::HapticSessionSettings). Names, units and conversions only: the
+// defaults are the engine structs' initialisers, the checks their validate().
+#include <pybind11/stl.h>
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "fluid/fluid_params.h"
+#include "fluid/validate.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/settings_class.h"
+#include "session/haptic_session.h"
+#include "session/simulation.h"
+
+namespace py = pybind11;
+
+namespace hf::python {
+namespace {
+
+using fluid::FluidParams;
+using session::HapticSessionSettings;
+using session::SimulationConfig;
+using Vec3 = std::array<float, 3>;
+using IVec3 = std::array<int, 3>;
+
+// Whether the haptic pipeline low-passes the simulation's force (haptics::LowPassSettings::enabled).
+enum class ForceFilter { LowPass, None };
+
+py::tuple tuple3(const glm::vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+// A float (the same on every axis) or three floats.
+glm::vec3 scaleValue(const py::object& v, const std::string& name) {
+  if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) return glm::vec3(v.cast<float>());
+  try {
+    return toVec3(v.cast<Vec3>());
+  } catch (const py::cast_error&) {
+    throw InvalidArgument(name + " must be a number or three numbers (x, y, z), got " + py::repr(v).cast<std::string>());
+  }
+}
+
+void addEnums(py::module_& m) {
+  py::enum_<fluid::Advection>(m, "Advection", "How the fields are carried by the flow.")
+      .value("semi_lagrangian", fluid::Advection::SemiLagrangian, "first-order backtrace (Stam 1999)")
+      .value("maccormack", fluid::Advection::MacCormack, "second-order, limited (Selle et al. 2008)");
+  py::enum_<fluid::PressureSolverKind>(m, "PressureSolver", "The pressure solve of each step.")
+      .value("jacobi", fluid::PressureSolverKind::Jacobi, "cheap sweeps, slow to converge")
+      .value("multigrid", fluid::PressureSolverKind::Multigrid,
+             "conjugate gradient preconditioned by a geometric multigrid V-cycle");
+  py::enum_<fluid::SourceEmission>(m, "SourceEmission", "How a smoke source changes the cells it covers.")
+      .value("hold", fluid::SourceEmission::Hold, "cells held at least at the source's values")
+      .value("rate", fluid::SourceEmission::Rate, "the source's values added per second");
+  py::enum_<ForceFilter>(m, "ForceFilter", "What the haptic pipeline does to the simulation's force.")
+      .value("lowpass", ForceFilter::LowPass, "the seed's first-order low-pass, cutoff from the simulation rate")
+      .value("none", ForceFilter::None, "no filter");
+}
+
+void addFluidSettings(py::module_& m) {
+  SettingsClass<SimulationConfig> c(m, "FluidSettings", R"doc(
+Everything a Simulation is made with: the grid, the fluid and its solver, the GL device. SI units.
+Simulation(settings) takes one; keywords (FluidSettings(resolution=(32, 32, 32)) or
+Simulation(settings, vorticity=0.2)) set the settings of the same names. A value of the wrong
+type raises TypeError naming the setting, a value the engine refuses InvalidArgumentError; the
+grid's settings are checked together when the Simulation is made.
+)doc",
+                                    [](const SimulationConfig& c) { fluid::validate(c.params); });
+  c.field<IVec3>("resolution", [](const SimulationConfig& c) { return py::make_tuple(c.resolution.x, c.resolution.y, c.resolution.z); },
+                 [](SimulationConfig& c, const IVec3& r) { c.resolution = glm::ivec3(r[0], r[1], r[2]); },
+                 "Cells per axis (nx, ny, nz), each >= 8.")
+      .field<Vec3>("domain_size", [](const SimulationConfig& c) { return tuple3(c.domain_size_m); },
+                   [](SimulationConfig& c, const Vec3& v) { c.domain_size_m = toVec3(v); },
+                   "Box edges (m); with the resolution they must give cubic cells.")
+      .field<Vec3>("origin", [](const SimulationConfig& c) { return tuple3(c.origin_m); },
+                   [](SimulationConfig& c, const Vec3& v) { c.origin_m = toVec3(v); },
+                   "World position of the box's minimum corner (m).")
+      .field<std::string>("device", [](const SimulationConfig& c) { return c.device; },
+                          [](SimulationConfig& c, const std::string& d) { c.device = d; },
+                          "GL device: '' (HAPTICFLUID_EGL_DEVICE or auto: a hardware GPU first), 'software' or an EGL device number.")
+      .field<float>("fluid_density", [](const SimulationConfig& c) { return c.params.density_kg_m3; },
+                    [](SimulationConfig& c, float v) { c.params.density_kg_m3 = v; },
+                    "rho (kg/m^3): 1.2 for air, 1000 for water.")
+      .field<Vec3>("gravity", [](const SimulationConfig& c) { return tuple3(c.params.gravity_m_s2); },
+                   [](SimulationConfig& c, const Vec3& v) { c.params.gravity_m_s2 = toVec3(v); },
+                   "Acceleration (m/s^2); gives the hydrostatic pressure (buoyancy on the probe).")
+      .field<bool>("open_top", [](const SimulationConfig& c) { return c.params.open_top; },
+                   [](SimulationConfig& c, bool v) { c.params.open_top = v; }, "The +z wall is open to 0 Pa instead of closed.")
+      .field<fluid::Advection>("advection", [](const SimulationConfig& c) { return c.params.advection; },
+                               [](SimulationConfig& c, fluid::Advection v) { c.params.advection = v; },
+                               "Advection scheme (Advection or its name).")
+      .field<float>("vorticity", [](const SimulationConfig& c) { return c.params.vorticity_confinement; },
+                    [](SimulationConfig& c, float v) { c.params.vorticity_confinement = v; },
+                    "Vorticity confinement epsilon (dimensionless, >= 0).")
+      .field<float>("smoke_weight", [](const SimulationConfig& c) { return c.params.smoke_weight_m_s2; },
+                    [](SimulationConfig& c, float v) { c.params.smoke_weight_m_s2 = v; },
+                    "Downward acceleration per unit smoke concentration (m/s^2).")
+      .field<float>("heat_buoyancy", [](const SimulationConfig& c) { return c.params.heat_buoyancy_m_s2_k; },
+                    [](SimulationConfig& c, float v) { c.params.heat_buoyancy_m_s2_k = v; },
+                    "Upward acceleration per kelvin above ambient (m/s^2/K).")
+      .field<float>("smoke_dissipation", [](const SimulationConfig& c) { return c.params.density_dissipation_1_s; },
+                    [](SimulationConfig& c, float v) { c.params.density_dissipation_1_s = v; }, "Smoke fade rate (1/s).")
+      .field<float>("heat_dissipation", [](const SimulationConfig& c) { return c.params.temperature_dissipation_1_s; },
+                    [](SimulationConfig& c, float v) { c.params.temperature_dissipation_1_s = v; }, "Heat fade rate (1/s).")
+      .field<bool>("conserve_smoke", [](const SimulationConfig& c) { return c.params.conserve_smoke; },
+                   [](SimulationConfig& c, bool v) { c.params.conserve_smoke = v; },
+                   "Advection keeps the totals of smoke and heat (less what leaves through an open top).")
+      .field<fluid::PressureSolverKind>("pressure_solver", [](const SimulationConfig& c) { return c.params.pressure_solver; },
+                                        [](SimulationConfig& c, fluid::PressureSolverKind v) { c.params.pressure_solver = v; },
+                                        "Pressure solver (PressureSolver or its name).")
+      .field<int>("pressure_iterations", [](const SimulationConfig& c) { return c.params.pressure_iterations; },
+                  [](SimulationConfig& c, int v) { c.params.pressure_iterations = v; },
+                  "Jacobi sweeps or multigrid CG iterations per step (1..100000); with a pressure_tolerance, the most.")
+      .field<float>("pressure_tolerance", [](const SimulationConfig& c) { return c.params.pressure_tolerance; },
+                    [](SimulationConfig& c, float v) { c.params.pressure_tolerance = v; },
+                    "Relative residual (dimensionless) at which the solve stops early; 0 runs exactly\n"
+                    "pressure_iterations. 0, or between 1e-7 and 1 (exclusive).")
+      .field<bool>("compute_residual", [](const SimulationConfig& c) { return c.params.compute_residual; },
+                   [](SimulationConfig& c, bool v) { c.params.compute_residual = v; },
+                   "Measure the pressure solve's relative residual each step.")
+      .field<bool>("cut_cells", [](const SimulationConfig& c) { return c.params.cut_cells; },
+                   [](SimulationConfig& c, bool v) { c.params.cut_cells = v; },
+                   "Cut cells for the probe: open face fractions from its geometry, so the force changes\n"
+                   "continuously as it moves; off: faces open or covered by its voxels.")
+      .done();
+}
+
+void addHapticSessionSettings(py::module_& m) {
+  using S = HapticSessionSettings;
+  SettingsClass<S> c(m, "HapticSessionSettings", R"doc(
+Everything a HapticSession is made with (SI units). HapticSession(simulation, device, settings)
+takes one; keywords set the settings of the same names. A value of the wrong type raises
+TypeError naming the setting, a value the engine refuses InvalidArgumentError; limits that
+depend on the device (max_force, passivity_max_damping) are checked when the session is made.
+)doc",
+                     [](const S& s) { s.validate(); });
+  c.field<py::object>("workspace_scale", [](const S& s) { return tuple3(s.loop.pipeline.map.scale); },
+                      [](S& s, const py::object& v) { s.loop.pipeline.map.scale = scaleValue(v, "HapticSessionSettings.workspace_scale"); },
+                      "Domain metres per device metre, a number or (x, y, z); negative flips an axis.")
+      .field<std::optional<Vec3>>("workspace_offset",
+                                  [](const S& s) -> py::object { return s.workspace_offset_m ? py::object(tuple3(*s.workspace_offset_m)) : py::none(); },
+                                  [](S& s, const std::optional<Vec3>& v) {
+                                    s.workspace_offset_m = v ? std::optional<glm::vec3>(toVec3(*v)) : std::nullopt;
+                                  },
+                                  "Domain position (m) of the device origin; None: the middle of the device's workspace\n"
+                                  "at the domain's centre.")
+      .field<std::optional<float>>("force_gain",
+                                   [](const S& s) -> py::object { return s.derive_force_gain ? py::none() : py::cast(s.loop.pipeline.map.force_gain); },
+                                   [](S& s, const std::optional<float>& g) {
+                                     s.derive_force_gain = !g;
+                                     if (g) s.loop.pipeline.map.force_gain = *g;
+                                   },
+                                   "Device newtons per fluid newton (>= 0); None: the gain the device can render, derived by\n"
+                                   "the session (stats()['force_gain_reason']).")
+      .field<std::optional<float>>("probe_radius", [](const S& s) { return s.probe_radius_m; },
+                                   [](S& s, const std::optional<float>& r) { s.probe_radius_m = r; },
+                                   "The probe becomes a sphere of this radius (m, >= one cell); None: keep the simulation's\n"
+                                   "probe, or a 0.1 m sphere if it has none.")
+      .field<ForceFilter>("filter", [](const S& s) { return s.loop.pipeline.filter.enabled ? ForceFilter::LowPass : ForceFilter::None; },
+                          [](S& s, ForceFilter f) { s.loop.pipeline.filter.enabled = f == ForceFilter::LowPass; },
+                          "Filter on the simulation's force (ForceFilter or its name).")
+      .field<double>("bandwidth_ratio", [](const S& s) { return s.loop.pipeline.filter.bandwidth_ratio; },
+                     [](S& s, double v) { s.loop.pipeline.filter.bandwidth_ratio = v; },
+                     "Low-pass cutoff / measured simulation rate (dimensionless, > 0).")
+      .field<double>("max_cutoff_per_rate", [](const S& s) { return s.max_cutoff_per_rate; },
+                     [](S& s, double v) { s.max_cutoff_per_rate = v; },
+                     "The low-pass cutoff is at most this fraction of the haptic rate ((0, 0.5]).")
+      .field<bool>("prediction", [](const S& s) { return s.loop.pipeline.prediction; },
+                   [](S& s, bool v) { s.loop.pipeline.prediction = v; },
+                   "Update the force between frames with a fitted local drag model F0 + B (v - v0).")
+      .field<std::optional<float>>("max_force", [](const S& s) { return s.max_force_n; },
+                                   [](S& s, const std::optional<float>& v) { s.max_force_n = v; },
+                                   "Bound on the commanded force (N), at most the device's maximum; None: that maximum.")
+      .field<float>("slew_rate", [](const S& s) { return s.loop.pipeline.safety.slew_rate_n_s; },
+                    [](S& s, float v) { s.loop.pipeline.safety.slew_rate_n_s = v; }, "Largest change of the commanded force (N/s).")
+      .field<double>("ramp_time", [](const S& s) { return s.loop.pipeline.safety.ramp_s; },
+                     [](S& s, double v) { s.loop.pipeline.safety.ramp_s = v; },
+                     "The force ramps in linearly over this long after start, resume and homing (s).")
+      .field<double>("stale_after", [](const S& s) { return s.loop.pipeline.safety.stale_after_s; },
+                     [](S& s, double v) { s.loop.pipeline.safety.stale_after_s = v; },
+                     "A force older than this (s, at least) starts fading.")
+      .field<double>("stale_periods", [](const S& s) { return s.loop.pipeline.safety.stale_periods; },
+                     [](S& s, double v) { s.loop.pipeline.safety.stale_periods = v; },
+                     "... or older than this many measured simulation periods, whichever is longer.")
+      .field<double>("stale_after_max", [](const S& s) { return s.loop.pipeline.safety.stale_after_max_s; },
+                     [](S& s, double v) { s.loop.pipeline.safety.stale_after_max_s = v; },
+                     "... but at most this old (s): a stalled simulation's force still fades.")
+      .field<double>("fade_time", [](const S& s) { return s.loop.pipeline.safety.fade_s; },
+                     [](S& s, double v) { s.loop.pipeline.safety.fade_s = v; }, "A stale force reaches zero this much later (s).")
+      .field<bool>("passivity", [](const S& s) { return s.loop.pipeline.passivity.enabled; },
+                   [](S& s, bool v) { s.loop.pipeline.passivity.enabled = v; },
+                   "The passivity controller damps energy the loop made (Hannaford and Ryu 2002); False: observe only.")
+      .field<std::optional<float>>("passivity_max_damping",
+                                   [](const S& s) -> py::object {
+                                     const float d = s.loop.pipeline.passivity.max_damping_n_s_m;
+                                     return d > 0.0f ? py::cast(d) : py::none();
+                                   },
+                                   [](S& s, const std::optional<float>& d) {
+                                     if (d && !(*d > 0.0f)) {  // 0 is the engine's "the device's", which None says
+                                       throw InvalidArgument("passivity_max_damping must be a positive number of N s/m, or None "
+                                                             "(the device's), got " + std::to_string(*d));
+                                     }
+                                     s.loop.pipeline.passivity.max_damping_n_s_m = d.value_or(0.0f);
+                                   },
+                                   "Bound on the controller's damping (N s/m); None: the device's max_damping.")
+      .field<float>("passivity_deadband", [](const S& s) { return s.loop.pipeline.passivity.velocity_deadband_m_s; },
+                    [](S& s, float v) { s.loop.pipeline.passivity.velocity_deadband_m_s = v; },
+                    "Below this device speed (m/s) no damping is applied.")
+      .field<double>("passivity_reserve", [](const S& s) { return s.loop.pipeline.passivity.max_reserve_j; },
+                     [](S& s, double v) { s.loop.pipeline.passivity.max_reserve_j = v; },
+                     "Most stored dissipation (J) the observer keeps.")
+      .field<double>("passivity_memory", [](const S& s) { return s.loop.pipeline.passivity.reserve_decay_s; },
+                     [](S& s, double v) { s.loop.pipeline.passivity.reserve_decay_s = v; },
+                     "Time constant (s) over which stored dissipation is forgotten.")
+      .field<double>("rate", [](const S& s) { return s.loop.rate_hz; }, [](S& s, double v) { s.loop.rate_hz = v; },
+                     "Haptic loop rate (Hz, 100..10000).")
+      .field<double>("sim_dt", [](const S& s) { return s.sim_dt_s; }, [](S& s, double v) { s.sim_dt_s = v; },
+                     "Fixed simulation step (s), stepped as fast as the GPU goes; 0: real time.")
+      .field<double>("min_sim_dt", [](const S& s) { return s.min_sim_dt_s; }, [](S& s, double v) { s.min_sim_dt_s = v; },
+                     "Real time: the shortest step (s); a step that finishes early waits for it.")
+      .field<double>("max_sim_dt", [](const S& s) { return s.max_sim_dt_s; }, [](S& s, double v) { s.max_sim_dt_s = v; },
+                     "Real time: the longest step (s).")
+      .field<bool>("realtime", [](const S& s) { return s.loop.realtime; }, [](S& s, bool v) { s.loop.realtime = v; },
+                   "Ask for SCHED_FIFO priority for the haptic thread (stats()['scheduling'] says if refused).")
+      .field<bool>("trace", [](const S& s) { return s.trace; }, [](S& s, bool v) { s.trace = v; },
+                   "Keep a record per haptic period for trace().")
+      .field<double>("trace_seconds", [](const S& s) { return s.trace_s; }, [](S& s, double v) { s.trace_s = v; },
+                     "How many seconds of haptic periods the trace keeps.")
+      .field<std::optional<double>>("snapshot", [](const S& s) { return s.snapshot_interval_s; },
+                                    [](S& s, const std::optional<double>& v) { s.snapshot_interval_s = v; },
+                                    "None: no field snapshots; 0: after every step; s > 0: after the first step at least that\n"
+                                    "long (wall time) after the last one.")
+      .field<bool>("snapshot_temperature", [](const S& s) { return s.snapshot_temperature; },
+                   [](S& s, bool v) { s.snapshot_temperature = v; }, "Snapshots carry the temperature too.")
+      .done();
+}
+
+}  // namespace
+
+void addSettings(py::module_& m) {
+  addEnums(m);
+  addFluidSettings(m);
+  addHapticSessionSettings(m);
+}
+
+}  // namespace hf::python

@@ -1,0 +1,133 @@
+"""Settings as data: FluidSettings and HapticSessionSettings are the engine's structs with its
+defaults and checks; a bad value names the setting; every engine error arrives as its own class."""
+
+import copy
+import time
+
+import numpy as np
+import pytest
+
+import hapticfluid as hf
+from hapticfluid import meshes
+
+
+def test_fluid_settings_are_the_engines_defaults_and_a_simulation_keeps_them():
+    s = hf.FluidSettings()
+    assert s.resolution == (64, 64, 64) and s.pressure_solver == hf.PressureSolver.jacobi
+    assert s.advection == hf.Advection.semi_lagrangian and s.cut_cells and s.conserve_smoke
+    given = hf.FluidSettings(resolution=(16, 16, 16), pressure_solver="multigrid", pressure_tolerance=1e-3,
+                             vorticity=0.25, fluid_density=1000.0)
+    with hf.Simulation(given) as sim:
+        used = sim.settings
+    for name in hf.FluidSettings.fields():
+        if name != "device":  # the request ('') against the device in use
+            assert getattr(used, name) == getattr(given, name), name
+    # Keywords set the settings of the same names on a copy: the object given is not changed.
+    with hf.Simulation(given, vorticity=0.5) as sim:
+        assert sim.vorticity == pytest.approx(0.5)
+    assert given.vorticity == pytest.approx(0.25)
+
+
+@pytest.mark.parametrize("cls, name, value, error, words", [
+    (hf.FluidSettings, "pressure_solver", "cg", hf.InvalidArgumentError, ["pressure_solver", "'jacobi'", "'multigrid'"]),
+    (hf.FluidSettings, "advection", 3, hf.InvalidArgumentError, ["advection", "'semi_lagrangian'", "'maccormack'"]),
+    (hf.FluidSettings, "vorticity", "lots", TypeError, ["FluidSettings.vorticity", "str"]),
+    (hf.FluidSettings, "resolution", (16, 16), TypeError, ["FluidSettings.resolution"]),
+    (hf.FluidSettings, "fluid_density", -1.0, hf.InvalidArgumentError, ["density"]),
+    (hf.FluidSettings, "pressure_iterations", 0, hf.InvalidArgumentError, ["iterations"]),
+    (hf.HapticSessionSettings, "filter", "median", hf.InvalidArgumentError, ["filter", "'lowpass'", "'none'"]),
+    (hf.HapticSessionSettings, "slew_rate", -5.0, hf.InvalidArgumentError, ["slew_rate"]),
+    (hf.HapticSessionSettings, "rate", "fast", TypeError, ["HapticSessionSettings.rate"]),
+    (hf.HapticSessionSettings, "workspace_scale", (1.0, 2.0), hf.InvalidArgumentError, ["workspace_scale"]),
+    (hf.HapticSessionSettings, "passivity_max_damping", 0.0, hf.InvalidArgumentError, ["passivity_max_damping"]),
+    (hf.HapticSessionSettings, "probe_radius", -0.1, hf.InvalidArgumentError, ["probe_radius"]),
+])
+def test_a_bad_value_names_the_setting_and_changes_nothing(cls, name, value, error, words):
+    s = cls()
+    before = s.to_dict()
+    with pytest.raises(error) as info:
+        setattr(s, name, value)
+    for w in words:
+        assert w in str(info.value), (w, str(info.value))
+    assert s.to_dict() == before
+    with pytest.raises(error):  # the same through a keyword
+        cls(**{name: value})
+
+
+def test_an_unknown_keyword_is_named_with_the_settings_that_exist(small_sim):
+    with pytest.raises(TypeError, match="'pressure_sovler'.*pressure_solver"):
+        hf.FluidSettings(pressure_sovler="multigrid")
+    with pytest.raises(TypeError, match="Simulation.*'viscosity'"):
+        hf.Simulation(resolution=(16, 16, 16), viscosity=1.0)
+    with pytest.raises(TypeError, match="HapticSession.*'gain'.*force_gain"):
+        hf.HapticSession(small_sim, hf.null_device(), gain=2.0)
+    with pytest.raises(TypeError, match="settings must be a hapticfluid.HapticSessionSettings"):
+        hf.HapticSession(small_sim, hf.null_device(), hf.FluidSettings())
+
+
+def test_keywords_that_bound_each_other_may_come_in_any_order():
+    # min_sim_dt <= max_sim_dt: each order of the two keywords is the same settings.
+    a = hf.HapticSessionSettings(min_sim_dt=0.6, max_sim_dt=1.0)
+    b = hf.HapticSessionSettings(max_sim_dt=1.0, min_sim_dt=0.6)
+    assert a == b and a.min_sim_dt == pytest.approx(0.6)
+    with pytest.raises(hf.InvalidArgumentError, match="min_sim_dt"):  # ... but the result is still checked
+        hf.HapticSessionSettings(min_sim_dt=0.6)
+
+
+def test_copies_are_independent_and_compare_by_value():
+    a = hf.HapticSessionSettings(probe_radius=0.08, filter=hf.ForceFilter.none)
+    for b in (a.copy(), copy.copy(a), copy.deepcopy(a)):
+        assert b == a and b is not a
+        b.probe_radius = 0.09
+        assert b != a and a.probe_radius == pytest.approx(0.08)
+    assert "probe_radius=0.08" in repr(a) and "ForceFilter.none" in repr(a)
+
+
+def test_a_session_made_from_settings_runs_with_them(small_sim):
+    settings = hf.HapticSessionSettings(probe_radius=0.15, ramp_time=0.2, max_force=3.0, trace=True,
+                                        trace_seconds=2.0, realtime=False)
+    with hf.HapticSession(small_sim, hf.null_device(), settings, slew_rate=150.0) as session:
+        used = session.settings
+    assert used.max_force == pytest.approx(3.0) and used.slew_rate == pytest.approx(150.0)
+    assert used.trace and used.trace_seconds == pytest.approx(2.0) and used.probe_radius == pytest.approx(0.15)
+    assert settings.slew_rate == pytest.approx(200.0)  # the keyword changed a copy only
+
+
+def test_each_engine_error_reaches_python_as_its_own_class(small_sim):
+    assert issubclass(hf.MeshNotClosedError, hf.InvalidArgumentError)
+    assert issubclass(hf.InvalidArgumentError, ValueError) and issubclass(hf.HapticFluidError, RuntimeError)
+    for cls in (hf.DeviceNotFoundError, hf.DeviceAccessDeniedError, hf.DeviceUnpluggedError):
+        assert issubclass(cls, hf.DeviceError) and issubclass(cls, hf.HapticFluidError)
+    assert issubclass(hf.GlError, hf.HapticFluidError) and issubclass(hf.VdbError, hf.HapticFluidError)
+    # An open mesh: a box with one triangle taken away.
+    vertices, triangles = meshes.box((0.2, 0.2, 0.2))
+    at_centre = np.eye(4)
+    at_centre[:3, 3] = 0.5
+    with pytest.raises(hf.MeshNotClosedError, match="not closed"):
+        small_sim.set_mesh_probe(vertices, triangles[1:], transform=at_centre)
+    small_sim.set_mesh_probe(vertices, triangles, transform=at_centre)  # closed: taken
+    small_sim.clear_probe()
+    # A VDB file that cannot be written (its folder is a file).
+    with pytest.raises(hf.VdbError):
+        hf.write_vdb(__file__ + "/frame.vdb", np.zeros((8, 8, 8), np.float32), voxel_size=0.1)
+    # No Falcon is plugged into the machines the tests run on.
+    if not hf.list_falcons(probe_firmware=False):
+        with pytest.raises(hf.DeviceNotFoundError, match="plugged in"):
+            hf.open_falcon()
+
+
+def test_an_unplugged_device_ends_the_session_with_its_own_error(small_sim):
+    falcon = hf.open_simulated_falcon(unplug_after=300)  # about 0.3 s of 1 kHz packets
+    try:
+        session = hf.HapticSession(small_sim, falcon, probe_radius=0.15, workspace_scale=6.0, ramp_time=0.1,
+                                   realtime=False)
+        session.start()
+        deadline = 30.0
+        t0 = time.monotonic()
+        while session.state != "failed" and time.monotonic() - t0 < deadline:
+            time.sleep(0.02)
+        assert session.state == "failed"
+        with pytest.raises(hf.DeviceUnpluggedError, match="unplugged"):
+            session.stop()
+    finally:
+        falcon.close()
