@@ -14,12 +14,7 @@ from support import check, drive, fail, invoke, live_scene, region, settings, wi
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops  # noqa: E402
 
-try:
-    from hapticfluid_blender import live_draw  # noqa: F401  (the viewport drawing, when present)
-
-    HAS_DRAW = True
-except ImportError:
-    HAS_DRAW = False
+from hapticfluid_blender import live_draw  # noqa: E402,F401  (an import failure fails the test)
 state = {"phase": "start", "t0": time.time(), "phase_t": time.time(), "ticks": 0}
 
 
@@ -85,10 +80,9 @@ def step():
     elif phase == "esc":
         if ended("Esc"):
             check(live.status == "stopped", f"Esc stopped the session cleanly: '{live.status}'")
-            if HAS_DRAW:
-                kept = live_ops._KEPT_DRAWERS
-                check(len(kept) == 1 and kept[0].is_added and kept[0].frames_drawn > 0,
-                      "the last frame stays drawn after Stop")
+            kept = live_ops._KEPT_DRAWERS
+            check(len(kept) == 1 and kept[0].is_added and kept[0].frames_drawn > 0,
+                  "the last frame stays drawn after Stop")
             live.device = "MOUSE"
             check(invoke(bpy.ops.hapticfluid.live_start) == {"RUNNING_MODAL"}, "a Mouse-mode session starts")
             check(not live_ops._KEPT_DRAWERS, "the next Start replaces the kept drawing")

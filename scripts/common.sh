@@ -9,7 +9,7 @@ HF_BUILD="${HF_BUILD:-$HF_ROOT/build}"
 
 HF_PACKAGES=(
   cmake g++ make ccache
-  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-hypothesis python3-matplotlib python3-yaml
+  python3 python3-dev python3-venv pybind11-dev python3-numpy python3-pytest python3-hypothesis python3-matplotlib python3-yaml
   libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libgtest-dev
   libusb-1.0-0-dev pkg-config clang libclang-rt-dev

@@ -53,7 +53,10 @@ def test_cut_cells_make_the_force_smoother_and_keep_it_axial():
     cut_forces = _forces(True)
     cut = roughness([f[0] for f in cut_forces])
     assert cut["mean"] < 0 and binary["mean"] < 0  # resisted
-    assert cut["roughness"] < 0.5 * binary["roughness"], (cut, binary)
+    # At this 24^3 grid the cut-cell force's roughness measures 0.127 (binary 1.86); the goal of
+    # 0.05 is met at 48^3 (bench force_roughness: 0.012). 0.2 fails a regression to 0.3, which
+    # the old bound (half the binary roughness) let through.
+    assert cut["roughness"] < 0.2 and cut["roughness"] < 0.1 * binary["roughness"], (cut, binary)
     assert cut["largest_jump"] < 0.5 * binary["largest_jump"], (cut, binary)
     for fx, fy, fz in cut_forces:
         assert abs(fy) < 0.01 * abs(cut["mean"]) and abs(fz) < 0.01 * abs(cut["mean"])
