@@ -160,64 +160,55 @@ class _Engine:
 
     def build(self, plan: LivePlan):
         hf = _import_hf()
+        from hapticfluid import assembly
+
         self.device = self._open_device(hf, plan)
         size = [plan.domain_hi[i] - plan.domain_lo[i] for i in range(3)]
+        res = plan.resolution
+        if res is None:
+            res = preview_resolution(bool(hf.probe_device().get("software", True)))
         try:
-            res = plan.resolution
-            if res is None:
-                res = preview_resolution(bool(hf.probe_device().get("software", True)))
-            h = max(size) / res
-            cells = tuple(max(8, int(round(s / h))) for s in size)
-            self.sim = hf.Simulation(resolution=cells, domain_size=tuple(n * h for n in cells),
-                                     origin=plan.domain_lo, compute_residual=False, **plan.fluid)
+            settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid)
+        except (hf.InvalidArgumentError, TypeError) as exc:
+            raise SessionError(_fix_first(str(exc))) from None
+        source = None
+        if plan.source is not None:  # a mesh source is held where it is at Start
+            s = plan.source
+            source = dict(shape="mesh" if s.get("shape") == "mesh" else "sphere", density=s["density"],
+                          temperature=s["temperature"], centre=s.get("centre"), radius=s.get("radius"),
+                          matrix=s.get("matrix"), vertices=s.get("vertices"), triangles=s.get("triangles"))
+        shape = plan.probe_shape
+        probe = dict(shape=shape["shape"], matrix=plan.probe_matrix, radius=shape.get("radius"),
+                     vertices=shape.get("vertices"), triangles=shape.get("triangles"))
+        try:
+            self.sim = hf.Simulation(settings)
         except hf.HapticFluidError as exc:
             raise SessionError(f"Check the GPU driver (or set HAPTICFLUID_EGL_DEVICE, see README): the simulation's "
                                f"GL context could not be made: {exc}") from None
-        self.resolution = cells
-        if plan.source is not None:
-            s = plan.source
-            if s.get("shape") == "mesh":  # held where it is at Start
-                import numpy as np
-
-                self.sim.set_smoke_source_mesh(np.asarray(s["vertices"], dtype=np.float32),
-                                               np.asarray(s["triangles"], dtype=np.int32), s["matrix"],
-                                               density=s["density"], temperature=s["temperature"])
-            else:
-                self.sim.set_smoke_source(tuple(s["centre"]), s["radius"], density=s["density"],
-                                          temperature=s["temperature"])
-        shape = plan.probe_shape
-        matrix = plan.probe_matrix
         try:
-            if shape["shape"] == "mesh":
-                import numpy as np
-
-                self.sim.set_mesh_probe(np.asarray(shape["vertices"], dtype=np.float32),
-                                        np.asarray(shape["triangles"], dtype=np.int32), matrix)
-            else:
-                scale = max(math.sqrt(sum(matrix[r][c] ** 2 for r in range(3))) for c in range(3))
-                self.sim.set_probe(tuple(matrix[r][3] for r in range(3)), shape["radius"] * scale)
+            if source is not None:
+                assembly.place_source(self.sim, **source)
+        except hf.InvalidArgumentError as exc:
+            raise SessionError(_fix_first(f"smoke source: {exc}")) from None
+        try:
+            assembly.place_probe(self.sim, **probe)
         except hf.MeshNotClosedError as exc:
             raise SessionError(f"Close the probe '{plan.probe_name}' mesh (Edit Mode: Mesh > Clean Up > Fill Holes, "
                                f"then Mesh > Normals > Recalculate Outside) or use the Sphere probe shape: "
                                f"{exc}") from None
         except hf.InvalidArgumentError as exc:
             raise SessionError(_fix_first(str(exc))) from None
-        args = dict(plan.session_args)
-        info = self.device.info()
-        if plan.auto_workspace:  # the device's workspace fills the domain (uniform scale, centred)
-            ws = [info.workspace_max[i] - info.workspace_min[i] for i in range(3)]
-            args["workspace_scale"] = float(min(size[i] / ws[i] for i in range(3)))
+        self.resolution = settings.resolution
         try:
-            self.session = hf.HapticSession(self.sim, self.device, **args)
+            self.session = hf.HapticSession(self.sim, self.device,
+                                            assembly.session_settings(plan.session_args, plan.auto_workspace))
         except hf.InvalidArgumentError as exc:
             raise SessionError(_fix_first(str(exc))) from None
-        if plan.mode in DEVICE_MODES:
-            off, scale = self.session.workspace_offset, self.session.workspace_scale
-            a = off + scale * info.workspace_min
-            b = off + scale * info.workspace_max
-            self.workspace_box = (tuple(float(min(a[i], b[i])) for i in range(3)),
-                                  tuple(float(max(a[i], b[i])) for i in range(3)))
+        if plan.mode in DEVICE_MODES:  # where the engine maps the device's workspace
+            lo, hi = self.session.workspace_box
+            self.workspace_box = (tuple(float(x) for x in lo), tuple(float(x) for x in hi))
         if plan.mode in HOST_MODES:  # the first pose the haptic thread reads is the object's
+            matrix = plan.probe_matrix
             self.device.push_pose(tuple(matrix[r][3] for r in range(3)), orientation=probe_rotation(matrix))
         self.session.start()
 

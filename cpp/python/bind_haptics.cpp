@@ -411,7 +411,15 @@ session on it fails to start; close() still stops it (the session then fails wit
       "Domain position of the device origin in use (m): the given offset or the centred default.");
   c.def_property_readonly(
       "workspace_scale", [](const HapticSession& s) { return vec3Array(s.settings().loop.pipeline.map.scale); },
-      "Domain metres per device metre, per axis.");
+      "Domain metres per device metre, per axis (the fitted one with fit_workspace).");
+  c.def_property_readonly(
+      "workspace_box",
+      [](const HapticSession& s) {
+        const auto [lo, hi] = s.workspaceBox();
+        return py::make_tuple(vec3Array(lo), vec3Array(hi));
+      },
+      "The device's workspace in the domain, (minimum corner, maximum corner) in world m: where the\n"
+      "probe can go (the simulation keeps it one cell from every wall).");
   c.def("__enter__", [start](const py::object& self) {
     if (self.cast<HapticSession&>().state() == session::SessionState::Idle) start(self);
     return self;

@@ -138,6 +138,10 @@ depend on the device (max_force, passivity_max_damping) are checked when the ses
   c.field<py::object>("workspace_scale", [](const S& s) { return tuple3(s.loop.pipeline.map.scale); },
                       [](S& s, const py::object& v) { s.loop.pipeline.map.scale = scaleValue(v, "HapticSessionSettings.workspace_scale"); },
                       "Domain metres per device metre, a number or (x, y, z); negative flips an axis.")
+      .field<bool>("fit_workspace", [](const S& s) { return s.fit_workspace; },
+                   [](S& s, bool v) { s.fit_workspace = v; },
+                   "Fit the device's workspace to the domain: the largest uniform workspace_scale at which it\n"
+                   "fits (the scale's signs kept), its middle at the domain's centre unless workspace_offset is given.")
       .field<std::optional<Vec3>>("workspace_offset",
                                   [](const S& s) -> py::object { return s.workspace_offset_m ? py::object(tuple3(*s.workspace_offset_m)) : py::none(); },
                                   [](S& s, const std::optional<Vec3>& v) {

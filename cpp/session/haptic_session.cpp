@@ -51,6 +51,13 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
 }
 }  // namespace
 
+std::pair<glm::vec3, glm::vec3> HapticSession::workspaceBox() const {
+  const haptics::DeviceInfo info = device_->info();
+  const haptics::WorkspaceMap& map = s_.loop.pipeline.map;
+  const glm::vec3 a = map.positionToDomain(info.workspace_min_m), b = map.positionToDomain(info.workspace_max_m);
+  return {glm::min(a, b), glm::max(a, b)};
+}
+
 const char* stateName(SessionState s) {
   switch (s) {
     case SessionState::Idle: return "idle";
@@ -102,6 +109,15 @@ HapticSessionSettings HapticSessionSettings::resolve(const glm::vec3& domain_ori
   validate();
   HapticSessionSettings r = *this;
   auto& p = r.loop.pipeline;
+  if (fit_workspace) {
+    const glm::vec3 ws = device.workspace_max_m - device.workspace_min_m;
+    if (!(ws.x > 0.0f && ws.y > 0.0f && ws.z > 0.0f)) {
+      throw InvalidArgument("fit_workspace: the device '" + device.name + "' reports no workspace " + vecText(ws) +
+                            " m; give a workspace_scale instead");
+    }
+    const glm::vec3 fit = domain_size_m / ws;
+    p.map.scale = glm::sign(p.map.scale) * std::min({fit.x, fit.y, fit.z});
+  }
   p.map.offset_m = workspace_offset_m ? *workspace_offset_m
                                       : domain_origin_m + 0.5f * domain_size_m -
                                             p.map.scale * (0.5f * (device.workspace_min_m + device.workspace_max_m));

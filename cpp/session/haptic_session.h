@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "haptics/device.h"
@@ -43,6 +44,10 @@ struct HapticSessionSettings {
   // Domain position (m) of the device origin; none: the offset that puts the middle of the
   // device's workspace (DeviceInfo) at the domain's centre, for the map's scale.
   std::optional<glm::vec3> workspace_offset_m;
+  // True: loop.pipeline.map.scale becomes the largest uniform scale at which the device's
+  // workspace fits the domain (min over axes of domain edge / workspace edge), the axes' signs
+  // kept; false: the scale is used as set.
+  bool fit_workspace = false;
   // The low-pass cutoff is at most this fraction of the haptic rate (dimensionless, (0, 0.5]).
   double max_cutoff_per_rate = 0.2;
   // Keep a record of each haptic period for drainTrace(), trace_s seconds of them at the loop's rate.
@@ -125,6 +130,9 @@ class HapticSession {
   // the GPU: it copies a pointer under a lock the simulation thread holds only to swap it.
   std::shared_ptr<const FieldSnapshot> fieldSnapshot() const;
   const HapticSessionSettings& settings() const { return s_; }
+  // The device's workspace mapped into the domain (world m, minimum and maximum corners): where
+  // the probe can go, before the simulation keeps it one cell from every wall.
+  std::pair<glm::vec3, glm::vec3> workspaceBox() const;
   const haptics::DevicePtr& device() const { return device_; }
 
   // The probe pose for a published device pose (the one place the probe is placed): the probe's

@@ -123,6 +123,7 @@ class HapticSessionSettings:
     """Everything a HapticSession is made with (SI units); defaults are the engine's."""
     def __init__(self, **settings: Any) -> None: ...
     workspace_scale: Union[float, Tuple[float, float, float]]  # domain m per device m
+    fit_workspace: bool  # the largest uniform scale at which the device's workspace fits the domain
     workspace_offset: Optional[Tuple[float, float, float]]  # m; None = workspace middle at domain centre
     force_gain: Optional[float]  # device N per fluid N; None = what the device can render
     probe_radius: Optional[float]  # m; None = keep the simulation's probe
@@ -331,6 +332,8 @@ class HapticSession:
         settings: Optional[HapticSessionSettings] = None,
         **settings_by_name: Any,
     ) -> None: ...
+    @property
+    def workspace_box(self) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...  # world m (lo, hi)
     @property
     def settings(self) -> HapticSessionSettings: ...
     def start(self) -> None: ...

@@ -16,6 +16,7 @@ import sys
 from typing import Callable, List, Optional, Sequence
 
 import hapticfluid as hf
+from hapticfluid import assembly
 from hapticfluid import demo as _demo
 from hapticfluid.cli_types import cells as _cells
 from hapticfluid.cli_types import iterations as _iterations
@@ -82,7 +83,7 @@ def _add_demo(sub) -> None:
     p.add_argument("--iterations", type=_iterations, default=None,
                    help="pressure iterations per step: Jacobi sweeps or multigrid-CG iterations "
                         "(default: %s)" % ", ".join(f"{v} for {k}" for k, v in _demo.DEFAULT_ITERATIONS.items()))
-    p.add_argument("--advection", choices=("semi_lagrangian", "maccormack"),
+    p.add_argument("--advection", choices=assembly.ADVECTIONS,
                    default=_demo.DEFAULT_ADVECTION,
                    help="advection scheme (default: %(default)s)")
     p.add_argument("--device", default="",

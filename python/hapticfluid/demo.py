@@ -32,6 +32,7 @@ from typing import Callable, Optional, Sequence, Tuple
 import numpy as np
 
 import hapticfluid as hf
+from hapticfluid import assembly
 from hapticfluid.files import atomic_write
 
 DEFAULT_RESOLUTION = (64, 64, 64)
@@ -39,10 +40,8 @@ DEFAULT_DOMAIN = (1.0, 1.0, 1.0)
 DEFAULT_STEPS = 90
 DEFAULT_DT = 1.0 / 30.0
 DEFAULT_SOLVER = "multigrid"
-# Iterations per step when none are given: Jacobi sweeps, or multigrid-preconditioned CG
-# iterations (four reach a relative residual near 1e-4 for about the cost of 40 sweeps).
-DEFAULT_ITERATIONS = {"jacobi": 40, "multigrid": 4}
-DEFAULT_ADVECTION = "semi_lagrangian"
+DEFAULT_ITERATIONS = assembly.ITERATIONS_PER_STEP["offline"]  # per solver, when none are given
+DEFAULT_ADVECTION = hf.FluidSettings().advection.name
 DEFAULT_OUT_DIR = os.path.join("out", "demo")
 
 CSV_COLUMNS = (
@@ -257,10 +256,7 @@ def run_demo(
     :class:`hapticfluid.HapticFluidError` for engine failures.
     """
     scene = scene or DemoScene()
-    if solver not in DEFAULT_ITERATIONS:
-        raise hf.InvalidArgumentError(f"solver must be 'jacobi' or 'multigrid', got {solver!r}")
-    if iterations is None:
-        iterations = DEFAULT_ITERATIONS[solver]
+    iterations = assembly.iterations_for(solver, "offline", iterations)
     say = log if log is not None else (lambda _line: None)
 
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:

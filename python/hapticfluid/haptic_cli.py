@@ -21,6 +21,7 @@ from typing import Callable, Dict, Optional, Sequence, Tuple
 import numpy as np
 
 import hapticfluid as hf
+from hapticfluid import assembly
 from hapticfluid.cli_types import cells as _cells
 from hapticfluid.cli_types import finite_float as _number
 from hapticfluid.cli_types import positive_float as _positive
@@ -30,11 +31,9 @@ DEVICES = ("scripted", "null", "host", "falcon", "simulated-falcon")
 SWEEP_PERIOD_S = 4.0
 SWEEP_AMPLITUDE_M = (0.04, 0.0, 0.02)  # device frame: a figure-of-eight in x-z, Falcon-sized
 HOST_PUSH_HZ = 60.0
-# Pressure iterations per step when none are given. Jacobi by default here: the haptic loop
-# wants the simulation's rate, and at these small grids 20 sweeps are cheaper than multigrid's 4
-# iterations while the force's cell-crossing impulses (not the residual) dominate its error.
+# Jacobi by default here: the haptic loop wants the simulation's rate (assembly.ITERATIONS_PER_STEP).
 DEFAULT_SOLVER = "jacobi"
-DEFAULT_ITERATIONS = {"jacobi": 20, "multigrid": 4}
+DEFAULT_ITERATIONS = assembly.ITERATIONS_PER_STEP["interactive"]  # per solver, when none are given
 CSV_NAME = "haptic_force.csv"
 PNG_NAME = "haptic_force.png"
 CSV_COLUMNS = ["time_s", "x_m", "y_m", "z_m",
@@ -108,10 +107,7 @@ def run_haptic(
     """Run a session over a new simulation for `seconds` (s); write CSV (+ PNG) into out_dir."""
     if not (math.isfinite(seconds) and seconds > 0):
         raise hf.InvalidArgumentError(f"seconds must be a positive number, got {seconds}")
-    if solver not in DEFAULT_ITERATIONS:
-        raise hf.InvalidArgumentError(f"solver must be 'jacobi' or 'multigrid', got {solver!r}")
-    if iterations is None:
-        iterations = DEFAULT_ITERATIONS[solver]
+    iterations = assembly.iterations_for(solver, "interactive", iterations)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     host = device if isinstance(device, hf.HostDevice) else None

@@ -131,3 +131,34 @@ def test_an_unplugged_device_ends_the_session_with_its_own_error(small_sim):
             session.stop()
     finally:
         falcon.close()
+
+
+def test_the_engine_fits_the_workspace_and_reports_where_it_put_it(small_sim):
+    falcon = hf.open_simulated_falcon()
+    try:
+        info = falcon.info()
+        edges = np.asarray(info.workspace_max) - np.asarray(info.workspace_min)
+        session = hf.HapticSession(small_sim, falcon, fit_workspace=True, probe_radius=0.1, realtime=False)
+        scale = np.asarray(session.workspace_scale)
+        assert scale == pytest.approx(np.full(3, 1.0 / edges.max()), rel=1e-6)  # the 1 m domain, its tightest axis
+        lo, hi = (np.asarray(c) for c in session.workspace_box)
+        assert np.all(lo >= -1e-6) and np.all(hi <= 1.0 + 1e-6)  # inside the domain ...
+        assert (hi - lo).max() == pytest.approx(1.0, rel=1e-5)  # ... filling it along that axis
+        assert (lo + hi) / 2 == pytest.approx(np.full(3, 0.5), abs=1e-5)  # centred
+        # Not fitted: the scale given, the box mapped with it.
+        session = hf.HapticSession(small_sim, falcon, workspace_scale=2.0, probe_radius=0.1, realtime=False)
+        lo, hi = (np.asarray(c) for c in session.workspace_box)
+        assert hi - lo == pytest.approx(2.0 * edges, rel=1e-5)
+    finally:
+        falcon.close()
+
+
+def test_one_grid_rule_for_the_bake_and_the_live_session():
+    from hapticfluid import assembly
+
+    g = assembly.grid((1.0, 0.5, 0.03), 32)
+    assert g.cells == (32, 16, 8) and g.cell_size == pytest.approx(1.0 / 32)  # at least 8 per axis
+    assert g.size == pytest.approx((1.0, 0.5, 0.25))
+    s = assembly.fluid_settings((0.0, 0.0, 0.0), (1.0, 0.5, 0.5), 16, {"fluid_density": 1000.0, "gravity": [0, 0, -1]})
+    assert s.resolution == (16, 8, 8) and s.fluid_density == pytest.approx(1000.0) and s.gravity[2] == -1.0
+    assert not s.compute_residual

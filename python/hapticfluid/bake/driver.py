@@ -31,6 +31,7 @@ from typing import Any, Callable, Dict, Optional, Tuple, Union
 import numpy as np
 
 import hapticfluid as hf
+from hapticfluid import assembly
 from hapticfluid.bake import cache as _cache
 from hapticfluid.bake import verify as _verify
 from hapticfluid.bake import writer as _writer
@@ -81,19 +82,10 @@ class BakeResult:
 
 
 def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
-    """Put the probe where the trajectory says for one substep: the one place that knows how the
-    engine takes a probe. A sphere is placed whole (its radius follows the transform's scale); a
-    mesh is uploaded once, then only its pose changes (set_probe_pose: host-side, cheap)."""
-    if probe.shape == "sphere":
-        radius = probe.radius * float(np.max(np.abs(motion.pose.scale)))
-        sim.set_probe(tuple(motion.pose.translation), radius, velocity=tuple(motion.velocity),
-                      angular_velocity=tuple(motion.angular_velocity))
-    elif sim.probe is None or sim.probe.get("kind") != "mesh":
-        sim.set_mesh_probe(probe.vertices, probe.triangles, motion.pose.matrix(), velocity=tuple(motion.velocity),
-                           angular_velocity=tuple(motion.angular_velocity))
-    else:
-        sim.set_probe_pose(motion.pose.matrix(), velocity=tuple(motion.velocity),
-                           angular_velocity=tuple(motion.angular_velocity))
+    """Put the probe where the trajectory says for one substep (assembly.place_probe: a sphere
+    placed whole, its radius following the transform's scale; a mesh uploaded once, then only moved)."""
+    assembly.place_probe(sim, probe.shape, motion.pose.matrix(), radius=probe.radius, vertices=probe.vertices,
+                         triangles=probe.triangles, velocity=motion.velocity, angular_velocity=motion.angular_velocity)
 
 
 def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: int, n: int, dt: float) -> None:
@@ -105,22 +97,12 @@ def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: 
 
 
 def apply_source(sim: "hf.Simulation", source: SmokeSource, frame_time: float) -> None:
-    """Put the smoke source where it is at ``frame_time`` (frames): the one place that knows how
-    the engine takes a source. A sphere is set once; a mesh is uploaded once, then only its pose
-    changes (set_smoke_source_pose: host-side, cheap)."""
-    current = sim.smoke_source
-    if source.shape == "sphere":
-        if current is None:
-            sim.set_smoke_source(source.centre, source.radius, density=source.density,
-                                 temperature=source.temperature, emission=source.emission)
-        return
-    assert source.trajectory is not None
-    matrix = source.trajectory.pose(frame_time).matrix()
-    if current is None or current.get("kind") != "mesh":
-        sim.set_smoke_source_mesh(source.vertices, source.triangles, matrix, density=source.density,
-                                  temperature=source.temperature, emission=source.emission)
-    else:
-        sim.set_smoke_source_pose(matrix)
+    """Put the smoke source where it is at ``frame_time`` (frames) (assembly.place_source: a
+    sphere set once; a mesh uploaded once, then only moved)."""
+    matrix = None if source.shape == "sphere" else source.trajectory.pose(frame_time).matrix()
+    assembly.place_source(sim, source.shape, source.density, source.temperature, source.emission,
+                          centre=source.centre, radius=source.radius, matrix=matrix, vertices=source.vertices,
+                          triangles=source.triangles)
 
 
 def _apply_substep_source(sim: "hf.Simulation", source: SmokeSource, frame: int, s: int, n: int) -> None:
@@ -167,15 +149,12 @@ def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
 
 
 def make_simulation(scene: BakeScene) -> "hf.Simulation":
-    f = scene.fluid
-    sim = hf.Simulation(resolution=scene.grid_resolution, domain_size=scene.grid_size, origin=scene.domain_origin,
-                        fluid_density=f["fluid_density"], gravity=tuple(f["gravity"]), open_top=f["open_top"],
-                        advection=f["advection"], vorticity=f["vorticity"], smoke_weight=f["smoke_weight"],
-                        heat_buoyancy=f["heat_buoyancy"], smoke_dissipation=f["smoke_dissipation"],
-                        heat_dissipation=f["heat_dissipation"], pressure_iterations=f["pressure_iterations"],
-                        pressure_solver=f["pressure_solver"], pressure_tolerance=f["pressure_tolerance"],
-                        compute_residual=False, device=scene.device)
-    if scene.source is not None:  # a mesh source at the pose before the first frame; each substep moves it
+    """The scene's Simulation (assembly.fluid_settings), its smoke source at the pose before the
+    first frame (each substep moves a mesh source)."""
+    settings = assembly.fluid_settings(scene.domain_origin, scene.domain_size, scene.resolution, scene.fluid,
+                                       device=scene.device)
+    sim = hf.Simulation(settings)
+    if scene.source is not None:
         apply_source(sim, scene.source, scene.frame_start - 1)
     return sim
 

@@ -68,7 +68,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from hapticfluid import Advection, FluidSettings, InvalidArgumentError, PressureSolver
+from hapticfluid import Advection, FluidSettings, InvalidArgumentError, PressureSolver, assembly
 from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
 
 GRID_NAMES = ("density", "velocity", "pressure")
@@ -216,18 +216,16 @@ class BakeScene:
     # ---- derived grid ------------------------------------------------------------------
     @property
     def cell_size(self) -> float:
-        return max(self.domain_size) / self.resolution
+        return assembly.grid(self.domain_size, self.resolution).cell_size
 
     @property
     def grid_resolution(self) -> Tuple[int, int, int]:
-        h = self.cell_size
-        return tuple(max(8, int(round(s / h))) for s in self.domain_size)
+        return assembly.grid(self.domain_size, self.resolution).cells
 
     @property
     def grid_size(self) -> Tuple[float, float, float]:
         """The simulated box's edges (m): whole cells, so possibly a hair off domain_size."""
-        h = self.cell_size
-        return tuple(n * h for n in self.grid_resolution)
+        return assembly.grid(self.domain_size, self.resolution).size
 
     @property
     def frame_count(self) -> int:

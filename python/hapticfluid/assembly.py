@@ -1,0 +1,124 @@
+"""One place that turns a scene description into engine objects, for the bake, the Blender add-on's
+live session, the demo and the command lines alike:
+
+- ``grid(domain_size, resolution)``: the cubic cells of a domain (cells along its longest edge);
+- ``fluid_settings(...)``: a FluidSettings from the domain, the resolution and the fluid's settings
+  by name (the engine's defaults for the rest);
+- ``place_probe(...)`` and ``place_source(...)``: how the engine takes a probe and a smoke source
+  (a sphere placed whole, its radius following the transform's largest scale; a mesh uploaded once,
+  then only its pose changes);
+- ``session_settings(...)``: a HapticSessionSettings from settings by name, the device's workspace
+  fitted to the domain by the engine (``fit_workspace``) unless asked not to.
+
+No bpy here: the add-on reads Blender into plain values and calls these.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+
+import hapticfluid as hf
+
+Vec3 = Tuple[float, float, float]
+
+# Pressure iterations per step when a caller gives none, per solver and use: Jacobi sweeps, or
+# multigrid-preconditioned CG iterations (four reach a relative residual near 1e-4 for about the
+# cost of 40 sweeps). Interactive runs (a haptic session on a small grid) want the simulation's
+# rate: there 20 sweeps cost less than multigrid's 4 while the force's cell-crossing impulses, not
+# the residual, dominate its error.
+ITERATIONS_PER_STEP = {"offline": {"jacobi": 40, "multigrid": 4}, "interactive": {"jacobi": 20, "multigrid": 4}}
+SOLVERS = tuple(hf.PressureSolver.__members__)  # the pressure solvers' names ('jacobi', 'multigrid')
+ADVECTIONS = tuple(hf.Advection.__members__)  # the advection schemes' names
+
+
+def iterations_for(solver: str, use: str = "offline", iterations: Optional[int] = None) -> int:
+    """``iterations`` if given, else ITERATIONS_PER_STEP's for the solver ('jacobi' or 'multigrid')
+    and use ('offline' or 'interactive'). An unknown solver is an InvalidArgumentError naming it."""
+    if solver not in SOLVERS:
+        raise hf.InvalidArgumentError(f"solver must be one of {', '.join(map(repr, SOLVERS))}, got {solver!r}")
+    return ITERATIONS_PER_STEP[use][solver] if iterations is None else iterations
+
+
+@dataclass(frozen=True)
+class Grid:
+    cells: Tuple[int, int, int]  # cells per axis, each >= 8
+    cell_size: float  # m, the same on every axis
+    size: Vec3  # m: whole cells, so possibly a hair off the domain's size
+
+
+def grid(domain_size: Sequence[float], resolution: int) -> Grid:
+    """The grid of a box of ``domain_size`` (m) with ``resolution`` cells along its longest edge:
+    cubic cells, at least 8 per axis."""
+    h = max(domain_size) / resolution
+    cells = tuple(max(8, int(round(s / h))) for s in domain_size)
+    return Grid(cells, h, tuple(n * h for n in cells))
+
+
+def fluid_settings(origin: Sequence[float], domain_size: Sequence[float], resolution: int,
+                   fluid: Optional[Mapping[str, Any]] = None, device: str = "") -> "hf.FluidSettings":
+    """A FluidSettings for a domain box (minimum corner ``origin``, edges ``domain_size``, m) with
+    ``resolution`` cells along its longest edge, the fluid's settings by FluidSettings' names
+    (the engine's defaults for the rest) and the GL device request. The residual is not measured
+    (the bake and the live session never read it)."""
+    g = grid(domain_size, resolution)
+    s = hf.FluidSettings(resolution=g.cells, domain_size=g.size, origin=tuple(float(x) for x in origin),
+                         device=device, compute_residual=False)
+    for name, value in (fluid or {}).items():
+        setattr(s, name, tuple(value) if isinstance(value, list) else value)
+    return s
+
+
+def sphere_radius(radius: float, matrix: Any) -> float:
+    """A sphere probe's radius (m) under a transform: ``radius`` times the transform's largest axis
+    scale (the length of its longest column), so a scaled Empty or sphere stays inside its box."""
+    m = np.asarray(matrix, dtype=np.float64)
+    return float(radius * np.max(np.linalg.norm(m[:3, :3], axis=0)))
+
+
+def place_probe(sim: "hf.Simulation", shape: str, matrix: Any, radius: Optional[float] = None,
+                vertices: Optional[np.ndarray] = None, triangles: Optional[np.ndarray] = None,
+                velocity: Sequence[float] = (0.0, 0.0, 0.0),
+                angular_velocity: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+    """Put the probe at ``matrix`` (4x4 local -> world, m) moving with ``velocity`` (m/s) and
+    ``angular_velocity`` (rad/s): a sphere of ``radius`` (m at scale 1) placed whole, or a mesh
+    (``vertices``, ``triangles``) uploaded the first time, then only moved (set_probe_pose: host side,
+    cheap)."""
+    m = np.asarray(matrix, dtype=np.float64)
+    v, w = tuple(float(x) for x in velocity), tuple(float(x) for x in angular_velocity)
+    if shape == "sphere":
+        sim.set_probe(tuple(m[:3, 3]), sphere_radius(radius, m), velocity=v, angular_velocity=w)
+    elif sim.probe is None or sim.probe.get("kind") != "mesh":
+        sim.set_mesh_probe(np.asarray(vertices, dtype=np.float32), np.asarray(triangles, dtype=np.int32), m,
+                           velocity=v, angular_velocity=w)
+    else:
+        sim.set_probe_pose(m, velocity=v, angular_velocity=w)
+
+
+def place_source(sim: "hf.Simulation", shape: str, density: float, temperature: float, emission: Any = "hold",
+                 centre: Optional[Sequence[float]] = None, radius: Optional[float] = None, matrix: Any = None,
+                 vertices: Optional[np.ndarray] = None, triangles: Optional[np.ndarray] = None) -> None:
+    """Put the smoke source in place: a sphere (``centre``, ``radius``, m) set once; a mesh
+    (``vertices``, ``triangles``) at ``matrix`` uploaded the first time, then only moved."""
+    current = sim.smoke_source
+    if shape == "sphere":
+        if current is None:
+            sim.set_smoke_source(tuple(float(x) for x in centre), float(radius), density=density,
+                                 temperature=temperature, emission=emission)
+        return
+    m = np.asarray(matrix, dtype=np.float64)
+    if current is None or current.get("kind") != "mesh":
+        sim.set_smoke_source_mesh(np.asarray(vertices, dtype=np.float32), np.asarray(triangles, dtype=np.int32), m,
+                                  density=density, temperature=temperature, emission=emission)
+    else:
+        sim.set_smoke_source_pose(m)
+
+
+def session_settings(values: Optional[Mapping[str, Any]] = None,
+                     fit_workspace: bool = True) -> "hf.HapticSessionSettings":
+    """A HapticSessionSettings with ``values`` by name; with ``fit_workspace`` the engine fits the
+    device's workspace to the domain (the largest uniform scale, its middle at the domain's centre
+    unless an offset is given), else ``values``' workspace_scale is used."""
+    return hf.HapticSessionSettings(**{"fit_workspace": fit_workspace, **dict(values or {})})
