@@ -1,6 +1,5 @@
 #include "emitter/mesh_emitter.h"
 
-#include <GL/gl.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -65,17 +64,17 @@ void MeshEmitter::voxelize() {
   gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
   crossings_.bind(0);
-  coverage_.bindImage(0, GL_WRITE_ONLY);
+  coverage_.bindImage(0, gl::Access::Write);
   coverage_program_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
 }
 
 void MeshEmitter::emit(gl::Texture3D& density, gl::Texture3D& temperature, const gl::Texture3D& nbmask, float dt_s) {
   const obstacle::CellBox box = bounds();
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return;
-  density.bindImage(0, GL_READ_WRITE);
-  temperature.bindImage(1, GL_READ_WRITE);
-  nbmask.bindImage(2, GL_READ_ONLY);
-  coverage_.bindImage(3, GL_READ_ONLY);
+  density.bindImage(0, gl::Access::ReadWrite);
+  temperature.bindImage(1, gl::Access::ReadWrite);
+  nbmask.bindImage(2, gl::Access::Read);
+  coverage_.bindImage(3, gl::Access::Read);
   emit_.set("u_origin", box.origin);
   emit_.set("u_density_value", source_.density);
   emit_.set("u_temperature_value", source_.temperature_k);

@@ -1,6 +1,5 @@
 #include "fluid/fluid_solver.h"
 
-#include <GL/gl.h>
 
 #include <cmath>
 #include <string>
@@ -63,7 +62,7 @@ void FluidSolver::reset() {
 }
 
 void FluidSolver::bindVelocityImages(unsigned first) {
-  for (unsigned a = 0; a < 3; ++a) fields_.vel[a].cur().bindImage(first + a, GL_READ_ONLY);
+  for (unsigned a = 0; a < 3; ++a) fields_.vel[a].cur().bindImage(first + a, gl::Access::Read);
 }
 
 void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
@@ -72,12 +71,12 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
   const float dt_over_h = dt_s / grid_.cell_size_m;
   gl::ComputeProgram& advect = *advect_[static_cast<std::size_t>(scratch_kind)];
   bindVelocityImages(2);  // advect.comp interpolates from images (units 2-4 velocity, 5 source)
-  fields_.nbmask.bindImage(1, GL_READ_ONLY);
+  fields_.nbmask.bindImage(1, gl::Access::Read);
   advect.set("u_field_size", size);
   advect.set("u_field_offset", offset);
   if (p.advection == Advection::SemiLagrangian) {
-    src.bindImage(5, GL_READ_ONLY);
-    dst.bindImage(0, GL_WRITE_ONLY);
+    src.bindImage(5, gl::Access::Read);
+    dst.bindImage(0, gl::Access::Write);
     advect.set("u_dt_over_h", dt_over_h);
     advect.set("u_decay", decay);
     advect.set("u_zero_in_solid", zero_in_solid ? 1 : 0);
@@ -89,19 +88,19 @@ void FluidSolver::advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratc
   gl::Texture3D& bwd = scratch.tex[1];
   advect.set("u_decay", 1.0f);
   advect.set("u_zero_in_solid", 0);
-  src.bindImage(5, GL_READ_ONLY);
-  fwd.bindImage(0, GL_WRITE_ONLY);
+  src.bindImage(5, gl::Access::Read);
+  fwd.bindImage(0, gl::Access::Write);
   advect.set("u_dt_over_h", dt_over_h);
   advect.dispatch(size);
-  fwd.bindImage(5, GL_READ_ONLY);
-  bwd.bindImage(0, GL_WRITE_ONLY);
+  fwd.bindImage(5, gl::Access::Read);
+  bwd.bindImage(0, gl::Access::Write);
   advect.set("u_dt_over_h", -dt_over_h);
   advect.dispatch(size);
   bindVelocityImages(5);  // maccormack.comp traces like advect.comp, from images (units 5-7)
-  src.bindImage(4, GL_READ_ONLY);
-  fwd.bindImage(2, GL_READ_ONLY);
-  bwd.bindImage(3, GL_READ_ONLY);
-  dst.bindImage(0, GL_WRITE_ONLY);
+  src.bindImage(4, gl::Access::Read);
+  fwd.bindImage(2, gl::Access::Read);
+  bwd.bindImage(3, gl::Access::Read);
+  dst.bindImage(0, gl::Access::Write);
   maccormack_.set("u_field_size", size);
   maccormack_.set("u_field_offset", offset);
   maccormack_.set("u_dt_over_h", dt_over_h);
@@ -138,11 +137,11 @@ void FluidSolver::advect(float dt_s, const FluidParams& p) {
 
 void FluidSolver::advectScalarPair(float dt_s, float smoke_decay, float heat_decay) {
   bindVelocityImages(2);
-  fields_.nbmask.bindImage(1, GL_READ_ONLY);
-  fields_.density.cur().bindImage(5, GL_READ_ONLY);
-  fields_.density.next().bindImage(0, GL_WRITE_ONLY);
-  fields_.temperature.cur().bindImage(6, GL_READ_ONLY);
-  fields_.temperature.next().bindImage(7, GL_WRITE_ONLY);
+  fields_.nbmask.bindImage(1, gl::Access::Read);
+  fields_.density.cur().bindImage(5, gl::Access::Read);
+  fields_.density.next().bindImage(0, gl::Access::Write);
+  fields_.temperature.cur().bindImage(6, gl::Access::Read);
+  fields_.temperature.next().bindImage(7, gl::Access::Write);
   advect_pair_.set("u_field_size", grid_.res);
   advect_pair_.set("u_field_offset", glm::vec3(0.5f));
   advect_pair_.set("u_dt_over_h", dt_s / grid_.cell_size_m);
@@ -162,9 +161,9 @@ void FluidSolver::applySources(const SmokeSource& s, float dt_s) {
   const glm::ivec3 hi(glm::clamp(glm::ceil(c + r), glm::vec3(0.0f), res));
   const glm::ivec3 extent = hi - lo;
   if (glm::any(glm::lessThanEqual(extent, glm::ivec3(0)))) return;
-  fields_.density.cur().bindImage(0, GL_READ_WRITE);
-  fields_.temperature.cur().bindImage(1, GL_READ_WRITE);
-  fields_.nbmask.bindImage(2, GL_READ_ONLY);
+  fields_.density.cur().bindImage(0, gl::Access::ReadWrite);
+  fields_.temperature.cur().bindImage(1, gl::Access::ReadWrite);
+  fields_.nbmask.bindImage(2, gl::Access::Read);
   sources_.set("u_origin", lo);
   sources_.set("u_centre", c);
   sources_.set("u_radius", r);
@@ -181,37 +180,37 @@ void FluidSolver::applyForces(float dt_s, const FluidParams& p) {
   if (!buoyant && !confined) return;
   if (confined) {
     bindVelocityImages(1);
-    fields_.vorticity.bindImage(0, GL_WRITE_ONLY);
+    fields_.vorticity.bindImage(0, gl::Access::Write);
     vorticity_.dispatch(grid_.res);
   }
   const float g = glm::length(p.gravity_m_s2);
   const glm::vec3 up = g > 0.0f ? -p.gravity_m_s2 / g : glm::vec3(0.0f, 0.0f, 1.0f);
-  fields_.density.cur().bindImage(1, GL_READ_ONLY);
-  fields_.temperature.cur().bindImage(2, GL_READ_ONLY);
-  fields_.vorticity.bindImage(3, GL_READ_ONLY);
-  fields_.nbmask.bindImage(4, GL_READ_ONLY);
-  fields_.cell_force.bindImage(0, GL_WRITE_ONLY);
+  fields_.density.cur().bindImage(1, gl::Access::Read);
+  fields_.temperature.cur().bindImage(2, gl::Access::Read);
+  fields_.vorticity.bindImage(3, gl::Access::Read);
+  fields_.nbmask.bindImage(4, gl::Access::Read);
+  fields_.cell_force.bindImage(0, gl::Access::Write);
   cell_forces_.set("u_up", up);
   cell_forces_.set("u_smoke_weight", p.smoke_weight_m_s2);
   cell_forces_.set("u_heat_buoyancy", p.heat_buoyancy_m_s2_k);
   cell_forces_.set("u_confinement", confined ? p.vorticity_confinement : 0.0f);
   cell_forces_.dispatch(grid_.res);
-  fields_.cell_force.bindImage(1, GL_READ_ONLY);
+  fields_.cell_force.bindImage(1, gl::Access::Read);
   apply_forces_.set("u_dt", dt_s);
   for (int a = 0; a < 3; ++a) {
-    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, gl::Access::ReadWrite);
     apply_forces_.set("u_axis", a);
     apply_forces_.dispatch(grid_.faceSize(a));
   }
 }
 
 void FluidSolver::enforceBoundaries(const FluidParams& p) {
-  fields_.solid.bindImage(1, GL_READ_ONLY);
-  fields_.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  fields_.solid_velocity.bindImage(2, GL_READ_ONLY);
+  fields_.solid.bindImage(1, gl::Access::Read);
+  fields_.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
+  fields_.solid_velocity.bindImage(2, gl::Access::Read);
   boundaries_.set("u_open_top", p.open_top ? 1 : 0);
   for (int a = 0; a < 3; ++a) {
-    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, gl::Access::ReadWrite);
     boundaries_.set("u_axis", a);
     boundaries_.dispatch(grid_.faceSize(a));
   }
@@ -219,10 +218,10 @@ void FluidSolver::enforceBoundaries(const FluidParams& p) {
 
 void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
   bindVelocityImages(1);
-  fields_.nbmask.bindImage(4, GL_READ_ONLY);
-  fields_.solid_velocity.bindImage(5, GL_READ_ONLY);
-  fields_.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  fields_.rhs.bindImage(0, GL_WRITE_ONLY);
+  fields_.nbmask.bindImage(4, gl::Access::Read);
+  fields_.solid_velocity.bindImage(5, gl::Access::Read);
+  fields_.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
+  fields_.rhs.bindImage(0, gl::Access::Write);
   divergence_.set("u_scale", p.density_kg_m3 * grid_.cell_size_m / dt_s);
   divergence_.dispatch(grid_.res);
 }
@@ -247,25 +246,25 @@ void FluidSolver::removePressureMean(gl::GroupReducer& reducer, std::size_t slot
 
 // pressure_sum + reduce + pressure_shift work on any cell-centred scalar.
 void FluidSolver::removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, std::size_t slot) {
-  field.bindImage(1, GL_READ_ONLY);
-  fields_.nbmask.bindImage(2, GL_READ_ONLY);
+  field.bindImage(1, gl::Access::Read);
+  fields_.nbmask.bindImage(2, gl::Access::Read);
   reducer.bindPartials(0);
   pressure_sum_.dispatch(rowInvocations(grid_.res));
   reducer.reduce(rowCount(grid_.res), slot);
-  field.bindImage(0, GL_READ_WRITE);
+  field.bindImage(0, gl::Access::ReadWrite);
   reducer.bindResults(1);
   pressure_shift_.set("u_slot", static_cast<unsigned>(slot));
   pressure_shift_.dispatch(grid_.res);
 }
 
 void FluidSolver::project(float dt_s, const FluidParams& p) {
-  fields_.pressure.cur().bindImage(1, GL_READ_ONLY);
-  fields_.nbmask.bindImage(2, GL_READ_ONLY);
-  fields_.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  fields_.pressure.cur().bindImage(1, gl::Access::Read);
+  fields_.nbmask.bindImage(2, gl::Access::Read);
+  fields_.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
   project_.set("u_open_top", p.open_top ? 1 : 0);
   project_.set("u_scale", dt_s / (p.density_kg_m3 * grid_.cell_size_m));
   for (int a = 0; a < 3; ++a) {
-    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, GL_READ_WRITE);
+    fields_.vel[static_cast<std::size_t>(a)].cur().bindImage(0, gl::Access::ReadWrite);
     project_.set("u_axis", a);
     project_.dispatch(grid_.faceSize(a));
   }

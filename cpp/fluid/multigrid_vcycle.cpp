@@ -1,6 +1,5 @@
 #include "fluid/multigrid_vcycle.h"
 
-#include <GL/gl.h>
 
 #include <algorithm>
 #include <string>
@@ -48,8 +47,8 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
 
 void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
                                   const glm::ivec3& coarse_res, gl::Texture3D& coarse_mask) {
-  fine_mask.bindImage(1, GL_READ_ONLY);
-  coarse_mask.bindImage(0, GL_WRITE_ONLY);
+  fine_mask.bindImage(1, gl::Access::Read);
+  coarse_mask.bindImage(0, gl::Access::Write);
   coarsen_.set("u_res", coarse_res);
   coarsen_.set("u_fine_size", fine_res);
   coarsen_.dispatch(coarse_res);
@@ -57,8 +56,8 @@ void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const gl::Texture3
 
 void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture3D& fine_faces,
                                    const glm::ivec3& coarse_res, gl::Texture3D& coarse_faces) {
-  fine_faces.bindImage(1, GL_READ_ONLY);
-  coarse_faces.bindImage(0, GL_WRITE_ONLY);
+  fine_faces.bindImage(1, gl::Access::Read);
+  coarse_faces.bindImage(0, gl::Access::Write);
   coarsen_faces_.set("u_res", coarse_res);
   coarsen_faces_.set("u_fine_size", fine_res);
   coarsen_faces_.dispatch(coarse_res + 1);
@@ -67,11 +66,11 @@ void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture
 // A level's images as mg_smooth and mg_coarsest bind them: faces, x at 0 (`x_access`), b at 1,
 // mask at 2.
 void MultigridVCycle::bindSmoothInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-                                       unsigned x_access, const gl::Texture3D& b) {
-  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+                                       gl::Access x_access, const gl::Texture3D& b) {
+  faces.bindImage(kFaceOpenUnit, gl::Access::Read);
   x.bindImage(0, x_access);
-  b.bindImage(1, GL_READ_ONLY);
-  mask.bindImage(2, GL_READ_ONLY);
+  b.bindImage(1, gl::Access::Read);
+  mask.bindImage(2, gl::Access::Read);
 }
 
 // One red-black sweep of `colour` with mg_smooth.comp's program (plain or PROLONG): its images
@@ -79,7 +78,7 @@ void MultigridVCycle::bindSmoothInputs(const gl::Texture3D& mask, const gl::Text
 void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask,
                             const gl::Texture3D& faces, gl::Texture3D& x, const gl::Texture3D& b, int colour,
                             bool zero_guess) {
-  bindSmoothInputs(mask, faces, x, GL_READ_WRITE, b);
+  bindSmoothInputs(mask, faces, x, gl::Access::ReadWrite, b);
   program.set("u_res", res);
   program.set("u_colour", colour);
   program.set("u_zero_guess", zero_guess ? 1 : 0);
@@ -90,10 +89,10 @@ void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, 
 // mask at 3 (the output at 0 is the caller's).
 void MultigridVCycle::bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
                                          const gl::Texture3D& b) {
-  faces.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  x.bindImage(1, GL_READ_ONLY);
-  b.bindImage(2, GL_READ_ONLY);
-  mask.bindImage(3, GL_READ_ONLY);
+  faces.bindImage(kFaceOpenUnit, gl::Access::Read);
+  x.bindImage(1, gl::Access::Read);
+  b.bindImage(2, gl::Access::Read);
+  mask.bindImage(3, gl::Access::Read);
 }
 
 void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
@@ -104,7 +103,7 @@ void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, c
 void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
                                const gl::Texture3D& x, const gl::Texture3D& b, gl::Texture3D& out) {
   bindResidualInputs(mask, faces, x, b);
-  out.bindImage(0, GL_WRITE_ONLY);
+  out.bindImage(0, gl::Access::Write);
   residual_.set("u_res", res);
   residual_.dispatch(res);
 }
@@ -112,9 +111,9 @@ void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask,
 void MultigridVCycle::restrictResidual(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
                                        const gl::Texture3D& fine_res_tex, const glm::ivec3& coarse_res,
                                        gl::Texture3D& coarse_b, float scale) {
-  fine_res_tex.bindImage(1, GL_READ_ONLY);
-  fine_mask.bindImage(2, GL_READ_ONLY);
-  coarse_b.bindImage(0, GL_WRITE_ONLY);
+  fine_res_tex.bindImage(1, gl::Access::Read);
+  fine_mask.bindImage(2, gl::Access::Read);
+  coarse_b.bindImage(0, gl::Access::Write);
   restrict_.set("u_res", coarse_res);
   restrict_.set("u_fine_size", fine_res);
   restrict_.set("u_scale", scale);
@@ -123,9 +122,9 @@ void MultigridVCycle::restrictResidual(const glm::ivec3& fine_res, const gl::Tex
 
 void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, gl::Texture3D& fine_x,
                                  const gl::Texture3D& coarse_x) {
-  fine_x.bindImage(0, GL_READ_WRITE);
-  coarse_x.bindImage(1, GL_READ_ONLY);
-  fine_mask.bindImage(2, GL_READ_ONLY);
+  fine_x.bindImage(0, gl::Access::ReadWrite);
+  coarse_x.bindImage(1, gl::Access::Read);
+  fine_mask.bindImage(2, gl::Access::Read);
   prolong_.set("u_res", fine_res);
   prolong_.dispatch(fine_res);
 }
@@ -133,7 +132,7 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D
 void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
                                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x,
                                       int colour) {
-  coarse_x.bindImage(3, GL_READ_ONLY);
+  coarse_x.bindImage(3, gl::Access::Read);
   sweep(smooth_prolong_, res, mask, faces, x, b, colour, false);
 }
 
@@ -142,7 +141,7 @@ void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Tex
                                        const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
                                        gl::Texture3D& coarse_b, float scale) {
   bindResidualInputs(fine_mask, fine_faces, fine_x, fine_b);
-  coarse_b.bindImage(0, GL_WRITE_ONLY);
+  coarse_b.bindImage(0, gl::Access::Write);
   residual_restrict_.set("u_res", coarse_res);
   residual_restrict_.set("u_fine_size", fine_res);
   residual_restrict_.set("u_scale", scale);
@@ -151,7 +150,7 @@ void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Tex
 
 void MultigridVCycle::solveCoarsest(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
                                     gl::Texture3D& x, const gl::Texture3D& b) {
-  bindSmoothInputs(mask, faces, x, GL_WRITE_ONLY, b);
+  bindSmoothInputs(mask, faces, x, gl::Access::Write, b);
   coarsest_.set("u_res", res);
   coarsest_.set("u_pairs", kCoarsestSweeps);
   coarsest_.dispatch(glm::ivec3(kCoarsestCells));

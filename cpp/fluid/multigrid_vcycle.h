@@ -88,7 +88,7 @@ class MultigridVCycle {
   void sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
              gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess);
   static void bindSmoothInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-                               unsigned x_access, const gl::Texture3D& b);
+                               gl::Access x_access, const gl::Texture3D& b);
   static void bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
                                  const gl::Texture3D& b);
 

@@ -1,6 +1,5 @@
 #include "fluid/pressure_jacobi.h"
 
-#include <GL/gl.h>
 
 #include <algorithm>
 
@@ -13,12 +12,12 @@ PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.c
 }
 
 void PressureJacobi::sweeps(FluidFields& f, int count) {
-  f.rhs.bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
-  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  f.rhs.bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
+  f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
   for (int i = 0; i < count; ++i) {
-    f.pressure.cur().bindImage(1, GL_READ_ONLY);
-    f.pressure.next().bindImage(0, GL_WRITE_ONLY);
+    f.pressure.cur().bindImage(1, gl::Access::Read);
+    f.pressure.next().bindImage(0, gl::Access::Write);
     sweep_.dispatch(grid_.res);
     f.pressure.swap();
   }

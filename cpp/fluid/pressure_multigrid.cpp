@@ -1,6 +1,5 @@
 #include "fluid/pressure_multigrid.h"
 
-#include <GL/gl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,15 +43,15 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
   vcycle_.apply(f.nbmask, f.face_open, r_, z_);
-  r_.bindImage(1, GL_READ_ONLY);
-  z_.bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
+  r_.bindImage(1, gl::Access::Read);
+  z_.bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
   reducer_.bindPartials(0);
   dot_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), rz_slot);
-  s_.bindImage(0, GL_READ_WRITE);
-  z_.bindImage(1, GL_READ_ONLY);
-  f.nbmask.bindImage(2, GL_READ_ONLY);
+  s_.bindImage(0, gl::Access::ReadWrite);
+  z_.bindImage(1, gl::Access::Read);
+  f.nbmask.bindImage(2, gl::Access::Read);
   reducer_.bindResults(1);
   direction_.set("u_slot_new", static_cast<unsigned>(rz_slot));
   direction_.set("u_slot_old", static_cast<unsigned>(old_rz_slot));
@@ -61,19 +60,19 @@ void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::
 }
 
 void PressureMultigrid::removeResidualMean(FluidFields& f, std::size_t slot) {
-  r_.bindImage(0, GL_READ_WRITE);
-  f.nbmask.bindImage(2, GL_READ_ONLY);
+  r_.bindImage(0, gl::Access::ReadWrite);
+  f.nbmask.bindImage(2, gl::Access::Read);
   reducer_.bindResults(1);
   shift_.set("u_slot", static_cast<unsigned>(slot));
   shift_.dispatch(grid_.res);
 }
 
 void PressureMultigrid::startResidual(FluidFields& f, bool closed, bool predictor_sums) {
-  f.pressure.cur().bindImage(1, GL_READ_ONLY);
-  f.rhs.bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
-  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-  r_.bindImage(0, GL_WRITE_ONLY);
+  f.pressure.cur().bindImage(1, gl::Access::Read);
+  f.rhs.bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
+  f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
+  r_.bindImage(0, gl::Access::Write);
   reducer_.bindPartials(0);
   init_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), kInitSlot);
@@ -105,19 +104,19 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   nextDirection(f, rz_new, rz_old, true);
   for (int k = 0; k < params.pressure_iterations; ++k) {
     // q = A s and s.q
-    s_.bindImage(1, GL_READ_ONLY);
-    f.nbmask.bindImage(3, GL_READ_ONLY);
-    f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
-    q_.bindImage(0, GL_WRITE_ONLY);
+    s_.bindImage(1, gl::Access::Read);
+    f.nbmask.bindImage(3, gl::Access::Read);
+    f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
+    q_.bindImage(0, gl::Access::Write);
     reducer_.bindPartials(0);
     apply_.dispatch(rowInvocations(grid_.res));
     reducer_.reduce(groups, kSqSlot);
     // p += alpha s, r -= alpha q, and r.r
-    f.pressure.cur().bindImage(0, GL_READ_WRITE);
-    r_.bindImage(1, GL_READ_WRITE);
-    s_.bindImage(2, GL_READ_ONLY);
-    q_.bindImage(3, GL_READ_ONLY);
-    f.nbmask.bindImage(4, GL_READ_ONLY);
+    f.pressure.cur().bindImage(0, gl::Access::ReadWrite);
+    r_.bindImage(1, gl::Access::ReadWrite);
+    s_.bindImage(2, gl::Access::Read);
+    q_.bindImage(3, gl::Access::Read);
+    f.nbmask.bindImage(4, gl::Access::Read);
     reducer_.bindPartials(0);
     reducer_.bindResults(1);
     update_.set("u_slot_rz", static_cast<unsigned>(rz_new));
@@ -147,10 +146,10 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
 }
 
 void PressureMultigrid::predict(FluidFields& f, bool sums) {
-  f.pressure.cur().bindImage(0, GL_READ_WRITE);
-  r_.bindImage(1, GL_READ_WRITE);
-  f.rhs.bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.pressure.cur().bindImage(0, gl::Access::ReadWrite);
+  r_.bindImage(1, gl::Access::ReadWrite);
+  f.rhs.bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
   reducer_.bindPartials(0);
   reducer_.bindResults(1);
   predict_.set("u_slot_ap", static_cast<unsigned>(kApSlot));

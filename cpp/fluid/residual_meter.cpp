@@ -1,6 +1,5 @@
 #include "fluid/residual_meter.h"
 
-#include <GL/gl.h>
 
 #include "fluid/row_reduction.h"
 
@@ -11,10 +10,10 @@ ResidualMeter::ResidualMeter(const Grid& grid) : grid_(grid), residual_("residua
 }
 
 void ResidualMeter::accumulate(FluidFields& f, gl::GroupReducer& reducer, std::size_t slot) {
-  f.pressure.cur().bindImage(1, GL_READ_ONLY);
-  f.rhs.bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
-  f.face_open.bindImage(kFaceOpenUnit, GL_READ_ONLY);
+  f.pressure.cur().bindImage(1, gl::Access::Read);
+  f.rhs.bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
+  f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
   reducer.bindPartials(0);
   residual_.dispatch(rowInvocations(grid_.res));
   reducer.reduce(rowCount(grid_.res), slot);

@@ -1,6 +1,5 @@
 #include "fluid/scalar_conservation.h"
 
-#include <GL/gl.h>
 
 #include "fluid/row_reduction.h"
 #include "gl/workgroup.h"
@@ -23,9 +22,9 @@ ScalarConservation::ScalarConservation(const Grid& grid)
 }
 
 void ScalarConservation::measureBefore(FluidFields& f, float dt_s, bool open_top) {
-  f.density.cur().bindImage(1, GL_READ_ONLY);
-  f.temperature.cur().bindImage(2, GL_READ_ONLY);
-  f.vel[2].cur().bindImage(3, GL_READ_ONLY);
+  f.density.cur().bindImage(1, gl::Access::Read);
+  f.temperature.cur().bindImage(2, gl::Access::Read);
+  f.vel[2].cur().bindImage(3, gl::Access::Read);
   reducer_.bindPartials(0);
   total_.set("u_open_top", open_top ? 1 : 0);
   total_.set("u_dt_over_h", dt_s / grid_.cell_size_m);
@@ -35,18 +34,18 @@ void ScalarConservation::measureBefore(FluidFields& f, float dt_s, bool open_top
 
 void ScalarConservation::correct(FluidFields& f, float smoke_decay, float heat_decay) {
   const std::size_t rows = rowCount(grid_.res);
-  f.density.next().bindImage(1, GL_READ_ONLY);
-  f.temperature.next().bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
+  f.density.next().bindImage(1, gl::Access::Read);
+  f.temperature.next().bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
   reducer_.bindPartials(0);
   headroom_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rows, kSmokeSlot, 0);
   reducer_.reduce(rows, kHeatSlot, rows);
-  f.density.next().bindImage(1, GL_READ_ONLY);
-  f.temperature.next().bindImage(2, GL_READ_ONLY);
-  f.nbmask.bindImage(3, GL_READ_ONLY);
-  f.density.cur().bindImage(4, GL_WRITE_ONLY);
-  f.temperature.cur().bindImage(5, GL_WRITE_ONLY);
+  f.density.next().bindImage(1, gl::Access::Read);
+  f.temperature.next().bindImage(2, gl::Access::Read);
+  f.nbmask.bindImage(3, gl::Access::Read);
+  f.density.cur().bindImage(4, gl::Access::Write);
+  f.temperature.cur().bindImage(5, gl::Access::Write);
   reducer_.bindResults(1);
   correct_.set("u_decay", smoke_decay);
   correct_.set("u_decay2", heat_decay);

@@ -1,6 +1,5 @@
 #include "force/force_reducer.h"
 
-#include <GL/gl.h>
 
 #include <cmath>
 
@@ -28,10 +27,10 @@ void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& ce
   }
   const std::size_t groups = gl::groupCount(box.extent);
   if (kParts * groups > reducer.maxGroups()) throw Error("force: the reducer holds too few partials for the box");
-  pressure.bindImage(0, GL_READ_ONLY);
-  cell_class.bindImage(1, GL_READ_ONLY);
-  nbmask.bindImage(2, GL_READ_ONLY);
-  face_open.bindImage(fluid::kFaceOpenUnit, GL_READ_ONLY);
+  pressure.bindImage(0, gl::Access::Read);
+  cell_class.bindImage(1, gl::Access::Read);
+  nbmask.bindImage(2, gl::Access::Read);
+  face_open.bindImage(fluid::kFaceOpenUnit, gl::Access::Read);
   reducer.bindPartials(0);
   faces_.set("u_origin", box.origin);
   faces_.set("u_extent", box.extent);

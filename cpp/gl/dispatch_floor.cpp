@@ -40,7 +40,7 @@ double median(std::vector<double> v) {
 Timing timeDispatches(ComputeProgram& program, Texture3D& out, const glm::ivec3& cells, int repeats) {
   program.use();
   program.set("u_res", cells);
-  out.bindImage(0, GL_WRITE_ONLY);
+  out.bindImage(0, Access::Write);
   program.dispatch(cells);
   glFinish();
   std::vector<double> wall, cpu;

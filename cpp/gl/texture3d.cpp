@@ -86,8 +86,9 @@ std::size_t Texture3D::bytesPerTexel() const { return texelBytes(format_); }
 
 void Texture3D::bindSampler(unsigned unit) const { glBindTextureUnit(unit, id_); }
 
-void Texture3D::bindImage(unsigned unit, unsigned access) const {
-  glBindImageTexture(unit, id_, 0, GL_TRUE, 0, access, formatInfo(format_).internal);
+void Texture3D::bindImage(unsigned unit, Access access) const {
+  const GLenum gl_access = access == Access::Read ? GL_READ_ONLY : access == Access::Write ? GL_WRITE_ONLY : GL_READ_WRITE;
+  glBindImageTexture(unit, id_, 0, GL_TRUE, 0, gl_access, formatInfo(format_).internal);
 }
 
 void Texture3D::clear() {

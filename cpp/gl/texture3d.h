@@ -9,6 +9,9 @@ namespace hf::gl {
 
 enum class TexelFormat { R32F, RGBA32F, R8UI };
 
+// How a compute stage uses an image it binds (GL's image access, kept inside cpp/gl).
+enum class Access { Read, Write, ReadWrite };
+
 class Texture3D {
  public:
   Texture3D(const glm::ivec3& size, TexelFormat format, const std::string& label);
@@ -25,7 +28,7 @@ class Texture3D {
   const std::string& label() const { return label_; }
 
   void bindSampler(unsigned unit) const;
-  void bindImage(unsigned unit, unsigned access /* GL_READ_ONLY/WRITE_ONLY/READ_WRITE */) const;
+  void bindImage(unsigned unit, Access access) const;
   void clear();  // every texel to zero
   // Copies the whole texture into dst (texels() * bytesPerTexel() bytes), x fastest.
   void download(void* dst, std::size_t bytes) const;

@@ -1,6 +1,5 @@
 #include "obstacle/classifier.h"
 
-#include <GL/gl.h>
 
 #include "fluid/fluid_fields.h"
 #include "gl/workgroup.h"
@@ -18,8 +17,8 @@ Classifier::Classifier(const fluid::Grid& grid)
 void Classifier::binaryFractions(const gl::Texture3D& solid, gl::Texture3D& face_open, const CellBox& region) {
   const CellBox faces = faceBox(region, grid_.res);
   if (isEmpty(faces)) return;
-  solid.bindImage(1, GL_READ_ONLY);
-  face_open.bindImage(0, GL_WRITE_ONLY);
+  solid.bindImage(1, gl::Access::Read);
+  face_open.bindImage(0, gl::Access::Write);
   binary_.set("u_origin", faces.origin);
   binary_.dispatch(faces.extent);
 }
@@ -27,10 +26,10 @@ void Classifier::binaryFractions(const gl::Texture3D& solid, gl::Texture3D& face
 void Classifier::classify(const gl::Texture3D& solid, const gl::Texture3D& face_open, gl::Texture3D& cell_class,
                           gl::Texture3D& nbmask, bool open_top, const CellBox& region) {
   if (isEmpty(region)) return;
-  solid.bindImage(2, GL_READ_ONLY);
-  face_open.bindImage(fluid::kFaceOpenUnit, GL_READ_ONLY);
-  cell_class.bindImage(0, GL_WRITE_ONLY);
-  nbmask.bindImage(1, GL_WRITE_ONLY);
+  solid.bindImage(2, gl::Access::Read);
+  face_open.bindImage(fluid::kFaceOpenUnit, gl::Access::Read);
+  cell_class.bindImage(0, gl::Access::Write);
+  nbmask.bindImage(1, gl::Access::Write);
   program_.set("u_open_top", open_top ? 1 : 0);
   program_.set("u_origin", region.origin);
   program_.dispatch(region.extent);

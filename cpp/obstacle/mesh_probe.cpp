@@ -1,6 +1,5 @@
 #include "obstacle/mesh_probe.h"
 
-#include <GL/gl.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -69,8 +68,8 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, co
   gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
   crossings_.bind(0);
-  solid.bindImage(0, GL_WRITE_ONLY);
-  solid_velocity.bindImage(1, GL_WRITE_ONLY);
+  solid.bindImage(0, gl::Access::Write);
+  solid_velocity.bindImage(1, gl::Access::Write);
   fill_.set("u_origin", grid_.toGrid(pose_.originM()));
   fill_.set("u_velocity", pose_.velocity_m_s);
   fill_.set("u_angular", pose_.angular_velocity_rad_s);
@@ -112,7 +111,7 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& regi
   winding_.set("u_res", fine_res);
   winding_.dispatch(glm::ivec3(fine_res.x, fine_res.y, 1));
 
-  face_open.bindImage(0, GL_WRITE_ONLY);
+  face_open.bindImage(0, gl::Access::Write);
   fractions_.set("u_box_origin", box.origin);
   fractions_.set("u_fine_res", fine_res);
   fractions_.set("u_fine", s);

@@ -1,6 +1,5 @@
 #include "obstacle/sphere_probe.h"
 
-#include <GL/gl.h>
 
 #include <cmath>
 
@@ -20,8 +19,8 @@ SphereProbe::SphereProbe(const fluid::Grid& grid)
 
 void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) {
   if (isEmpty(region)) return;
-  solid.bindImage(0, GL_WRITE_ONLY);
-  solid_velocity.bindImage(1, GL_WRITE_ONLY);
+  solid.bindImage(0, gl::Access::Write);
+  solid_velocity.bindImage(1, gl::Access::Write);
   program_.set("u_centre", grid_.toGrid(pose_.centre_m));
   program_.set("u_radius", pose_.radius_m / grid_.cell_size_m);
   program_.set("u_velocity", pose_.velocity_m_s);
@@ -34,7 +33,7 @@ bool SphereProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& re
   if (!cut_cells_) return false;
   const CellBox faces = faceBox(region, grid_.res);
   if (isEmpty(faces)) return true;
-  face_open.bindImage(0, GL_WRITE_ONLY);
+  face_open.bindImage(0, gl::Access::Write);
   fractions_.set("u_centre", grid_.toGrid(pose_.centre_m));
   fractions_.set("u_ramp_radius", rampRadius(pose_.radius_m / grid_.cell_size_m));
   fractions_.set("u_origin", faces.origin);
