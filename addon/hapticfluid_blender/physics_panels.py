@@ -9,6 +9,7 @@ import bpy
 from bpy.props import EnumProperty
 
 from . import panels, properties, roles
+from .ui_text import wrapped_label
 
 
 class HAPTICFLUID_OT_set_role(bpy.types.Operator):
@@ -84,13 +85,13 @@ class HAPTICFLUID_PT_physics(bpy.types.Panel):
             if s.domain == obj:
                 panels.draw_bake(layout, context, s)
             else:  # a second domain (Shift+D): the scene's other one is baked
-                panels.wrapped_label(layout, context, f"Bake from the scene's domain '{s.domain.name}'",
+                wrapped_label(layout, context, f"Bake from the scene's domain '{s.domain.name}'",
                                      icon="INFO")
         elif s.domain is None:
-            panels.wrapped_label(layout, context, "Give a mesh the Domain role (the simulated box) to bake or run "
+            wrapped_label(layout, context, "Give a mesh the Domain role (the simulated box) to bake or run "
                                                   "a live session", icon="INFO")
         else:
-            panels.wrapped_label(layout, context, f"Acts in the domain '{s.domain.name}' (bake from its Physics tab "
+            wrapped_label(layout, context, f"Acts in the domain '{s.domain.name}' (bake from its Physics tab "
                                                   "or the Scene tab)", icon="INFO")
 
 
@@ -150,7 +151,7 @@ def _draw_cache(col, s, _context):
 
 
 def _draw_probe_velocity(col, _s, context):
-    panels.wrapped_label(col, context, "Bake: the object's animation (its world matrix at every frame; the "
+    wrapped_label(col, context, "Bake: the object's animation (its world matrix at every frame; the "
                                        "velocity is the motion between substeps, m/s)")
     live = getattr(context.scene, "hapticfluid_live", None)
     if live is not None:

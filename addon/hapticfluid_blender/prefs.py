@@ -3,6 +3,8 @@
 
 import bpy
 
+from .ui_text import wrapped_label
+
 
 def package_problem():
     """None if ``hapticfluid`` imports, else what to do (for the preferences and the panels)."""
@@ -19,8 +21,6 @@ class HapticFluidPreferences(bpy.types.AddonPreferences):
     bl_idname = __package__
 
     def draw(self, context):
-        from .panels import wrapped_label
-
         problem = package_problem()
         if problem:
             wrapped_label(self.layout, context, problem, icon="ERROR")
