@@ -24,7 +24,6 @@ from hapticfluid.cli_types import positive_float as _positive_float
 from hapticfluid.cli_types import positive_int as _positive_int
 from hapticfluid import devices_cli as _devices_cli
 from hapticfluid import haptic_cli as _haptic_cli
-from hapticfluid.bench.runner import add_parser as _add_bench
 
 
 # ---------------------------------------------------------------------------- info
@@ -120,6 +119,17 @@ def _add_bake(sub) -> None:
     from hapticfluid.bake import command as _bake_command
 
     _bake_command.add_parser(sub, _cells)
+
+
+# ---------------------------------------------------------------------------- bench
+
+
+def _add_bench(sub) -> None:
+    try:
+        from hapticfluid.bench.runner import add_parser
+    except ImportError:  # the wheel leaves the benchmarks out: they run from a source build
+        return
+    add_parser(sub)
 
 
 # ---------------------------------------------------------------------------- main

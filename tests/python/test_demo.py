@@ -190,7 +190,7 @@ def test_outputs_have_the_usual_file_mode(tmp_path):
 
 
 def test_demo_solver_choice(tmp_path):
-    with pytest.raises(hf.InvalidArgumentError, match="solver must be 'jacobi' or 'multigrid'"):
+    with pytest.raises(hf.InvalidArgumentError, match="solver must be one of 'jacobi', 'multigrid'"):
         demo.run_demo(out_dir=tmp_path, solver="sor", log=None, **SMALL)
     lines = []
     demo.run_demo(out_dir=tmp_path, solver="multigrid", log=lines.append, plot=False,

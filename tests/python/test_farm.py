@@ -140,7 +140,7 @@ def test_the_write_command_prints_the_submit_commands(tmp_path, capsys):
 
 
 def test_a_render_chunk_of_frames_not_baked_is_an_error_naming_them():
-    from hapticfluid.farm.render_chunk import check_frames, parse_args
+    from hapticfluid.farm.chunks import check_frames, parse_args
 
     manifest = {"scene": {"frame_start": 1}, "last_frame": 4}
     check_frames([3, 4], manifest, "c")  # baked: no error
