@@ -384,10 +384,19 @@ class LiveController:
             self.drawer.set_workspace_box(*(self.engine.workspace_box or (None, None)))
             self.drawer.set_probe(self.plan.probe_shape)  # the smoke's rays stop at the probe
             self.drawer.set_probe_matrix([list(row) for row in self.probe.matrix_world])
+            # Arrow, label and the smoke's stop at the probe follow the object at every redraw.
+            self.drawer.set_probe_source(self._drawn_probe_matrix)
         # The smoke is drawn inside the domain and hidden by anything in front of it (the scene's
         # depth): a solid domain would hide it all, so it is drawn as wire, as the bake does.
         if self.domain.display_type in ("SOLID", "TEXTURED"):
             self.domain.display_type = "WIRE"
+
+    def _drawn_probe_matrix(self):
+        """The probe object's matrix_world now (what Blender draws it with), or None once deleted."""
+        try:
+            return self.probe.matrix_world
+        except ReferenceError:
+            return None
 
     def _lost_object(self) -> Optional[str]:
         for obj, name, role in ((self.probe, self.probe_name, "probe"), (self.domain, self.domain_name, "domain")):
