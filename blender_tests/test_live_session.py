@@ -247,6 +247,23 @@ def mouse_moves_the_probe_and_record_keys_it():
     check(controller.session.state == "stopped", "stopped")
 
 
+def record_keys_the_path_at_the_record_rate():
+    """Record's keys come at the record rate however rarely Blender ticked while recording: each
+    one on the path performed between the two samples around it (a quaternion on the shorter arc)."""
+    samples = [(10.0, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)),
+               (13.0, (0.3, 0.0, 0.0), (-math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5))),  # 90 deg about z, negated
+               (13.5, (0.3, 0.1, 0.0), (-math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5)))]
+    keys = live_session.resample(samples, 1.0, quaternion=True)
+    check([k[0] for k in keys] == [10.0, 11.0, 12.0, 13.0], f"a key per frame up to the last sample: {keys}")
+    check(all(abs(k[1][0] - 0.1 * (k[0] - 10.0)) < 1e-9 and k[1][1] == 0.0 for k in keys),
+          "locations on the straight path between the samples around each key")
+    w, _, _, z = keys[1][2]
+    check(abs(w * w + z * z - 1.0) < 1e-9 and w > 0.0 and z > 0.0 and abs(math.atan2(z, w) * 2.0 - math.pi / 6) < 0.02,
+          f"a unit quaternion turned a third of the way on the shorter arc: {keys[1][2]}")
+    check(live_session.resample([], 2.0) == [] and len(live_session.resample(samples[:1], 2.0)) == 1,
+          "no samples: no keys; one sample: one key")
+
+
 def mouse_turns_a_mesh_probe_and_record_keys_the_rotation():
     """A box probe turned with R (here: its rotation set, as R does) turns in the fluid: the
     simulation's probe transform is the object's matrix_world, the matrix the bake gives
@@ -503,6 +520,7 @@ def main():
     simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()
+    record_keys_the_path_at_the_record_rate()
     mouse_turns_a_mesh_probe_and_record_keys_the_rotation()
     timeline_drives_a_sphere_probe()
     deleted_objects_and_device_errors_end_it()

@@ -66,7 +66,8 @@ class _Recording:
     fps: float
     interval_s: float
     t0: float
-    last_t: float = -math.inf
+    # (frame, location, rotation) of the object at every tick: the motion performed, as Blender
+    # knew it (a drag moves the object once per pass of the event loop, as often as it redraws)
     samples: List[Tuple[float, Tuple[float, ...], Tuple[float, ...]]] = field(default_factory=list)
 
 
@@ -490,16 +491,18 @@ class LiveController:
 
     def _sample(self, now):
         r = self.recording
-        if now - r.last_t < r.interval_s - 1e-9:
-            return
-        r.last_t = now
         obj = self.probe
         frame = r.start_frame + (now - r.t0) * r.fps
+        if r.samples and frame <= r.samples[-1][0]:
+            return
         r.samples.append((frame, tuple(obj.location), tuple(getattr(obj, r.rotation_path))))
 
     def stop_recording(self) -> int:
-        """Writes the recorded samples as keys (replacing keys in their frame range); returns the
-        number of poses keyed."""
+        """Writes the motion performed as keys at the record rate (replacing keys in their frame
+        range); returns the number of poses keyed. Each key is the pose at its time on the path
+        performed: between two ticks' samples, location and Euler or axis-angle rotation linearly,
+        a quaternion normalized-linearly (live_session.resample), so keys come at the record rate
+        however often Blender redrew while recording."""
         r, self.recording = self.recording, None
         self.live.is_recording = False
         if r is None or not r.samples:
@@ -509,9 +512,10 @@ class LiveController:
             obj.name  # noqa: B018 (raises ReferenceError if it was deleted)
         except ReferenceError:
             return 0
-        write_keys(obj, r.rotation_path, r.samples)
-        self.keys_written += len(r.samples)
-        return len(r.samples)
+        keys = resample(r.samples, r.interval_s * r.fps, quaternion=r.rotation_path == "rotation_quaternion")
+        write_keys(obj, r.rotation_path, keys)
+        self.keys_written += len(keys)
+        return len(keys)
 
     # -- ending ---------------------------------------------------------------------------
     def stop(self, reason: Optional[str] = None) -> Optional[str]:
@@ -553,6 +557,39 @@ def probe_rotation(matrix) -> Tuple[float, float, float, float]:
     y = (cols[1] - cols[1].dot(x) * x).normalized()
     q = Matrix((x, y, x.cross(y))).transposed().to_quaternion()
     return (q.w, q.x, q.y, q.z)
+
+
+def resample(samples, frames_per_key, quaternion=False):
+    """(frame, location, rotation) samples at uneven frames -> the same path at frames
+    samples[0] + k * frames_per_key up to the last sample's frame: linear between the two samples
+    around each, a quaternion rotation (w, x, y, z) normalized-linearly on the shorter arc."""
+    if not samples:
+        return []
+    out = []
+    first, last = samples[0][0], samples[-1][0]
+    i = 0
+    k = 0
+    while True:
+        frame = first + k * frames_per_key
+        if frame > last + 1e-9:
+            break
+        while i + 1 < len(samples) - 1 and samples[i + 1][0] < frame:
+            i += 1
+        a = samples[i]
+        b = samples[min(i + 1, len(samples) - 1)]
+        span = b[0] - a[0]
+        w = 0.0 if span <= 0.0 else min(1.0, max(0.0, (frame - a[0]) / span))
+        location = tuple(x + w * (y - x) for x, y in zip(a[1], b[1]))
+        rb = b[2]
+        if quaternion and sum(x * y for x, y in zip(a[2], rb)) < 0.0:
+            rb = tuple(-y for y in rb)  # the shorter way round
+        rotation = tuple(x + w * (y - x) for x, y in zip(a[2], rb))
+        if quaternion:
+            norm = math.sqrt(sum(c * c for c in rotation)) or 1.0
+            rotation = tuple(c / norm for c in rotation)
+        out.append((frame, location, rotation))
+        k += 1
+    return out
 
 
 def write_keys(obj, rotation_path, samples):
