@@ -106,9 +106,27 @@ def simulated_hand_sweeps_the_probe():
     run.controller.wait_started()
     xs = []
     run_for_seconds(run, 4.5, each=lambda: xs.append(probe.matrix_world.translation.x))
-    live_ops.stop_all()
     # +-0.025 m of the Falcon's workspace mapped onto the 1 m domain (uniform fit): about +-0.3 m.
     check(max(xs) > 0.7 and min(xs) < 0.3, f"the probe sweeps across the domain: x {min(xs):.3f} .. {max(xs):.3f} m")
+    # Record while Blender ticks twice a second (a slow viewport): the keys come from the hand's
+    # poses of every haptic period (the session's trace), not from the ticks alone.
+    c = run.controller
+    c.start_recording()
+    ticks = 0
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < 2.0:
+        time.sleep(0.5)
+        live_ops.tick(run)
+        ticks += 1
+    samples = len(c.recording.samples)
+    seconds = time.monotonic() - t0
+    n = c.stop_recording()
+    live_ops.stop_all()
+    check(samples >= 5 * ticks, f"Record took the hand's poses between ticks ({samples} poses over {ticks} ticks)")
+    check(n >= 0.8 * scene.hapticfluid_live.record_rate * seconds,
+          f"keys at the record rate: {n} in {seconds:.1f} s at {scene.hapticfluid_live.record_rate}/s")
+    keyed = [p.co.y for p in live_session.object_fcurves(probe).find("location", index=0).keyframe_points]
+    check(min(keyed) > 0.1 and max(keyed) < 0.9, f"the keys stay on the sweep: x {min(keyed):.3f} .. {max(keyed):.3f} m")
 
 
 class RecordingDrawer:

@@ -32,7 +32,7 @@ import bpy
 from mathutils import Euler
 
 from support import area, check, clear_objects, close_splash, cube, drive, fail, ico_sphere, invoke, out_dir, \
-    region, remove_on_exit, screenshot, set_roles, uv_sphere, window
+    region, region_screenshot, remove_on_exit, screenshot, set_roles, uv_sphere, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
@@ -281,7 +281,9 @@ def step():
     elif phase == "session" and elapsed() >= MEASURE_S:
         if run is None:
             fail(f"the session ended while measured: {live.status}")
-        screenshot(os.path.join(out_dir(), "live_pace_session.png"))
+        # Read from the region in a forced redraw: the screenshot operator sometimes gave a frame of
+        # the 3D view without any POST_VIEW / POST_PIXEL drawing (not even Blender's own view name).
+        region_screenshot(os.path.join(out_dir(), "live_pace_session.png"))
         stats = session_stats(run)
         stats["snapshots_drawn_hz"] = (run.controller.last_sequence - state["seq0"]) / elapsed()
         if "marches" in stats:

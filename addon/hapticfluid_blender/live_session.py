@@ -30,6 +30,10 @@ log = logging.getLogger(__name__)
 HOST_MODES = ("MOUSE", "TIMELINE")     # the object's transform drives the probe
 DEVICE_MODES = ("FALCON", "SIMULATED_FALCON")  # the device drives the object
 SNAPSHOT_INTERVAL_S = 1.0 / 60.0       # newest fields for the viewport at most this often (wall s)
+# Falcon modes keep the device's poses of every haptic period this long (s) for Record: each tick
+# takes them, so Record keys the hand's path between ticks however rarely Blender ticks.
+TRACE_SECONDS = 5.0
+TRACE_SAMPLES_PER_KEY = 4              # of the trace, Record keeps this many poses per key interval
 STOP_TIMEOUT_S = 10.0                  # stop() waits this long for the simulation's current step
 
 
@@ -130,6 +134,8 @@ def read_plan(scene) -> LivePlan:
         session_args.update(workspace_scale=1.0, workspace_offset=(0.0, 0.0, 0.0))
     elif not live.auto_workspace:
         session_args.update(workspace_scale=live.workspace_scale, workspace_offset=tuple(live.workspace_offset))
+    if live.device in DEVICE_MODES:  # the hand's pose at every haptic period, for Record (_take_trace)
+        session_args.update(trace=True, trace_seconds=TRACE_SECONDS)
     return LivePlan(
         mode=live.device, probe_name=probe.name, resolution=None if live.auto_resolution else live.resolution,
         domain_lo=tuple(lo), domain_hi=tuple(hi), fluid=blender_scene.fluid_dict(scene, bake),
@@ -369,6 +375,7 @@ class LiveController:
             self._check_scale(m)
         else:
             self._follow_device(latest)
+            self._take_trace()
         self._update_drawer(latest)
         self._update_stats(latest)
         if self.recording is not None:
@@ -431,6 +438,31 @@ class LiveController:
         m = self.start_matrix.copy()
         m.translation = world
         self.probe.matrix_world = m
+
+    def _take_trace(self):
+        """Device modes: the device's poses since the last tick (one per haptic period); while
+        recording, those TRACE_SAMPLES_PER_KEY times per key interval become samples of the
+        object's location (device -> world by the workspace map, less the object's parent offset)
+        at their own times, so Record keys the hand's path, not the straight line between ticks.
+        Needs the controller's clock to be the trace's (time.monotonic, CLOCK_MONOTONIC)."""
+        trace = self.session.trace()
+        r = self.recording
+        if r is None or self.clock is not time.monotonic or not len(trace["time"]):
+            return
+        obj = self.probe
+        world_now = obj.matrix_world.translation
+        parent = tuple(world_now[i] - obj.location[i] for i in range(3))  # a parent's translation
+        off, scale = self.session.workspace_offset, self.session.workspace_scale
+        rotation = tuple(getattr(obj, r.rotation_path))  # Falcon modes keep the start rotation
+        spacing = r.interval_s / TRACE_SAMPLES_PER_KEY
+        last_t = r.t0 + (r.samples[-1][0] - r.start_frame) / r.fps if r.samples else -math.inf
+        for t, p in zip(trace["time"], trace["position"]):
+            t = float(t)
+            if t < r.t0 or t < last_t + spacing:
+                continue
+            last_t = t
+            location = tuple(float(off[i] + scale[i] * p[i]) - parent[i] for i in range(3))
+            r.samples.append((r.start_frame + (t - r.t0) * r.fps, location, rotation))
 
     def _update_drawer(self, latest):
         snap = self.session.snapshot()
