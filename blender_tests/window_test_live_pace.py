@@ -32,7 +32,7 @@ import bpy
 from mathutils import Euler
 
 from support import area, check, clear_objects, close_splash, cube, drive, fail, ico_sphere, invoke, out_dir, \
-    region, region_screenshot, remove_on_exit, screenshot, set_roles, uv_sphere, window
+    region, remove_on_exit, screenshot, set_roles, uv_sphere, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
@@ -281,9 +281,11 @@ def step():
     elif phase == "session" and elapsed() >= MEASURE_S:
         if run is None:
             fail(f"the session ended while measured: {live.status}")
-        # Read from the region in a forced redraw: the screenshot operator sometimes gave a frame of
-        # the 3D view without any POST_VIEW / POST_PIXEL drawing (not even Blender's own view name).
-        region_screenshot(os.path.join(out_dir(), "live_pace_session.png"))
+        # Two pictures (here and after Record): the screenshot operator sometimes gives a picture of
+        # the 3D view without any POST_VIEW / POST_PIXEL drawing, Blender's own view name included
+        # (a capture path that skips them, it seems: the session drew in every counted redraw);
+        # region_screenshot gives black in Blender 3.4.
+        screenshot(os.path.join(out_dir(), "live_pace_session.png"))
         stats = session_stats(run)
         stats["snapshots_drawn_hz"] = (run.controller.last_sequence - state["seq0"]) / elapsed()
         if "marches" in stats:
@@ -297,6 +299,7 @@ def step():
         seconds = elapsed()
         path = list(state["path"])
         check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record ends")
+        screenshot(os.path.join(out_dir(), "live_pace_record.png"))
         probe = bpy.data.objects["Probe"]
         fps = scene.render.fps / scene.render.fps_base
         keys = key_positions(probe, state["frame0"], state["frame0"] + (seconds + 1.0) * fps)
