@@ -166,8 +166,37 @@ def probe_for_the_smoke():
     drawer.set_probe(None)
 
 
+def smoke_budget():
+    """The time budget's pure parts: the box of cells the march walks, the next pixel scale and a
+    mesh probe's bounding sphere (the triangle loop runs only for rays through it)."""
+    density = np.zeros((8, 6, 10), np.float32)
+    check(geometry.occupied_cells(density) is None, "no smoke: nothing to march")
+    density[3, 2, 4] = 0.5
+    density[5, 2, 7] = geometry.EMPTY_DENSITY  # at the cut-off: empty
+    cells = geometry.occupied_cells(density)
+    check(cells == ((2, 1, 3), (5, 4, 6)), f"one smoky cell and a cell of margin: {cells}")
+    density[7, 5, 9] = 1.0
+    check(geometry.occupied_cells(density) == ((2, 1, 3), (8, 6, 10)), "the margin stops at the grid's edge")
+    lo, hi = geometry.cells_to_world(((2, 1, 3), (5, 4, 6)), (0.0, 0.0, 0.0), (0.8, 0.6, 1.0), (8, 6, 10))
+    check(np.allclose(lo, (0.2, 0.1, 0.3)) and np.allclose(hi, (0.5, 0.4, 0.6)), f"cells to metres: {lo} {hi}")
+    nxt = geometry.next_pixel_scale
+    check(nxt(0.5, 80.0, 20.0, 0.125, 0.5) == 0.375, "4x over budget: half way to half the pixels per axis")
+    check(nxt(0.25, 1000.0, 20.0, 0.125, 0.5) == 0.125, "never below the lowest scale")
+    check(nxt(0.25, 1.0, 20.0, 0.125, 0.5) == 0.5, "well under budget: back up, not above the highest")
+    check(nxt(0.25, 15.0, 20.0, 0.125, 0.5) == 0.25, "a little under budget: kept (no flicker between scales)")
+    check(nxt(0.25, 0.0, 20.0, 0.125, 0.5) == 0.25, "no measurement: kept")
+    check(nxt(0.25, 30.0, math.inf, 0.125, 0.5) == 0.5, "no budget: the highest scale")
+    check(all(abs(nxt(s, m, 20.0, 0.125, 0.5) / geometry.PIXEL_SCALE_STEP % 1.0) < 1e-9
+              for s in (0.125, 0.3125, 0.5) for m in (3.0, 19.0, 41.0, 300.0)), "scales come in steps")
+    corners = np.array([[1.0, 2.0, 3.0], [1.2, 2.0, 3.0], [1.0, 2.4, 3.0], [1.0, 2.0, 2.6]])
+    cx, cy, cz, r = geometry.bounding_sphere(corners)
+    check(np.allclose((cx, cy, cz), (1.1, 2.2, 2.8)) and all(
+        math.dist((cx, cy, cz), p) <= r for p in corners), f"a bounding sphere holds every corner: {cx, cy, cz, r}")
+
+
 background_no_ops()
 bad_values()
+smoke_budget()
 probe_for_the_smoke()
 box_geometry()
 arrow_geometry()

@@ -106,9 +106,27 @@ def simulated_hand_sweeps_the_probe():
     run.controller.wait_started()
     xs = []
     run_for_seconds(run, 4.5, each=lambda: xs.append(probe.matrix_world.translation.x))
-    live_ops.stop_all()
     # +-0.025 m of the Falcon's workspace mapped onto the 1 m domain (uniform fit): about +-0.3 m.
     check(max(xs) > 0.7 and min(xs) < 0.3, f"the probe sweeps across the domain: x {min(xs):.3f} .. {max(xs):.3f} m")
+    # Record while Blender ticks twice a second (a slow viewport): the keys come from the hand's
+    # poses of every haptic period (the session's trace), not from the ticks alone.
+    c = run.controller
+    c.start_recording()
+    ticks = 0
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < 2.0:
+        time.sleep(0.5)
+        live_ops.tick(run)
+        ticks += 1
+    samples = len(c.recording.samples)
+    seconds = time.monotonic() - t0
+    n = c.stop_recording()
+    live_ops.stop_all()
+    check(samples >= 5 * ticks, f"Record took the hand's poses between ticks ({samples} poses over {ticks} ticks)")
+    check(n >= 0.8 * scene.hapticfluid_live.record_rate * seconds,
+          f"keys at the record rate: {n} in {seconds:.1f} s at {scene.hapticfluid_live.record_rate}/s")
+    keyed = [p.co.y for p in live_session.object_fcurves(probe).find("location", index=0).keyframe_points]
+    check(min(keyed) > 0.1 and max(keyed) < 0.9, f"the keys stay on the sweep: x {min(keyed):.3f} .. {max(keyed):.3f} m")
 
 
 class RecordingDrawer:
@@ -245,6 +263,23 @@ def mouse_moves_the_probe_and_record_keys_it():
     check(abs(loc_x[40.0] - 0.45) < 1e-6, "the key outside the range keeps its value")
     controller.stop()
     check(controller.session.state == "stopped", "stopped")
+
+
+def record_keys_the_path_at_the_record_rate():
+    """Record's keys come at the record rate however rarely Blender ticked while recording: each
+    one on the path performed between the two samples around it (a quaternion on the shorter arc)."""
+    samples = [(10.0, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)),
+               (13.0, (0.3, 0.0, 0.0), (-math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5))),  # 90 deg about z, negated
+               (13.5, (0.3, 0.1, 0.0), (-math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5)))]
+    keys = live_session.resample(samples, 1.0, quaternion=True)
+    check([k[0] for k in keys] == [10.0, 11.0, 12.0, 13.0], f"a key per frame up to the last sample: {keys}")
+    check(all(abs(k[1][0] - 0.1 * (k[0] - 10.0)) < 1e-9 and k[1][1] == 0.0 for k in keys),
+          "locations on the straight path between the samples around each key")
+    w, _, _, z = keys[1][2]
+    check(abs(w * w + z * z - 1.0) < 1e-9 and w > 0.0 and z > 0.0 and abs(math.atan2(z, w) * 2.0 - math.pi / 6) < 0.02,
+          f"a unit quaternion turned a third of the way on the shorter arc: {keys[1][2]}")
+    check(live_session.resample([], 2.0) == [] and len(live_session.resample(samples[:1], 2.0)) == 1,
+          "no samples: no keys; one sample: one key")
 
 
 def mouse_turns_a_mesh_probe_and_record_keys_the_rotation():
@@ -503,6 +538,7 @@ def main():
     simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()
+    record_keys_the_path_at_the_record_rate()
     mouse_turns_a_mesh_probe_and_record_keys_the_rotation()
     timeline_drives_a_sphere_probe()
     deleted_objects_and_device_errors_end_it()

@@ -25,6 +25,9 @@ from support import (OVERLAY_ONLY_SCREENSHOTS, area, check, clear_objects, cube,
 from hapticfluid_blender import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
 from hapticfluid_blender import live_draw_geometry as geometry  # noqa: E402
 
+# The pictures compared here (texelFetch against texture(), scaled against full resolution) must
+# be marched at one pixel scale: no time budget (window_test_live_pace.py measures the budget).
+live_draw_gpu.SOFTWARE_SMOKE_BUDGET_MS = math.inf
 OUT = out_dir()
 LO, HI = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
 PROBE = (0.33, 0.5, 0.55)

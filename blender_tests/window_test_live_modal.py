@@ -72,7 +72,10 @@ def step():
             from hapticfluid_blender import live_session
 
             fc = live_session.object_fcurves(probe).find("location", index=0)
-            check(fc is not None and len(fc.keyframe_points) == n, f"one key per recorded tick ({n})")
+            keyed = running().controller.keys_written
+            span_s = (recording.samples[-1][0] - recording.samples[0][0]) / recording.fps
+            check(fc is not None and len(fc.keyframe_points) == keyed and keyed >= int(span_s * live.record_rate),
+                  f"keys at the record rate over the {n} ticks recorded ({keyed} keys in {span_s:.2f} s)")
             win = window()
             win.event_simulate(type="ESC", value="PRESS")
             win.event_simulate(type="ESC", value="RELEASE")

@@ -13,6 +13,7 @@ exp(-density_scale * density * path_m)).
 
 import logging
 import math
+import time
 
 import bpy
 import numpy as np
@@ -69,7 +70,14 @@ class LiveDrawer:
         self.uploads = 0
         self.sampling = None                    # "texture" or "texelFetch" once the shader is made
         self.smoke_pixel_scale = None           # fraction of the view's pixels (per axis) raymarched
-        self._offscreens = {}                   # (width, height) -> GPUOffScreen of the smoke at that scale
+        self.step_factor = 1.0                  # march step / STEP_FRACTION_OF_CELL (>= 1: fewer samples)
+        self.marches = 0                        # smoke images raymarched (the rest of the redraws reuse one)
+        self.march_ms = 0.0                     # wall ms of the latest timed march (software renderer)
+        self._max_pixel_scale = None            # live_draw_gpu.smoke_pixel_scale(): < 1 on a software renderer
+        self._occupied = None                   # occupied_cells of the uploaded density (None: no smoke)
+        self._images = {}                       # region pointer -> {"offscreen", "key"}: the smoke at scale
+        self._probe_source = None               # callable -> the probe's matrix_world now (drawn pose)
+        self._drawn_pose = None                 # that matrix (numpy 4x4) as read in this redraw
 
     # ---- handlers
 
@@ -96,7 +104,7 @@ class LiveDrawer:
         self._texture = None
         self._probe_texture = None
         self._probe_dirty = self._probe is not None
-        self._offscreens = {}
+        self._images = {}
         self._buffers = {}
         if self._density is not None:
             self._dirty = True  # upload again if added again
@@ -157,7 +165,8 @@ class LiveDrawer:
                 raise ValueError(f"shape radius must be a positive number of metres, got {shape.get('radius')!r}")
             self._probe = ("sphere", radius)
         elif shape.get("shape") == "mesh":
-            self._probe = ("mesh", geometry.probe_triangle_texels(shape["vertices"], shape["triangles"]))
+            texels = geometry.probe_triangle_texels(shape["vertices"], shape["triangles"])
+            self._probe = ("mesh", texels, geometry.bounding_sphere(texels[:, :3]))
         else:
             raise ValueError(f"shape must be a probe shape dict ('sphere' or 'mesh'), got {shape.get('shape')!r}")
         self._probe_dirty = True
@@ -171,6 +180,17 @@ class LiveDrawer:
         if self._probe_matrix is None or not np.array_equal(m, self._probe_matrix):
             self._probe_matrix = m
             self._redraw()
+
+    def set_probe_source(self, source):
+        """source: a callable (main thread) returning the probe's matrix_world now (4x4 rows or a
+        mathutils Matrix), or None to stop. It is read at every redraw: the force arrow, its label
+        and the smoke's stop at the probe are then drawn from the pose Blender draws the probe with
+        in that redraw, not from where it was at the last set_force / set_probe_matrix (which stay
+        in use while source is None or returns None)."""
+        if source is not None and not callable(source):
+            raise ValueError(f"source must be a callable returning a 4x4 matrix or None, got {source!r}")
+        self._probe_source = source
+        self._redraw()
 
     def set_workspace_box(self, lo_m, hi_m_or_None):
         """The haptic device's workspace in the world (m) as a wire box; hi None hides it."""
@@ -203,20 +223,44 @@ class LiveDrawer:
             return FALLBACK_DIAGONAL_M
         return math.dist(self._lo, self._hi)
 
+    def _read_drawn_pose(self):
+        """The probe's matrix_world in this redraw, from the probe source (None without one)."""
+        self._drawn_pose = None
+        if self._probe_source is None:
+            return
+        try:
+            m = self._probe_source()
+        except ReferenceError:  # the object was deleted: the session ends at its next tick
+            return
+        if m is None:
+            return
+        m = np.asarray([list(row) for row in m], dtype=np.float64)
+        if m.shape == (4, 4) and np.isfinite(m).all() and abs(np.linalg.det(m[:3, :3])) >= 1e-12:
+            self._drawn_pose = m
+            self._probe_matrix = m
+
+    def _arrow_origin(self):
+        origin = self._force[0]
+        if self._drawn_pose is not None:
+            origin = tuple(float(c) for c in self._drawn_pose[:3, 3])
+        return origin
+
     def _draw_view(self):
         if self._failed:
             return
         saved = live_draw_gpu.SavedState()
         try:
             self.frames_drawn += 1
+            self._read_drawn_pose()
             if self._gpu is None:
                 hardware_filter = live_draw_gpu.samples_linearly()
                 self.sampling = "texture" if hardware_filter else "texelFetch"
                 log.debug("smoke texture sampling: %s", self.sampling)
-                self.smoke_pixel_scale = live_draw_gpu.smoke_pixel_scale()
+                self._max_pixel_scale = live_draw_gpu.smoke_pixel_scale()
+                self.smoke_pixel_scale = self._max_pixel_scale
+                self.step_factor = 1.0
                 self._gpu = {
-                    "volume": live_draw_gpu.volume_shader(hardware_filter),
-                    "composite": live_draw_gpu.composite_shader(),
+                    "hardware_filter": hardware_filter,
                     "flat": live_draw_gpu.builtin_shader('UNIFORM_COLOR', '3D_UNIFORM_COLOR'),
                     "smooth": live_draw_gpu.builtin_shader('SMOOTH_COLOR', '3D_SMOOTH_COLOR'),
                 }
@@ -238,37 +282,49 @@ class LiveDrawer:
         packed = geometry.pack_field(self._density, self._temperature, cell_height)
         self._texture = live_draw_gpu.texture_3d(packed, self._buffers)
         self._texture_has_temperature = self._temperature is not None
+        self._occupied = geometry.occupied_cells(self._density)
         self._dirty = False
         self.uploads += 1
 
+    def _ray_shader(self, name):
+        """The smoke ("volume") or composite shader for the current probe's kind (made once each)."""
+        kind = live_draw_gpu.PROBE_KINDS[self._probe[0] if self._probe is not None and
+                                         self._probe_matrix is not None else None]
+        key = (name, kind)
+        shader = self._gpu.get(key)
+        if shader is None:
+            if name == "volume":
+                shader = live_draw_gpu.volume_shader(self._gpu["hardware_filter"], kind)
+            else:
+                shader = live_draw_gpu.composite_shader(kind)
+            self._gpu[key] = shader
+        return shader
+
     def _probe_uniforms(self, shader):
-        """The probe's uniforms and triangle texture for _RAY_GLSL (a 1-texel dummy without a mesh)."""
+        """The probe's uniforms and triangle texture for _RAY_GLSL, those of the shader's probe kind
+        only (the others are compiled out, and setting a missing uniform raises)."""
         from mathutils import Matrix
 
+        if self._probe is None or self._probe_matrix is None:
+            return
+        m = self._probe_matrix
+        if self._probe[0] == "sphere":
+            shader.uniform_float("probe_sphere", (*m[:3, 3], geometry.sphere_radius_world(self._probe[1], m)))
+            return
         if self._probe_dirty or self._probe_texture is None:
-            texels = self._probe[1] if self._probe is not None and self._probe[0] == "mesh" else np.zeros((1, 4))
-            self._probe_texture = live_draw_gpu.probe_texture(texels)
+            self._probe_texture = live_draw_gpu.probe_texture(self._probe[1])
             self._probe_dirty = False
-        kind, count, sphere, inv = 0.0, 0.0, (0.0, 0.0, 0.0, 0.0), np.eye(4)
-        if self._probe is not None and self._probe_matrix is not None:
-            m = self._probe_matrix
-            if self._probe[0] == "sphere":
-                kind = 1.0
-                sphere = (*m[:3, 3], geometry.sphere_radius_world(self._probe[1], m))
-            else:
-                kind, count = 2.0, float(len(self._probe[1]) // 3)
-                inv = np.linalg.inv(m)
-        shader.uniform_float("probe_inv", Matrix(inv.tolist()))
-        shader.uniform_float("probe_sphere", sphere)
-        shader.uniform_float("probe_params", (kind, count, 0.0, 0.0))
+        shader.uniform_float("probe_inv", Matrix(np.linalg.inv(m).tolist()))
+        shader.uniform_float("probe_params", (2.0, float(len(self._probe[1]) // 3), 0.0, 0.0))
+        shader.uniform_float("probe_bound", self._probe[2])
         shader.uniform_sampler("probe_tris", self._probe_texture)
 
     def _draw_smoke(self):
         import gpu
         from gpu_extras.batch import batch_for_shader
 
-        if self._texture is None or self._lo is None or self.density_scale <= 0.0:
-            return
+        if self._texture is None or self._lo is None or self.density_scale <= 0.0 or self._occupied is None:
+            return  # nothing to draw: no field, no domain, transparent smoke or no cell holding smoke
         rv3d = bpy.context.region_data
         if rv3d is None:
             return
@@ -280,7 +336,8 @@ class LiveDrawer:
             eye = (*forward, 0.0)
         hot = self.show_temperature and self._texture_has_temperature
         temp_ref = self._temperature_ref_k if hot else 0.0
-        shader = self._gpu["volume"]
+        smoke_lo, smoke_hi = geometry.cells_to_world(self._occupied, self._lo, self._hi, self._density.shape)
+        shader = self._ray_shader("volume")
         corners = geometry.box_corners(self._lo, self._hi)
         batch = batch_for_shader(shader, 'TRIS', {"pos": corners}, indices=geometry.BOX_TRIANGLES)
 
@@ -298,37 +355,76 @@ class LiveDrawer:
             gpu.state.depth_mask_set(False)
             gpu.state.face_culling_set('FRONT')  # back faces: where each ray leaves the box
             ray_uniforms(shader)
-            shader.uniform_float("params", (self.density_scale, temp_ref, 0.0, 0.0))
+            shader.uniform_float("params", (self.density_scale, temp_ref, self.step_factor, 0.0))
+            shader.uniform_float("smoke_lo", (*smoke_lo, 0.0))
+            shader.uniform_float("smoke_hi", (*smoke_hi, 0.0))
             shader.uniform_sampler("field_tex", self._texture)
             batch.draw(shader)
             gpu.state.face_culling_set('NONE')
 
         region = bpy.context.region
-        if self.smoke_pixel_scale >= 1.0 or region is None:
+        if self._max_pixel_scale >= 1.0 or region is None:
             gpu.state.blend_set('ALPHA_PREMULT')
             march('LESS_EQUAL')
+            self.marches += 1
             return
-        size = (max(1, math.ceil(region.width * self.smoke_pixel_scale)),
-                max(1, math.ceil(region.height * self.smoke_pixel_scale)))
-        offscreen = self._offscreens.get(size)  # one per view size: several viewports do not thrash
-        if offscreen is None:
-            if len(self._offscreens) >= 4:
-                self._offscreens.clear()
-            offscreen = self._offscreens[size] = gpu.types.GPUOffScreen(*size)
-        with offscreen.bind():
-            gpu.state.active_framebuffer_get().clear(color=(0.0, 0.0, 0.0, 0.0))
-            gpu.state.blend_set('NONE')  # one back face per pixel: premultiplied colour as is
-            march('NONE')  # the offscreen has no scene depth: the composite tests it
-        composite = self._gpu["composite"]
+        # The software path: the smoke image at a fraction of the pixels, kept per region and
+        # marched again only for new fields, another view, a moved probe or other display settings.
+        image = self._smoke_image(region)
+        key = (self.uploads, tuple(tuple(row) for row in rv3d.perspective_matrix), region.width, region.height,
+               None if self._probe_matrix is None else self._probe_matrix.tobytes(), self.density_scale, temp_ref)
+        if image["key"] != key:
+            # Timed on the software renderer's threads: Blender's drawing so far is finished first
+            # (a one-pixel read waits for it), so the read after the march waits for the march alone.
+            gpu.state.active_framebuffer_get().read_color(0, 0, 1, 1, 4, 0, 'FLOAT')
+            t0 = time.perf_counter()
+            with image["offscreen"].bind():
+                fb = gpu.state.active_framebuffer_get()
+                fb.clear(color=(0.0, 0.0, 0.0, 0.0))
+                gpu.state.blend_set('NONE')  # one back face per pixel: premultiplied colour as is
+                march('NONE')  # the offscreen has no scene depth: the composite tests it
+                fb.read_color(0, 0, 1, 1, 4, 0, 'FLOAT')
+            image["key"] = key
+            self.marches += 1
+            self.march_ms = 1e3 * (time.perf_counter() - t0)
+            self._adapt_budget(self.march_ms)
+        composite = self._ray_shader("composite")
         faces = batch_for_shader(composite, 'TRIS', {"pos": corners}, indices=geometry.BOX_TRIANGLES)
         gpu.state.blend_set('ALPHA_PREMULT')
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(False)
         gpu.state.face_culling_set('FRONT')
         ray_uniforms(composite)
-        composite.uniform_sampler("image", offscreen.texture_color)
+        composite.uniform_sampler("image", image["offscreen"].texture_color)
         faces.draw(composite)
         gpu.state.face_culling_set('NONE')
+
+    def _smoke_image(self, region):
+        """This region's smoke image, its offscreen sized to the current pixel scale."""
+        import gpu
+
+        size = (max(1, math.ceil(region.width * self.smoke_pixel_scale)),
+                max(1, math.ceil(region.height * self.smoke_pixel_scale)))
+        ptr = region.as_pointer()
+        image = self._images.get(ptr)
+        if image is None or (image["offscreen"].width, image["offscreen"].height) != size:
+            if image is None and len(self._images) >= 4:  # regions come and go: keep a few
+                self._images.clear()
+            image = self._images[ptr] = {"offscreen": gpu.types.GPUOffScreen(*size), "key": None}
+        return image
+
+    def _adapt_budget(self, march_ms):
+        """Fewer pixels while a march costs more than the budget, then fewer samples (longer steps);
+        back up in the reverse order when it costs well under it."""
+        budget = live_draw_gpu.SOFTWARE_SMOKE_BUDGET_MS
+        lowest = live_draw_gpu.SOFTWARE_SMOKE_MIN_PIXEL_SCALE
+        scale = geometry.next_pixel_scale(self.smoke_pixel_scale, march_ms, budget, lowest, self._max_pixel_scale)
+        if march_ms > budget and scale <= lowest and self.smoke_pixel_scale <= lowest:
+            self.step_factor = min(live_draw_gpu.SOFTWARE_SMOKE_MAX_STEP_FACTOR, self.step_factor * 1.25)
+        elif march_ms < 0.5 * budget and self.step_factor > 1.0:
+            self.step_factor = max(1.0, self.step_factor / 1.25)
+            scale = min(scale, self.smoke_pixel_scale)  # samples come back before pixels
+        self.smoke_pixel_scale = scale
 
     def _draw_workspace(self):
         import gpu
@@ -352,8 +448,8 @@ class LiveDrawer:
 
         if self._force is None:
             return
-        origin, force, max_force = self._force
-        mesh = geometry.arrow_mesh(origin, force, max_force, self._diagonal())
+        _, force, max_force = self._force
+        mesh = geometry.arrow_mesh(self._arrow_origin(), force, max_force, self._diagonal())
         if mesh is None:
             return
         positions, colours, _ = mesh
@@ -375,7 +471,8 @@ class LiveDrawer:
         region, rv3d = bpy.context.region, bpy.context.region_data
         if region is None or rv3d is None:
             return
-        origin, force, max_force = self._force
+        _, force, max_force = self._force
+        origin = self._arrow_origin()  # the pose _draw_view read in this redraw
         magnitude = math.sqrt(sum(c * c for c in force))
         mesh = geometry.arrow_mesh(origin, force, max_force, self._diagonal())
         anchor = mesh[2] if mesh is not None else origin

@@ -173,6 +173,62 @@ def probe_triangle_texels(vertices, triangles):
     return np.concatenate([corners, np.ones((len(corners), 1), np.float32)], axis=1).astype(np.float32)
 
 
+def bounding_sphere(points):
+    """A sphere holding every point (n, 3): the centre of their box and the farthest point's
+    distance from it, a hair larger (float32 rounding in the shader): (x, y, z, radius)."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    centre = 0.5 * (p.min(axis=0) + p.max(axis=0))
+    radius = float(np.sqrt(((p - centre) ** 2).sum(axis=1).max()))
+    return (*(float(c) for c in centre), radius * (1.0 + 1e-4) + 1e-6)
+
+
 def sphere_radius_world(radius_local, matrix):
     """A sphere probe's radius in the world: the engine's rule (the largest column scale)."""
     return radius_local * max(math.sqrt(sum(matrix[r][c] ** 2 for r in range(3))) for c in range(3))
+
+
+# --- the smoke's time budget (live_draw.LiveDrawer on a software renderer) ----------------------
+
+# Density at or below this is empty space: the march skips it (the shader's own cut-off).
+EMPTY_DENSITY = 1e-4
+# Pixel scales (fraction of the view's pixels per axis) come in steps of this, so the offscreen
+# image is not remade for every small change of the budget.
+PIXEL_SCALE_STEP = 1.0 / 16.0
+
+
+def occupied_cells(density, threshold=EMPTY_DENSITY):
+    """The box of cells holding smoke, one cell of margin (trilinear filtering reaches half a
+    cell past a cell's centre): ((x0, y0, z0), (x1, y1, z1)) as cell indices, x1 exclusive, or None
+    when no cell holds more than threshold. The march only walks the rays' part inside it."""
+    full = np.asarray(density) > threshold
+    if not full.any():
+        return None
+    lo, hi = [], []
+    for axis in range(3):
+        others = tuple(a for a in range(3) if a != axis)
+        idx = np.flatnonzero(full.any(axis=others))
+        lo.append(max(0, int(idx[0]) - 1))
+        hi.append(min(full.shape[axis], int(idx[-1]) + 2))
+    return tuple(lo), tuple(hi)
+
+
+def cells_to_world(cells, lo_m, hi_m, shape):
+    """occupied_cells' box in the world (m) for a grid of shape filling the box lo_m..hi_m."""
+    (c0, c1) = cells
+    size = [(hi_m[a] - lo_m[a]) / shape[a] for a in range(3)]
+    return (tuple(lo_m[a] + c0[a] * size[a] for a in range(3)), tuple(lo_m[a] + c1[a] * size[a] for a in range(3)))
+
+
+def next_pixel_scale(scale, march_ms, budget_ms, lowest, highest):
+    """The pixel scale for the next march from the last one's cost: the march's cost goes with
+    the rays, scale^2, so scale * sqrt(budget / cost), moved half way (one slow frame on a busy
+    machine does not halve the picture), in steps of PIXEL_SCALE_STEP within [lowest, highest]."""
+    if not (march_ms > 0.0 and budget_ms > 0.0):
+        return scale
+    wanted = scale * math.sqrt(budget_ms / march_ms)
+    if not math.isfinite(wanted):  # no budget (math.inf): the highest scale
+        return float(highest)
+    step = PIXEL_SCALE_STEP
+    moved = scale + 0.5 * (wanted - scale)
+    moved = math.floor(moved / step + 0.5) * step if moved < scale else math.floor(moved / step) * step
+    return float(min(highest, max(lowest, moved)))

@@ -7,9 +7,14 @@ import numpy as np
 # Raymarch step as a fraction of the smallest cell edge, and the most steps per ray.
 STEP_FRACTION_OF_CELL = 0.75
 MAX_STEPS = 384
-# On a software renderer the smoke is raymarched at this fraction of the view's pixels (per axis)
-# and scaled up (bilinear): a quarter of the rays; smoke is soft, the arrow and box stay sharp.
+# On a software renderer the smoke is raymarched at most at this fraction of the view's pixels (per
+# axis) and scaled up (bilinear): smoke is soft, the arrow and box stay sharp. The drawer lowers
+# the fraction down to SOFTWARE_SMOKE_MIN_PIXEL_SCALE, then lengthens the steps up to
+# SOFTWARE_SMOKE_MAX_STEP_FACTOR x, while a march costs more than SOFTWARE_SMOKE_BUDGET_MS.
 SOFTWARE_SMOKE_PIXEL_SCALE = 0.5
+SOFTWARE_SMOKE_MIN_PIXEL_SCALE = 0.125
+SOFTWARE_SMOKE_MAX_STEP_FACTOR = 2.0
+SOFTWARE_SMOKE_BUDGET_MS = 20.0
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swiftshader", "software rasterizer")
 # Smoke colour lit from straight above and in its own shadow (linear RGB).
 SMOKE_LIT_RGB = (0.97, 0.96, 0.93)
@@ -48,19 +53,27 @@ void view_ray(out vec3 origin, out vec3 dir)
   }
 }
 
-vec2 box_span(vec3 origin, vec3 dir)
+vec2 span_of(vec3 lo, vec3 hi, vec3 origin, vec3 dir)
 {
   vec3 inv = 1.0 / dir;
-  vec3 t0 = (box_lo.xyz - origin) * inv, t1 = (box_hi.xyz - origin) * inv;
+  vec3 t0 = (lo - origin) * inv, t1 = (hi - origin) * inv;
   vec3 tmin3 = min(t0, t1), tmax3 = max(t0, t1);
   return vec2(max(max(max(tmin3.x, tmin3.y), tmin3.z), 0.0), min(min(tmax3.x, tmax3.y), tmax3.z));
 }
 
+vec2 box_span(vec3 origin, vec3 dir)
+{
+  return span_of(box_lo.xyz, box_hi.xyz, origin, dir);
+}
+
+/* PROBE_KIND (0 none, 1 sphere, 2 mesh) is compiled in: a software renderer runs every branch
+   of a fragment shader for all its pixels, so the mesh's triangle loop, left in a sphere's shader
+   even untaken, cost ~1 CPU-s per 1280x800 redraw on llvmpipe (measured: window_test_live_pace). */
 float probe_hit(vec3 origin, vec3 dir, float t_max)
 {
   float best = t_max;
-  int kind = int(probe_params.x + 0.5);
-  if (kind == 1) {
+#if PROBE_KIND == 1
+  {
     vec3 oc = origin - probe_sphere.xyz;
     float b = dot(oc, dir);
     float c = dot(oc, oc) - probe_sphere.w * probe_sphere.w;
@@ -75,9 +88,16 @@ float probe_hit(vec3 origin, vec3 dir, float t_max)
       }
     }
   }
-  else if (kind == 2) {
-    vec3 o = (probe_inv * vec4(origin, 1.0)).xyz;
-    vec3 d = mat3(probe_inv) * dir;
+#endif
+#if PROBE_KIND == 2
+  vec3 o = (probe_inv * vec4(origin, 1.0)).xyz;
+  vec3 d = mat3(probe_inv) * dir;
+  /* The triangles only for rays through the mesh's bounding sphere (local frame): a software
+     renderer then loops over them for the pixels near the probe only. */
+  vec3 oc = o - probe_bound.xyz;
+  float qa = dot(d, d), qb = dot(oc, d), qc = dot(oc, oc) - probe_bound.w * probe_bound.w;
+  float qh = qb * qb - qa * qc;
+  if (qh >= 0.0 && -qb + sqrt(qh) >= 0.0) {
     int n = int(probe_params.y + 0.5);
     for (int i = 0; i < n; i++) {
       vec3 a = texelFetch(probe_tris, ivec2(3 * i, 0), 0).xyz;
@@ -105,6 +125,7 @@ float probe_hit(vec3 origin, vec3 dir, float t_max)
       }
     }
   }
+#endif
   return best;
 }
 
@@ -164,8 +185,12 @@ void main()
   float t_out = smoke_end(origin, dir, span.x, span.y, depth);
   gl_FragDepth = depth;
 
+  /* Empty-space skipping: only the ray's part inside the box of cells that hold smoke. */
+  vec2 occupied = span_of(smoke_lo.xyz, smoke_hi.xyz, origin, dir);
+  t_in = max(t_in, occupied.x);
+  t_out = min(t_out, occupied.y);
   vec3 cell = size / vec3(textureSize(field_tex, 0));
-  float dt = STEP_FRACTION * min(min(cell.x, cell.y), cell.z);
+  float dt = STEP_FRACTION * max(params.z, 1.0) * min(min(cell.x, cell.y), cell.z);
   float jitter = fract(sin(dot(gl_FragCoord.xy, vec2(12.9898, 78.233))) * 43758.5453);
   float t = t_in + jitter * dt;
   float sigma = params.x;
@@ -215,8 +240,9 @@ def builtin_shader(*names):
 DEPTH_BIAS_M = 1e-3
 
 
-def _ray_info(name):
-    """Create-info with what _RAY_GLSL reads: the box, the eye, the probe, the back-face vertex."""
+def _ray_info(name, probe_kind):
+    """Create-info with what _RAY_GLSL reads: the box, the eye, the probe, the back-face vertex;
+    probe_kind: 0 no probe, 1 sphere, 2 mesh (PROBE_KINDS), compiled in."""
     import gpu
 
     iface = gpu.types.GPUStageInterfaceInfo(name)
@@ -229,6 +255,7 @@ def _ray_info(name):
     info.push_constant('VEC4', "eye")           # xyz: eye (w = 1, perspective) or view direction (w = 0)
     info.push_constant('VEC4', "probe_sphere")  # centre (m), radius (m)
     info.push_constant('VEC4', "probe_params")  # x: 0 no probe, 1 sphere, 2 mesh; y: mesh triangles
+    info.push_constant('VEC4', "probe_bound")   # the mesh's bounding sphere, local: centre (m), radius (m)
     info.sampler(1, 'FLOAT_2D', "probe_tris")   # mesh corners (local m), 3 texels per triangle
     info.vertex_in(0, 'VEC3', "pos")
     info.vertex_out(iface)
@@ -239,14 +266,22 @@ def _ray_info(name):
     if hasattr(info, "depth_write"):
         info.depth_write('ANY')
     info.define("DEPTH_BIAS_M", f"{DEPTH_BIAS_M:.6f}")
+    info.define("PROBE_KIND", str(int(probe_kind)))
     return info
 
 
-def volume_shader(hardware_filter=False):
+# The probe shapes a ray shader is compiled for (probe_params.x and PROBE_KIND).
+PROBE_KINDS = {None: 0, "sphere": 1, "mesh": 2}
+
+
+def volume_shader(hardware_filter=False, probe_kind=0):
     import gpu
 
-    info = _ray_info("hapticfluid_smoke_iface")
-    info.push_constant('VEC4', "params")   # x: extinction 1/m per unit density, y: temperature ref K
+    info = _ray_info("hapticfluid_smoke_iface", probe_kind)
+    info.push_constant('VEC4', "params")   # x: extinction 1/m per unit density, y: temperature ref K,
+    #                                          z: step length factor (>= 1: fewer samples per ray)
+    info.push_constant('VEC4', "smoke_lo")  # the box of cells holding smoke (m): rays march only inside it
+    info.push_constant('VEC4', "smoke_hi")
     info.sampler(0, 'FLOAT_3D', "field_tex")  # RGBA: density, optical depth above, temperature, 0
     info.define("MAX_STEPS", str(MAX_STEPS))
     info.define("LIT_COLOR", "vec3(%.3f, %.3f, %.3f)" % SMOKE_LIT_RGB)
@@ -285,10 +320,10 @@ void main()
 """
 
 
-def composite_shader():
+def composite_shader(probe_kind=0):
     import gpu
 
-    info = _ray_info("hapticfluid_composite_iface")
+    info = _ray_info("hapticfluid_composite_iface", probe_kind)
     info.sampler(0, 'FLOAT_2D', "image")
     info.vertex_source(_VOLUME_VERT)
     info.fragment_source(_RAY_GLSL + _COMPOSITE_FRAG)

@@ -30,6 +30,10 @@ log = logging.getLogger(__name__)
 HOST_MODES = ("MOUSE", "TIMELINE")     # the object's transform drives the probe
 DEVICE_MODES = ("FALCON", "SIMULATED_FALCON")  # the device drives the object
 SNAPSHOT_INTERVAL_S = 1.0 / 60.0       # newest fields for the viewport at most this often (wall s)
+# Falcon modes keep the device's poses of every haptic period this long (s) for Record: each tick
+# takes them, so Record keys the hand's path between ticks however rarely Blender ticks.
+TRACE_SECONDS = 5.0
+TRACE_SAMPLES_PER_KEY = 4              # of the trace, Record keeps this many poses per key interval
 STOP_TIMEOUT_S = 10.0                  # stop() waits this long for the simulation's current step
 
 
@@ -66,7 +70,8 @@ class _Recording:
     fps: float
     interval_s: float
     t0: float
-    last_t: float = -math.inf
+    # (frame, location, rotation) of the object at every tick: the motion performed, as Blender
+    # knew it (a drag moves the object once per pass of the event loop, as often as it redraws)
     samples: List[Tuple[float, Tuple[float, ...], Tuple[float, ...]]] = field(default_factory=list)
 
 
@@ -129,6 +134,8 @@ def read_plan(scene) -> LivePlan:
         session_args.update(workspace_scale=1.0, workspace_offset=(0.0, 0.0, 0.0))
     elif not live.auto_workspace:
         session_args.update(workspace_scale=live.workspace_scale, workspace_offset=tuple(live.workspace_offset))
+    if live.device in DEVICE_MODES:  # the hand's pose at every haptic period, for Record (_take_trace)
+        session_args.update(trace=True, trace_seconds=TRACE_SECONDS)
     return LivePlan(
         mode=live.device, probe_name=probe.name, resolution=None if live.auto_resolution else live.resolution,
         domain_lo=tuple(lo), domain_hi=tuple(hi), fluid=blender_scene.fluid_dict(scene, bake),
@@ -360,6 +367,7 @@ class LiveController:
             self._check_scale(m)
         else:
             self._follow_device(latest)
+            self._take_trace()
         self._update_drawer(latest)
         self._update_stats(latest)
         if self.recording is not None:
@@ -376,10 +384,19 @@ class LiveController:
             self.drawer.set_workspace_box(*(self.engine.workspace_box or (None, None)))
             self.drawer.set_probe(self.plan.probe_shape)  # the smoke's rays stop at the probe
             self.drawer.set_probe_matrix([list(row) for row in self.probe.matrix_world])
+            # Arrow, label and the smoke's stop at the probe follow the object at every redraw.
+            self.drawer.set_probe_source(self._drawn_probe_matrix)
         # The smoke is drawn inside the domain and hidden by anything in front of it (the scene's
         # depth): a solid domain would hide it all, so it is drawn as wire, as the bake does.
         if self.domain.display_type in ("SOLID", "TEXTURED"):
             self.domain.display_type = "WIRE"
+
+    def _drawn_probe_matrix(self):
+        """The probe object's matrix_world now (what Blender draws it with), or None once deleted."""
+        try:
+            return self.probe.matrix_world
+        except ReferenceError:
+            return None
 
     def _lost_object(self) -> Optional[str]:
         for obj, name, role in ((self.probe, self.probe_name, "probe"), (self.domain, self.domain_name, "domain")):
@@ -413,6 +430,31 @@ class LiveController:
         m = self.start_matrix.copy()
         m.translation = world
         self.probe.matrix_world = m
+
+    def _take_trace(self):
+        """Device modes: the device's poses since the last tick (one per haptic period); while
+        recording, those TRACE_SAMPLES_PER_KEY times per key interval become samples of the
+        object's location (device -> world by the workspace map, less the object's parent offset)
+        at their own times, so Record keys the hand's path, not the straight line between ticks.
+        Needs the controller's clock to be the trace's (time.monotonic, CLOCK_MONOTONIC)."""
+        trace = self.session.trace()
+        r = self.recording
+        if r is None or self.clock is not time.monotonic or not len(trace["time"]):
+            return
+        obj = self.probe
+        world_now = obj.matrix_world.translation
+        parent = tuple(world_now[i] - obj.location[i] for i in range(3))  # a parent's translation
+        off, scale = self.session.workspace_offset, self.session.workspace_scale
+        rotation = tuple(getattr(obj, r.rotation_path))  # Falcon modes keep the start rotation
+        spacing = r.interval_s / TRACE_SAMPLES_PER_KEY
+        last_t = r.t0 + (r.samples[-1][0] - r.start_frame) / r.fps if r.samples else -math.inf
+        for t, p in zip(trace["time"], trace["position"]):
+            t = float(t)
+            if t < r.t0 or t < last_t + spacing:
+                continue
+            last_t = t
+            location = tuple(float(off[i] + scale[i] * p[i]) - parent[i] for i in range(3))
+            r.samples.append((r.start_frame + (t - r.t0) * r.fps, location, rotation))
 
     def _update_drawer(self, latest):
         snap = self.session.snapshot()
@@ -473,16 +515,18 @@ class LiveController:
 
     def _sample(self, now):
         r = self.recording
-        if now - r.last_t < r.interval_s - 1e-9:
-            return
-        r.last_t = now
         obj = self.probe
         frame = r.start_frame + (now - r.t0) * r.fps
+        if r.samples and frame <= r.samples[-1][0]:
+            return
         r.samples.append((frame, tuple(obj.location), tuple(getattr(obj, r.rotation_path))))
 
     def stop_recording(self) -> int:
-        """Writes the recorded samples as keys (replacing keys in their frame range); returns the
-        number of poses keyed."""
+        """Writes the motion performed as keys at the record rate (replacing keys in their frame
+        range); returns the number of poses keyed. Each key is the pose at its time on the path
+        performed: between two ticks' samples, location and Euler or axis-angle rotation linearly,
+        a quaternion normalized-linearly (live_session.resample), so keys come at the record rate
+        however often Blender redrew while recording."""
         r, self.recording = self.recording, None
         self.live.is_recording = False
         if r is None or not r.samples:
@@ -492,9 +536,10 @@ class LiveController:
             obj.name  # noqa: B018 (raises ReferenceError if it was deleted)
         except ReferenceError:
             return 0
-        write_keys(obj, r.rotation_path, r.samples)
-        self.keys_written += len(r.samples)
-        return len(r.samples)
+        keys = resample(r.samples, r.interval_s * r.fps, quaternion=r.rotation_path == "rotation_quaternion")
+        write_keys(obj, r.rotation_path, keys)
+        self.keys_written += len(keys)
+        return len(keys)
 
     # -- ending ---------------------------------------------------------------------------
     def stop(self, reason: Optional[str] = None) -> Optional[str]:
@@ -536,6 +581,39 @@ def probe_rotation(matrix) -> Tuple[float, float, float, float]:
     y = (cols[1] - cols[1].dot(x) * x).normalized()
     q = Matrix((x, y, x.cross(y))).transposed().to_quaternion()
     return (q.w, q.x, q.y, q.z)
+
+
+def resample(samples, frames_per_key, quaternion=False):
+    """(frame, location, rotation) samples at uneven frames -> the same path at frames
+    samples[0] + k * frames_per_key up to the last sample's frame: linear between the two samples
+    around each, a quaternion rotation (w, x, y, z) normalized-linearly on the shorter arc."""
+    if not samples:
+        return []
+    out = []
+    first, last = samples[0][0], samples[-1][0]
+    i = 0
+    k = 0
+    while True:
+        frame = first + k * frames_per_key
+        if frame > last + 1e-9:
+            break
+        while i + 1 < len(samples) - 1 and samples[i + 1][0] < frame:
+            i += 1
+        a = samples[i]
+        b = samples[min(i + 1, len(samples) - 1)]
+        span = b[0] - a[0]
+        w = 0.0 if span <= 0.0 else min(1.0, max(0.0, (frame - a[0]) / span))
+        location = tuple(x + w * (y - x) for x, y in zip(a[1], b[1]))
+        rb = b[2]
+        if quaternion and sum(x * y for x, y in zip(a[2], rb)) < 0.0:
+            rb = tuple(-y for y in rb)  # the shorter way round
+        rotation = tuple(x + w * (y - x) for x, y in zip(a[2], rb))
+        if quaternion:
+            norm = math.sqrt(sum(c * c for c in rotation)) or 1.0
+            rotation = tuple(c / norm for c in rotation)
+        out.append((frame, location, rotation))
+        k += 1
+    return out
 
 
 def write_keys(obj, rotation_path, samples):
