@@ -76,6 +76,12 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["stale_after"] = s.stale_after_s;
   d["force_gain"] = s.force_gain;
   d["force_gain_reason"] = s.force_gain_reason;
+  d["feel"] = s.feel;
+  d["coupling"] = s.coupled;
+  d["added_mass"] = s.added_mass_kg;
+  d["hand_force"] = vec3Array(s.hand_force_n);
+  d["probe_force"] = vec3Array(s.probe_force_n);
+  d["model_drag"] = vec3Array(s.drag_n_s_m);
   const haptics::PassivityState& p = s.haptic.passivity;
   d["passivity_energy"] = p.energy_j;
   d["passivity_delivered"] = p.delivered_j;
@@ -133,6 +139,15 @@ probe_radius: the probe becomes a sphere of this radius (m, at least one cell); 
 filter: 'lowpass' (the seed's first-order low-pass) or 'none'.
 bandwidth_ratio: low-pass cutoff / measured simulation rate (dimensionless, > 0).
 prediction: update the force between frames with a fitted local drag model F0 + B (v - v0).
+coupling: True (default) = render the force at the haptic rate: each simulation step identifies a
+  local model of the fluid's force (added mass, drag, steady part) and a proxy carrying it is
+  coupled to the hand by a spring-damper inside the device's limits (coupling_stiffness N/m,
+  coupling_damping N s/m; 0 = shares of the device's max_stiffness and max_damping). A device that
+  reports no rendering limits keeps the low-passed step force. stats()['coupling'] says which.
+feel: with force_gain None, 'amplified' (the largest gain the coupled rendering holds passively,
+  with its margin; stats()['force_gain_reason']) or 'physical' (gain 1, the fluid's newtons).
+  stats()['hand_force'] (device N) against ['probe_force'] (fluid N) is what the hand feels of
+  what the probe feels.
 max_force: bound on the commanded force (N), at most the device's maximum; None = that maximum.
 slew_rate: largest change of the commanded force (N/s).
 ramp_time: force ramps in linearly over this long after start/resume/homing (s).
@@ -328,6 +343,8 @@ session on it fails to start; close() still stops it (the session then fails wit
         d["bandwidth_ratio"] = p.filter.bandwidth_ratio;
         d["max_cutoff_per_rate"] = defaults.max_cutoff_per_rate;
         d["prediction"] = p.prediction;
+        d["feel"] = session::feelName(defaults.feel);
+        d["coupling"] = p.coupling.enabled;
         d["slew_rate"] = p.safety.slew_rate_n_s;
         d["ramp_time"] = p.safety.ramp_s;
         d["stale_after"] = p.safety.stale_after_s;
@@ -356,7 +373,8 @@ session on it fails to start; close() still stops it (the session then fails wit
                     double stale_periods, double stale_after_max, double fade_time, double rate, double sim_dt, double min_sim_dt, double max_sim_dt, bool realtime, bool trace,
                     double trace_seconds, bool passivity, std::optional<float> passivity_max_damping,
                     float passivity_deadband, double passivity_reserve, double passivity_memory,
-                    std::optional<double> snapshot, bool snapshot_temperature) {
+                    std::optional<double> snapshot, bool snapshot_temperature, const std::string& feel, bool coupling,
+                    float coupling_stiffness, float coupling_damping) {
           if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
           session::HapticSessionSettings s;
           auto& p = s.loop.pipeline;
@@ -401,6 +419,10 @@ session on it fails to start; close() still stops it (the session then fails wit
           s.max_sim_dt_s = max_sim_dt;
           s.snapshot_interval_s = snapshot;
           s.snapshot_temperature = snapshot_temperature;
+          s.feel = session::feelFromName(feel);
+          p.coupling.enabled = coupling;
+          p.coupling.stiffness_n_m = coupling_stiffness;
+          p.coupling.damping_n_s_m = coupling_damping;
           return std::make_unique<HapticSession>(sim, std::move(device), s);
         }),
         py::arg("simulation"), py::arg("device"), py::arg("workspace_scale") = dp.map.scale.x,
@@ -418,7 +440,10 @@ session on it fails to start; close() still stops it (the session then fails wit
         py::arg("passivity_deadband") = dp.passivity.velocity_deadband_m_s,
         py::arg("passivity_reserve") = dp.passivity.max_reserve_j,
         py::arg("passivity_memory") = dp.passivity.reserve_decay_s,
-        py::arg("snapshot") = py::none(), py::arg("snapshot_temperature") = false, py::keep_alive<1, 2>());
+        py::arg("snapshot") = py::none(), py::arg("snapshot_temperature") = false,
+        py::arg("feel") = session::feelName(defaults.feel), py::arg("coupling") = dp.coupling.enabled,
+        py::arg("coupling_stiffness") = dp.coupling.stiffness_n_m, py::arg("coupling_damping") = dp.coupling.damping_n_s_m,
+        py::keep_alive<1, 2>());
   // Started sessions join a WeakSet on the module; an atexit hook stops those still running
   // before the interpreter tears down (their threads must not outlive the objects they use).
   py::module_ weakref = py::module_::import("weakref");

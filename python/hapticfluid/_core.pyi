@@ -285,6 +285,10 @@ class HapticSession:
         passivity_memory: float = 0.5,  # s
         snapshot: Optional[float] = None,  # s between field snapshots; 0 = every step; None = off
         snapshot_temperature: bool = False,
+        feel: str = "amplified",  # 'amplified' (derived gain) or 'physical' (1:1), with force_gain None
+        coupling: bool = True,  # render at 1 kHz through a virtual coupling (False: the low-passed step force)
+        coupling_stiffness: float = 0.0,  # N/m; 0 = a quarter of the device's max_stiffness
+        coupling_damping: float = 0.0,  # N s/m; 0 = half the device's max_damping
     ) -> None: ...
     def start(self) -> None: ...
     def pause(self) -> None: ...
