@@ -69,6 +69,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
   const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
   out.coupled = s_.coupling.active();
+  bool coupled_step = false;  // the coupling's spring rendered this period's force
   if (out.coupled) {
     // The proxy carries the model's mass and drag as the hand feels them: a device velocity v moves
     // the probe at scale v, and the hand gets gain x the fluid force, so per axis the rendered
@@ -86,6 +87,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
         out.filtered_n = steady;
       } else {
         out.filtered_n = coupling_.step(in.state.position_m, grip_velocity, mass, drag, steady, in.dt_s);
+        coupled_step = true;
       }
       out.proxy_m = glm::vec3(coupling_.proxyM());
     } else {
@@ -121,6 +123,10 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  // The proxy feels what the hand got: where the controller or safety cut the force, the spring slips.
+  if (out.coupled && coupled_step && allFinite(out.commanded_n) && out.commanded_n != out.filtered_n) {
+    coupling_.yieldTo(in.state.position_m, grip_velocity, out.commanded_n);
+  }
   out.stale_after_s = safety_.staleAfter();
   if (!safe.homed || !safe.enabled) filter_.reset();
   return out;

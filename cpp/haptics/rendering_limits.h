@@ -34,8 +34,8 @@ GainChoice renderableForceGain(const DeviceInfo& device, double added_mass_kg, d
 // simulation step is the local model's steady part (fluid_model.h), and with it whatever of the
 // fluid's reaction to the probe's motion the model did not take out: kHeldShare of the added
 // mass. Measured: a sphere of r = 0.1 m accelerated through water, the engine's reaction is 0.80
-// (20^3) and 0.92 (32^3) of the model's rho V / 2, so up to 0.2 of it is held; 0.25 leaves room
-// for the steady part's noise (a resting hand on the simulated Falcon, 20^3 water, 5 s: 0 mJ into
+// (20^3) and 0.92 (32^3) of the model's rho V / 2, so up to 0.2 of it is held; 0.25 counts the steady
+// part's noise too (a resting hand on the simulated Falcon, 20^3 water, 5 s: 0 mJ into
 // the hand at gain 0.016, 0-1 mJ at 0.04, 1.4-4 mJ at 0.08). Held for a step T, that share
 // renders kHeldShare M / T and kHeldShare M / T^2 per unit gain, and the gain keeps both at
 // kGainMargin of the device's limits:

@@ -27,6 +27,16 @@ void VirtualCoupling::place(const glm::vec3& hand_m, const glm::vec3& hand_m_s, 
   placed_ = true;
 }
 
+void VirtualCoupling::yieldTo(const glm::vec3& hand_m, const glm::vec3& hand_m_s, const glm::vec3& delivered_n) {
+  if (!placed_ || !(k_ > 0.0)) return;
+  for (int i = 0; i < 3; ++i) {
+    // The hand feels -(k (xh - x) + b (vh - v)); the stretch that gives it `delivered`:
+    const double stretch = hand_m[i] - x_[i];
+    const double wanted = -(delivered_n[i] + b_ * (hand_m_s[i] - v_[i])) / k_;
+    if (std::isfinite(wanted) && std::fabs(wanted) < std::fabs(stretch)) x_[i] = hand_m[i] - wanted;
+  }
+}
+
 glm::vec3 VirtualCoupling::step(const glm::vec3& hand_m, const glm::vec3& hand_m_s, const glm::vec3& mass_kg,
                                 const glm::vec3& drag_n_s_m, const glm::vec3& external_n, double dt_s) {
   const glm::dvec3 xh(hand_m), vh(hand_m_s);

@@ -54,6 +54,12 @@ class VirtualCoupling {
   // while the safety stage ramps the force in, so a ramp that scales the output never releases,
   // at full scale, energy the proxy stored while the hand felt a fraction of it.
   void place(const glm::vec3& hand_m, const glm::vec3& hand_m_s, const glm::vec3& external_n);
+  // The force the hand got this period (after the passivity controller and the safety stage),
+  // when it differs from step()'s: the spring slips, per axis, to the stretch that gives it,
+  // where that stretch is smaller (the proxy never feels what the hand did not: a cut force
+  // that still pulled the proxy along would hand its energy back to the hand later). A slip that
+  // would stretch the spring is not taken (no energy is ever added).
+  void yieldTo(const glm::vec3& hand_m, const glm::vec3& hand_m_s, const glm::vec3& delivered_n);
   const glm::dvec3& proxyM() const { return x_; }
   const glm::dvec3& proxyM_s() const { return v_; }
   // The proxy's acceleration over the last period (m/s^2).
