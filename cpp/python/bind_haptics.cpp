@@ -111,7 +111,9 @@ simulation thread, started by start() (or by entering a `with` block) and ended 
 Per haptic period: device pose -> (workspace map) -> probe pose for the simulation thread;
 latest simulation force -> [prediction] -> low-pass (cutoff = bandwidth_ratio x measured
 simulation rate) -> force_gain -> passivity controller -> safety (NaN guard, homing gate,
-stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device.
+stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device. With the coupling (the
+default on a device that reports its limits) each step identifies a local model of the fluid's
+force and a proxy carrying it is coupled to the hand at the haptic rate (see coupling).
 
 simulation: the Simulation to drive (kept alive by the session); the session steps it
   continuously and its probe follows the device.
@@ -119,10 +121,12 @@ device: a Device (null_device(), scripted_device(), host_device(), a Falcon ...)
 workspace_scale: domain metres per device metre, a number or (x, y, z); negative flips an axis.
 workspace_offset: domain position (m) of the device origin; None = the one that puts the middle
   of the device's workspace (DeviceInfo) at the domain's centre.
-force_gain: device newtons per fluid newton (>= 0); None = the gain the device can render: the
-  probe's added mass (rho V / 2) x workspace scale, rendered over the shortest simulation step T
-  (sim_dt, or min_sim_dt in real time) as a damping M / T and a stiffness M / T^2, kept within
-  the device's max_damping and max_stiffness (at most 1; 1 for devices that report no limits).
+force_gain: device newtons per fluid newton (>= 0); None = the gain the device can render (feel
+  'amplified'): with the coupling, the share of the probe's added mass (rho V / 2) x workspace
+  scale that is still held per shortest simulation step T (sim_dt, or min_sim_dt in real time),
+  rendered as a damping and a stiffness, kept at half the device's max_damping and max_stiffness,
+  and the buoyancy at rest at most half of max_force (no cap at 1); without it the whole added
+  mass, M / T and M / T^2, at most 1. 1 for devices that report no limits.
   stats()['force_gain'] and ['force_gain_reason'] say what was chosen.
 passivity: a time-domain passivity observer and controller (Hannaford and Ryu 2002) between the
   force gain and the safety stage: it sums the energy the device delivers to the hand
