@@ -95,6 +95,27 @@ def simulated_falcon_moves_the_probe():
     check(tuple(session.latest_force) == (0.0, 0.0, 0.0), "the force went to zero")
 
 
+def the_feel_choice_reaches_the_session():
+    """Feel: Amplified (the derived gain, the default) or Physical 1:1, sent as the session's feel;
+    the stats line puts what the hand feels against what the fluid gives."""
+    from hapticfluid_blender import live_panel
+
+    scene, _domain, _probe = new_scene()
+    live = scene.hapticfluid_live
+    check(live.feel == "AMPLIFIED", f"Amplified by default ({live.feel})")
+    check(live_session.read_plan(scene).session_args["feel"] == "amplified", "the plan asks for it")
+    live.feel = "PHYSICAL"
+    live.device = "SIMULATED_FALCON"
+    check(live_session.read_plan(scene).session_args["feel"] == "physical", "Physical 1:1 reaches the plan")
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    st = run.controller.session.stats()
+    check(st["feel"] == "physical" and st["force_gain"] == 1.0, f"the session renders 1:1 ({st['feel']}, {st['force_gain']})")
+    live_ops.stop_all()
+    text = live_panel.feel_text(1.1534, 0.046234, 24.87)
+    check(text == "1.15 N on the hand = 0.0462 N in the fluid x 24.9", text)
+
+
 def simulated_hand_sweeps_the_probe():
     """Hand Gesture 'Sweep': the simulated hand moves the grip back and forth along x after
     homing, and the probe object follows it across the domain."""
@@ -500,6 +521,7 @@ def measure():
 def main():
     register_twice()
     simulated_falcon_moves_the_probe()
+    the_feel_choice_reaches_the_session()
     simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()
