@@ -8,6 +8,12 @@ namespace hf::haptics {
 namespace {
 // The local model's drag is kept at most the passivity controller's damping bound (the device's
 // maximum stable damping) once rendered: gain x |scale| x |B|. None: no bound.
+PassivitySettings passivityFor(const PipelineSettings& s) {
+  PassivitySettings p = s.passivity;
+  if (s.coupling.active()) p.velocity_deadband_m_s = std::max(p.velocity_deadband_m_s, kCoupledDeadbandM_s);
+  return p;
+}
+
 double maxModelDrag(const PipelineSettings& s) {
   const glm::vec3 scale = glm::abs(s.map.scale);
   const double per_drag = static_cast<double>(s.map.force_gain) * std::max({scale.x, scale.y, scale.z});
@@ -28,7 +34,7 @@ ForcePipeline::ForcePipeline(const PipelineSettings& s)
     : s_((s.validate(), s)),
       model_(s.coupling.added_mass_kg, maxModelDrag(s)),
       coupling_(s.coupling.stiffness_n_m, s.coupling.damping_n_s_m),
-      passivity_(s.passivity, s.safety.slew_rate_n_s),
+      passivity_(passivityFor(s), s.safety.slew_rate_n_s),
       safety_(s.safety) {}
 
 TickOutput ForcePipeline::tick(const TickInput& in) {

@@ -33,16 +33,16 @@ GainChoice renderableForceGain(const DeviceInfo& device, double added_mass_kg, d
 // haptic rate by the proxy, which stays passive at any gain. What still reaches the hand once per
 // simulation step is the local model's steady part (fluid_model.h), and with it whatever of the
 // fluid's reaction to the probe's motion the model did not take out: kHeldShare of the added
-// mass. Measured: a sphere of r = 0.1 m accelerated through water, the engine's reaction is 0.80
-// (20^3) and 0.92 (32^3) of the model's rho V / 2, so up to 0.2 of it is held; 0.25 counts the steady
-// part's noise too (a resting hand on the simulated Falcon, 20^3 water, 5 s: 0 mJ into
-// the hand at gain 0.016, 0-1 mJ at 0.04, 1.4-4 mJ at 0.08). Held for a step T, that share
-// renders kHeldShare M / T and kHeldShare M / T^2 per unit gain, and the gain keeps both at
-// kGainMargin of the device's limits:
+// mass. Measured: a sphere of r = 0.1 m accelerated through water, the engine's reaction is 0.92
+// (32^3) and 0.80 (20^3) of the model's rho V / 2; kHeldShare = 0.1 with kGainMargin = 0.5 covers
+// both. On the simulated Falcon at the gain this gives (air, live demo's scene: 62; water, r 0.1 m,
+// scale 6: 0.080): quick strokes at 32^3 delivered 0.13-0.68 mJ to the hand, a resting hand at
+// 20^3 in water 0-1.04 mJ in 5 s. Held for a step T, that share renders kHeldShare M / T and
+// kHeldShare M / T^2 per unit gain, and the gain keeps both at kGainMargin of the device's limits:
 //   gain = kGainMargin min(max_damping T / (kHeldShare M), max_stiffness T^2 / (kHeldShare M))
 // with no cap at 1 (a weak fluid may be amplified), and a steady force (buoyancy) at rest of at
 // most kSteadyShareOfMaxForce of max_force, so the hand keeps room to feel the flow beside it.
-inline constexpr double kHeldShare = 0.25;
+inline constexpr double kHeldShare = 0.1;
 inline constexpr double kGainMargin = 0.5;
 inline constexpr double kSteadyShareOfMaxForce = 0.5;
 

@@ -149,7 +149,8 @@ coupling: True (default) = render the force at the haptic rate: each simulation 
   coupling_damping N s/m; 0 = shares of the device's max_stiffness and max_damping). A device that
   reports no rendering limits keeps the low-passed step force. stats()['coupling'] says which.
 feel: with force_gain None, 'amplified' (the largest gain the coupled rendering holds passively,
-  with its margin; stats()['force_gain_reason']) or 'physical' (gain 1, the fluid's newtons).
+  with its margin; stats()['force_gain_reason']) or 'physical' (gain 1, the fluid's newtons,
+  where the rendering holds it: else that largest gain, and the reason says so).
   stats()['hand_force'] (device N) against ['probe_force'] (fluid N) is what the hand feels of
   what the probe feels.
 max_force: bound on the commanded force (N), at most the device's maximum; None = that maximum.

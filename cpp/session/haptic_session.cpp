@@ -42,11 +42,6 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
     s.force_gain_reason = "force gain " + num(gain) + ": given";
     return s;
   }
-  if (s.feel == Feel::Physical) {
-    gain = 1.0f;
-    s.force_gain_reason = "force gain 1: physical (1:1), the fluid's newtons on the hand";
-    return s;
-  }
   const glm::vec3 scale = glm::abs(s.loop.pipeline.map.scale);
   const double step_s = s.sim_dt_s > 0.0 ? s.sim_dt_s : s.min_sim_dt_s;
   const haptics::DeviceInfo info = device->info();
@@ -61,6 +56,15 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
               : haptics::renderableForceGain(info, added_kg, max_scale, step_s);
   gain = c.gain;
   s.force_gain_reason = c.reason;
+  if (s.feel == Feel::Physical) {  // 1:1, where the rendering holds it passively
+    if (c.gain >= 1.0f) {
+      gain = 1.0f;
+      s.force_gain_reason = "force gain 1: physical (1:1), the fluid's newtons on the hand (the rendering holds up to " +
+                            num3(c.gain) + ")";
+    } else {
+      s.force_gain_reason = "physical (1:1) is more than the rendering holds passively here: " + c.reason;
+    }
+  }
   return s;
 }
 }  // namespace

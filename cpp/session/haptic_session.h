@@ -34,7 +34,8 @@ class SimulationClaim;
 inline constexpr double kDefaultTraceS = 600.0;  // trace length the Python API keeps when asked, s
 
 // What the hand feels of the fluid's force (with derive_force_gain): Amplified, the largest gain
-// the rendering holds passively with its margin (rendering_limits.h), or Physical, 1:1.
+// the rendering holds passively with its margin (rendering_limits.h), or Physical, 1:1 where that
+// largest gain is at least 1 (a probe in water at a large workspace scale gets that gain instead).
 enum class Feel { Amplified, Physical };
 const char* feelName(Feel f);
 Feel feelFromName(const std::string& name);  // "amplified" or "physical"; InvalidArgument otherwise
