@@ -69,6 +69,7 @@ GainChoice coupledForceGain(const DeviceInfo& device, double added_mass_kg, doub
   if (!std::isfinite(max_force_n) || max_force_n <= 0.0) {
     throw InvalidArgument("force gain: max_force must be a positive number of N, got " + num(max_force_n));
   }
+  step_s = std::min(step_s, kGainStepCapS);
   GainChoice c;
   c.mass_kg = scale * added_mass_kg;
   const double held_kg = kHeldShare * c.mass_kg;

@@ -252,6 +252,9 @@ TEST(HapticCoupling, TheGainIsNoLongerCappedAtOneAndKeepsItsMargin) {
   EXPECT_NEAR(b.gain, 10.0, 1e-3);
   EXPECT_NE(b.reason.find("steady force"), std::string::npos) << b.reason;
   EXPECT_EQ(renderableForceGain(falcon, air, 12.5, 0.01).gain, 1.0f);  // the seed's rendering
+  // A slower simulation does not raise it (kGainStepCapS); a faster one lowers it.
+  EXPECT_EQ(coupledForceGain(falcon, air, 12.5, 0.2, 0.0, 4.0).gain, c.gain);
+  EXPECT_LT(coupledForceGain(falcon, air, 12.5, 0.005, 0.0, 4.0).gain, c.gain);
   EXPECT_THROW(coupledForceGain(falcon, air, 12.5, 0.01, -1.0, 4.0), InvalidArgument);
   EXPECT_THROW(coupledForceGain(falcon, air, 12.5, 0.01, 0.0, 0.0), InvalidArgument);
 }

@@ -80,6 +80,18 @@ def test_strokes_are_passive_at_the_default_gain(name, density, feel):
     assert drift <= SETTLE_M, (name, drift)
 
 
+@pytest.mark.parametrize("name,density", CASES)
+def test_strokes_are_passive_with_the_simulation_slowed_to_5_hz(name, density):
+    """Issue 27, item 4 (the slow half): the simulation waits out 0.2 s per step (5 Hz at most;
+    3.7 Hz measured here); the derived gain is the same as at full speed (kGainStepCapS)."""
+    run, energy, drift = run_strokes(density, min_sim_dt=0.2, max_sim_dt=0.25)
+    st = run["stats"]
+    assert st["error"] is None and st["coupling"] is True
+    assert 0.0 < st["sim_rate_hz"] <= 5.5, st["sim_rate_hz"]
+    assert energy <= ENERGY_J, (name, energy, st["force_gain"])
+    assert drift <= SETTLE_M, (name, drift)
+
+
 def test_without_controller_and_coupling_gain_1_strokes_fail():
     """The negative control: the seed's rendering (coupling off) without the controller at gain 1
     (the add-on's Force Gain with Derive Gain off) in water: the same strokes feed the hand. At
