@@ -92,6 +92,18 @@ def test_strokes_are_passive_with_the_simulation_slowed_to_5_hz(name, density):
     assert drift <= SETTLE_M, (name, drift)
 
 
+@pytest.mark.parametrize("name,density", CASES)
+def test_strokes_are_passive_with_the_simulation_at_60_hz(name, density):
+    """Issue 27, item 4 (the fast half): steps of 1/60 s at 16^3, which this machine's llvmpipe
+    runs at about 58 Hz (32^3 reaches 10-20 Hz); the derived gain is the same."""
+    run, energy, drift = run_strokes(density, resolution=16, min_sim_dt=1.0 / 60.0)
+    st = run["stats"]
+    assert st["error"] is None and st["coupling"] is True
+    assert st["sim_rate_hz"] >= 30.0, st["sim_rate_hz"]  # tolerant: a loaded machine slows it
+    assert energy <= ENERGY_J, (name, energy, st["force_gain"])
+    assert drift <= SETTLE_M, (name, drift)
+
+
 def test_without_controller_and_coupling_gain_1_strokes_fail():
     """The negative control: the seed's rendering (coupling off) without the controller at gain 1
     (the add-on's Force Gain with Derive Gain off) in water: the same strokes feed the hand. At
