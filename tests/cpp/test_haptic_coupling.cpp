@@ -204,7 +204,7 @@ TEST(HapticCoupling, TheForceAnswersTheHandWithinTwoMsBetweenSimulationSteps) {
 
 // The local model at steady states (item 5 of issue 27 on a known law): pushed steadily the hand
 // feels gain x the drag, accelerated gain x the added mass, at rest the steady part, each within
-// 2% of gain x the law's force (the engine's own check, on the simulation, is in pytest).
+// 2% of gain x the law's force (on the engine's own force, item 5 is not done yet).
 TEST(HapticCoupling, SteadyPushAccelerationAndRestEachFeelGainTimesTheFluidForce) {
   const Law law;  // water-like numbers: a strong drag and added mass
   PipelineSettings p = coupledSettings(true);
