@@ -78,10 +78,15 @@ def simulated_falcon_moves_the_probe():
     run_for_seconds(run, 2.0)
     c = run.controller
     # The simulated hand rests at the middle of the workspace, which the fitted map puts at the
-    # domain's centre: the probe object is moved there from where it started.
+    # domain's centre: the probe object is moved there from where it started. The hand (300 N/m)
+    # yields to the force it feels, the probe's buoyancy at the derived gain (about 1.6 N up here,
+    # 5 mm of the device, 65 mm of the domain): it is allowed for along z.
     loc = probe.matrix_world.translation
-    print("probe at", tuple(loc), "device state", scene.hapticfluid_live.device_state)
-    check(all(abs(loc[i] - 0.5) < 0.02 for i in range(3)), f"the probe follows the device to the centre: {tuple(loc)}")
+    hand_z_n = float(c.session.latest_force[2])
+    yield_m = 12.5 * abs(hand_z_n) / 300.0  # domain m: workspace scale x the hand's give
+    print("probe at", tuple(loc), "device state", scene.hapticfluid_live.device_state, "hand force z", hand_z_n)
+    check(all(abs(loc[i] - 0.5) < 0.02 for i in range(2)) and abs(loc[2] - 0.5) < 0.02 + 1.5 * yield_m,
+          f"the probe follows the device to the centre: {tuple(loc)} (hand force z {hand_z_n:.3f} N)")
     check(c.last_sequence >= 2, f"field snapshots arrive ({c.last_sequence})")
     live = scene.hapticfluid_live
     check(live.sim_rate_hz > 0.0 and live.haptic_rate_hz > 100.0,
@@ -93,6 +98,27 @@ def simulated_falcon_moves_the_probe():
     check(session.state == "stopped" and not live_threads() and not live.is_running,
           "threads joined, session stopped")
     check(tuple(session.latest_force) == (0.0, 0.0, 0.0), "the force went to zero")
+
+
+def the_feel_choice_reaches_the_session():
+    """Feel: Amplified (the derived gain, the default) or Physical 1:1, sent as the session's feel;
+    the stats line puts what the hand feels against what the fluid gives."""
+    from hapticfluid_blender import live_panel
+
+    scene, _domain, _probe = new_scene()
+    live = scene.hapticfluid_live
+    check(live.feel == "AMPLIFIED", f"Amplified by default ({live.feel})")
+    check(live_session.read_plan(scene).session_args["feel"] == "amplified", "the plan asks for it")
+    live.feel = "PHYSICAL"
+    live.device = "SIMULATED_FALCON"
+    check(live_session.read_plan(scene).session_args["feel"] == "physical", "Physical 1:1 reaches the plan")
+    run = live_ops.start(scene)
+    run.controller.wait_started()
+    st = run.controller.session.stats()
+    check(st["feel"] == "physical" and st["force_gain"] == 1.0, f"the session renders 1:1 ({st['feel']}, {st['force_gain']})")
+    live_ops.stop_all()
+    text = live_panel.feel_text(1.1534, 0.046234, 24.87)
+    check(text == "1.15 N on the hand = 0.0462 N in the fluid x 24.9", text)
 
 
 def simulated_hand_sweeps_the_probe():
@@ -535,6 +561,7 @@ def measure():
 def main():
     register_twice()
     simulated_falcon_moves_the_probe()
+    the_feel_choice_reaches_the_session()
     simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
     mouse_moves_the_probe_and_record_keys_it()

@@ -141,6 +141,9 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         sub = col.column()
         sub.enabled = not live.auto_force_gain
         sub.prop(live, "force_gain", text="Gain")
+        sub = col.row()
+        sub.enabled = live.auto_force_gain
+        sub.prop(live, "feel", expand=True)
         col.prop(live, "max_force", text="Max Force")
         col.prop(live, "bandwidth_ratio", text="Filter")
         col.prop(live, "prediction")
@@ -148,6 +151,12 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         col.prop(live, "record_rate", text="Key Rate")
         col.prop(live, "density_scale", text="Density")
         col.prop(live, "show_temperature", text="Temperature")
+
+
+def feel_text(hand_n, fluid_n, gain):
+    """What the hand feels against what the probe feels, 3 significant digits:
+    '1.15 N on the hand = 0.0462 N in the fluid x 24.9'."""
+    return f"{hand_n:.3g} N on the hand = {fluid_n:.3g} N in the fluid x {gain:.3g}"
 
 
 class HAPTICFLUID_PT_live_stats(bpy.types.Panel):
@@ -170,6 +179,7 @@ class HAPTICFLUID_PT_live_stats(bpy.types.Panel):
         stat_row(col, "Hand force", f"{live.device_force_n:.3f} N")
         stat_row(col, "Fluid force", f"{live.force_n:.4f} N")
         stat_row(col, "Gain", f"{live.force_gain_used:.3g} N/N")
+        col.label(text=feel_text(live.device_force_n, live.force_n, live.force_gain_used))
         stat_row(col, "Real-time", "granted" if live.realtime else "not granted")
         if live.force_gain_reason:
             col.separator()

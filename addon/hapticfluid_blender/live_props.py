@@ -16,8 +16,8 @@ def _engine_defaults():
     try:
         import hapticfluid
 
-        defaults = hapticfluid.HapticSessionSettings().to_dict()
-    except ImportError:
+        defaults = {k: getattr(v, "name", v) for k, v in hapticfluid.HapticSessionSettings().to_dict().items()}
+    except ImportError:  # (an engine enum by its name: 'amplified')
         return {}
     defaults["workspace_scale"] = defaults["workspace_scale"][0]  # the same on every axis: one number here
     return defaults
@@ -84,6 +84,12 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
                     "derives it; Stats shows why); off: Force Gain")
     force_gain: FloatProperty(name="Force Gain", default=1.0, min=0.0, max=1e6, soft_max=1000.0,
                               description="Device newtons per fluid newton (Derive Gain off)")
+    feel: EnumProperty(
+        name="Feel", default=str(_DEFAULTS.get("feel", "amplified")).upper(),
+        items=(("AMPLIFIED", "Amplified", "The largest gain the rendering holds passively (the engine derives it; "
+                                          "Stats shows why): a weak fluid such as air is felt"),
+               ("PHYSICAL", "Physical 1:1", "The fluid's own newtons on the hand (gain 1)")),
+        description="What the hand feels of the fluid's force when the gain is derived")
     max_force: FloatProperty(name="Max Force", default=4.0, min=0.01, max=8.0, unit="NONE",
                              description="Largest force sent to the device (N); the Falcon's limit is 8 N")
     bandwidth_ratio: FloatProperty(name="Filter Bandwidth", min=0.01, max=10.0,

@@ -1,46 +1,112 @@
 #include "haptics/force_pipeline.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace hf::haptics {
+
+namespace {
+// The local model's drag is kept at most the passivity controller's damping bound (the device's
+// maximum stable damping) once rendered: gain x |scale| x |B|. None: no bound.
+PassivitySettings passivityFor(const PipelineSettings& s) {
+  PassivitySettings p = s.passivity;
+  if (s.coupling.active()) p.velocity_deadband_m_s = std::max(p.velocity_deadband_m_s, kCoupledDeadbandM_s);
+  return p;
+}
+
+double maxModelDrag(const PipelineSettings& s) {
+  const glm::vec3 scale = glm::abs(s.map.scale);
+  const double per_drag = static_cast<double>(s.map.force_gain) * std::max({scale.x, scale.y, scale.z});
+  const double bound = s.passivity.max_damping_n_s_m;
+  return (bound > 0.0 && per_drag > 0.0) ? bound / per_drag : 1e30;
+}
+}  // namespace
 
 void PipelineSettings::validate() const {
   map.validate();
   filter.validate();
   passivity.validate();
   safety.validate();
+  coupling.validate();
 }
 
-ForcePipeline::ForcePipeline(const PipelineSettings& s) : s_(s), passivity_(s.passivity, s.safety.slew_rate_n_s), safety_(s.safety) { s_.validate(); }
+ForcePipeline::ForcePipeline(const PipelineSettings& s)
+    : s_((s.validate(), s)),
+      model_(s.coupling.added_mass_kg, maxModelDrag(s)),
+      coupling_(s.coupling.stiffness_n_m, s.coupling.damping_n_s_m),
+      passivity_(passivityFor(s), s.safety.slew_rate_n_s),
+      safety_(s.safety) {}
 
 TickOutput ForcePipeline::tick(const TickInput& in) {
   TickOutput out;
   if (in.have_force) {
     out.sim_force_n = in.force.force_n;
     out.force_age_s = in.now_s - in.force.publish_time_s;
-    if (in.new_frame && s_.prediction && allFinite(in.force.force_n)) {
-      predictor_.addFrame(in.force.force_n, in.force.probe_velocity_m_s);
+    const bool coupled = s_.coupling.active();
+    if (in.new_frame && allFinite(in.force.force_n) && allFinite(in.force.probe_velocity_m_s)) {
+      if (coupled) {
+        model_.addFrame(in.force.force_n, in.force.probe_velocity_m_s, in.force.step_dt_s);
+      } else if (s_.prediction) {
+        predictor_.addFrame(in.force.force_n, in.force.probe_velocity_m_s);
+      }
     }
     out.predicted_n = out.sim_force_n;
-    if (s_.prediction && predictor_.frames() > 0) {
+    if (coupled && model_.frames() > 0 && allFinite(out.sim_force_n)) {
+      out.predicted_n = model_.steadyN();
+    } else if (!coupled && s_.prediction && predictor_.frames() > 0) {
       out.predicted_n = predictor_.predict(s_.map.velocityToDomain(in.state.velocity_m_s));
     }
   }
   glm::vec3 smoothed = out.predicted_n;
   if (s_.filter.enabled) {
-    out.cutoff_hz = cutoffForRate(s_.filter, in.have_force ? in.force.sim_rate_hz : 0.0);
+    LowPassSettings filter = s_.filter;
+    // The coupling's steady part is meant to change slowly (buoyancy, the flow's push): it gets a
+    // kSteadyBandwidthShare of the cutoff, which keeps the step-to-step noise of the identified
+    // residual (the simulation's reaction to the probe's own motion that the model did not take
+    // out, held for a step) away from the hand.
+    if (s_.coupling.active()) filter.bandwidth_ratio *= kSteadyBandwidthShare;
+    out.cutoff_hz = cutoffForRate(filter, in.have_force ? in.force.sim_rate_hz : 0.0);
     if (allFinite(out.predicted_n)) {
       smoothed = filter_.update(out.predicted_n, in.dt_s, out.cutoff_hz);
     } else {
       filter_.reset();  // never let a NaN into the filter's memory
     }
   }
-  out.filtered_n = s_.map.forceToDevice(smoothed);
+  const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
+  const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
+  out.coupled = s_.coupling.active();
+  bool coupled_step = false;  // the coupling's spring rendered this period's force
+  if (out.coupled) {
+    // The proxy carries the model's mass and drag as the hand feels them: a device velocity v moves
+    // the probe at scale v, and the hand gets gain x the fluid force, so per axis the rendered
+    // mass is gain |scale| m_a and the drag gain |scale| |B|; the steady part is mapped like a force.
+    const glm::vec3 per = s_.map.force_gain * glm::abs(s_.map.scale);
+    const glm::vec3 mass = per * static_cast<float>(model_.addedMassKg());
+    const glm::vec3 drag = -per * model_.dragNsM();
+    out.drag_n_s_m = model_.dragNsM();
+    if (output_off || !allFinite(in.state.position_m) || !allFinite(grip_velocity)) coupling_.reset();
+    const bool ramping = rampFactor(safety_.rampS(), s_.safety.ramp_s) < 1.0;
+    if (allFinite(in.state.position_m) && allFinite(grip_velocity) && allFinite(smoothed)) {
+      const glm::vec3 steady = s_.map.forceToDevice(smoothed);
+      if (ramping) {  // the steady force alone, the proxy placed (VirtualCoupling::place)
+        coupling_.place(in.state.position_m, grip_velocity, steady);
+        out.filtered_n = steady;
+      } else {
+        out.filtered_n = coupling_.step(in.state.position_m, grip_velocity, mass, drag, steady, in.dt_s);
+        coupled_step = true;
+      }
+      out.proxy_m = glm::vec3(coupling_.proxyM());
+    } else {
+      out.filtered_n = glm::vec3(NAN);  // safety zeroes it (and counts it)
+    }
+  } else {
+    out.filtered_n = s_.map.forceToDevice(smoothed);
+  }
   // The observer sees the force the device held since the last reading: safety's last output.
   // A (re)start begins with no stored energy and no debt: it is reset while the device is not
   // homed, and while the output is off (paused, stopping, failed) with its force back at zero.
   // The controller acts on the grip's motion from the positions read (grip_motion.h), not on
   // the device's filtered velocity, which lags.
-  const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
-  const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
   if (output_off) {
     passivity_.reset();
     out.passive_n = out.filtered_n;
@@ -63,6 +129,10 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  // The proxy feels what the hand got: where the controller or safety cut the force, the spring slips.
+  if (out.coupled && coupled_step && allFinite(out.commanded_n) && out.commanded_n != out.filtered_n) {
+    coupling_.yieldTo(in.state.position_m, grip_velocity, out.commanded_n);
+  }
   out.stale_after_s = safety_.staleAfter();
   if (!safe.homed || !safe.enabled) filter_.reset();
   return out;
@@ -70,6 +140,8 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
 
 void ForcePipeline::reset() {
   predictor_.reset();
+  model_.reset();
+  coupling_.reset();
   filter_.reset();
   grip_.reset();
   passivity_.reset();

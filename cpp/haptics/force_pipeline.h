@@ -5,18 +5,37 @@
 //   the simulation rate) -> workspace map (gain, axis signs) -> passivity controller (a damper that
 //   removes any energy the loop made, see passivity_controller.h) -> safety (the last word on
 //   |F|: clamp, slew) -> commanded device force.
+// With the virtual coupling active (coupling.active(), the default on a device that reports its
+// rendering limits) the force is rendered at the haptic rate instead: each new step identifies
+// the local model (fluid_model.h: added mass, drag, steady part); the steady part is low-passed
+// and mapped; a proxy carrying the model's mass and drag (scaled by gain x |scale|) is coupled to
+// the hand (virtual_coupling.h) -> passivity controller -> safety as above.
 #include <cstdint>
 
 #include "haptics/device.h"
 #include "haptics/drag_predictor.h"
+#include "haptics/fluid_model.h"
 #include "haptics/force_safety.h"
 #include "haptics/frames.h"
 #include "haptics/grip_motion.h"
 #include "haptics/low_pass_filter.h"
 #include "haptics/passivity_controller.h"
+#include "haptics/virtual_coupling.h"
 #include "haptics/workspace_map.h"
 
 namespace hf::haptics {
+
+// With the coupling, the steady part's low-pass cutoff is this share of the filter's (0.1 x the
+// simulation rate by default): on the simulated Falcon (20^3 water, gain 0.08, resting hand, 5 s)
+// it brought the energy into the hand from 3.2-4.7 mJ down to 1.5-1.6 mJ.
+inline constexpr double kSteadyBandwidthShare = 0.2;
+
+// With the coupling, the passivity controller does not act below this grip speed (m/s), whatever
+// its own dead-band: the grip's velocity (grip_motion.h) jitters by one encoder count over its
+// span, 0.04 mm / 4 ms = 10 mm/s on the Falcon, and a controller damping that jitter at rest fed
+// the hand through the coupling (simulated Falcon, air strokes at the derived gain: 1.0-2.3 mJ into
+// the hand, almost all at rest; 0.01-0.18 mJ with 15 mm/s; 0.13-0.45 mJ with no controller).
+inline constexpr float kCoupledDeadbandM_s = 0.015f;
 
 struct PipelineSettings {
   WorkspaceMap map;
@@ -24,6 +43,7 @@ struct PipelineSettings {
   bool prediction = false;
   PassivitySettings passivity;
   SafetySettings safety;
+  CouplingSettings coupling;
   void validate() const;
 };
 
@@ -39,7 +59,8 @@ struct TickInput {
 
 struct TickOutput {
   glm::vec3 sim_force_n{0.0f};        // latest simulation force, fluid N
-  glm::vec3 predicted_n{0.0f};        // after prediction (= sim force without it), fluid N
+  glm::vec3 predicted_n{0.0f};        // after prediction (= sim force without it; the local
+                                      // model's steady part with the coupling), fluid N
   glm::vec3 filtered_n{0.0f};         // low-passed and mapped, device N
   glm::vec3 passive_n{0.0f};          // after the passivity controller, device N
   double damping_n_s_m = 0.0;         // the passivity controller's damping this period, N s/m
@@ -47,6 +68,9 @@ struct TickOutput {
   double cutoff_hz = 0.0;
   double force_age_s = 0.0;
   double stale_after_s = 0.0;         // the age at which this force starts fading (staleAfterS), s
+  bool coupled = false;               // rendered through the virtual coupling
+  glm::vec3 proxy_m{0.0f};            // the coupling's proxy, device frame, m (coupled only)
+  glm::vec3 drag_n_s_m{0.0f};         // the local model's drag, fluid N s/m (<= 0; coupled only)
 };
 
 class ForcePipeline {
@@ -58,10 +82,14 @@ class ForcePipeline {
   const ForceSafety& safety() const { return safety_; }
   const DragPredictor& predictor() const { return predictor_; }
   const PassivityController& passivity() const { return passivity_; }
+  const FluidModel& model() const { return model_; }
+  const VirtualCoupling& coupling() const { return coupling_; }
 
  private:
   PipelineSettings s_;
   DragPredictor predictor_;
+  FluidModel model_;
+  VirtualCoupling coupling_;
   LowPassFilter filter_;
   GripMotion grip_;  // the velocity the passivity controller acts on (grip_motion.h)
   PassivityController passivity_;

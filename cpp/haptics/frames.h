@@ -24,6 +24,7 @@ struct ForceFrame {          // simulation thread -> haptic thread, every simula
   double pose_time_s = 0.0;            // time of the pose the step used (latency)
   double publish_time_s = 0.0;         // when the force was published (age)
   double sim_rate_hz = 0.0;            // measured simulation rate (filter bandwidth)
+  double step_dt_s = 0.0;              // the step's own time step, s (0: unknown)
 };
 
 }  // namespace hf::haptics

@@ -37,6 +37,20 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
     throw InvalidArgument("passivity_max_damping " + std::to_string(damping) + " N s/m is above the maximum stable damping of '" +
                           device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most that");
   }
+  // The virtual coupling's spring and damper: shares of the device's stable limits unless given
+  // (a device that reports none keeps the seed's rendering: coupling.active() is false).
+  CouplingSettings& c = s.pipeline.coupling;
+  if (c.stiffness_n_m == 0.0f) c.stiffness_n_m = kCouplingStiffnessShare * device.info().max_stiffness_n_m;
+  if (c.damping_n_s_m == 0.0f) c.damping_n_s_m = kCouplingDampingShare * device_damping;
+  const float device_stiffness = device.info().max_stiffness_n_m;
+  if (device_stiffness > 0.0f && c.stiffness_n_m > device_stiffness) {
+    throw InvalidArgument("coupling_stiffness " + std::to_string(c.stiffness_n_m) + " N/m is above the maximum stiffness of '" +
+                          device.info().name + "' (" + std::to_string(device_stiffness) + " N/m); give at most that");
+  }
+  if (device_damping > 0.0f && c.damping_n_s_m > device_damping) {
+    throw InvalidArgument("coupling_damping " + std::to_string(c.damping_n_s_m) + " N s/m is above the maximum stable damping of '" +
+                          device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most that");
+  }
   return s;
 }
 

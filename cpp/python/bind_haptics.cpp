@@ -67,6 +67,12 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["stale_after"] = s.stale_after_s;
   d["force_gain"] = s.force_gain;
   d["force_gain_reason"] = s.force_gain_reason;
+  d["feel"] = s.feel;
+  d["coupling"] = s.coupled;
+  d["added_mass"] = s.added_mass_kg;
+  d["hand_force"] = vec3Array(s.hand_force_n);
+  d["probe_force"] = vec3Array(s.probe_force_n);
+  d["model_drag"] = vec3Array(s.drag_n_s_m);
   const haptics::PassivityState& p = s.haptic.passivity;
   d["passivity_energy"] = p.energy_j;
   d["passivity_delivered"] = p.delivered_j;
@@ -96,7 +102,9 @@ simulation thread, started by start() (or by entering a `with` block) and ended 
 Per haptic period: device pose -> (workspace map) -> probe pose for the simulation thread;
 latest simulation force -> [prediction] -> low-pass (cutoff = bandwidth_ratio x measured
 simulation rate) -> force_gain -> passivity controller -> safety (NaN guard, homing gate,
-stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device.
+stale-force fade, ramp-in, max_force clamp, slew_rate limit) -> device. With the coupling (the
+default on a device that reports its limits) each step identifies a local model of the fluid's
+force and a proxy carrying it is coupled to the hand at the haptic rate (see coupling).
 
 simulation: the Simulation to drive (kept alive by the session); the session steps it
   continuously and its probe follows the device.

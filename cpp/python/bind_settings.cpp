@@ -53,6 +53,11 @@ void addEnums(py::module_& m) {
   py::enum_<fluid::SourceEmission>(m, "SourceEmission", "How a smoke source changes the cells it covers.")
       .value("hold", fluid::SourceEmission::Hold, "cells held at least at the source's values")
       .value("rate", fluid::SourceEmission::Rate, "the source's values added per second");
+  py::enum_<session::Feel>(m, "Feel", "What the hand feels of the fluid's force when the gain is derived.")
+      .value("amplified", session::Feel::Amplified,
+             "the largest gain the coupled rendering holds passively, with its margin")
+      .value("physical", session::Feel::Physical,
+             "the fluid's newtons (gain 1) where the rendering holds it, else that largest gain");
   py::enum_<ForceFilter>(m, "ForceFilter", "What the haptic pipeline does to the simulation's force.")
       .value("lowpass", ForceFilter::LowPass, "the seed's first-order low-pass, cutoff from the simulation rate")
       .value("none", ForceFilter::None, "no filter");
@@ -155,8 +160,27 @@ depend on the device (max_force, passivity_max_damping) are checked when the ses
                                      s.derive_force_gain = !g;
                                      if (g) s.loop.pipeline.map.force_gain = *g;
                                    },
-                                   "Device newtons per fluid newton (>= 0); None: the gain the device can render, derived by\n"
-                                   "the session (stats()['force_gain_reason']).")
+                                   "Device newtons per fluid newton (>= 0); None: the gain the device can render (see feel),\n"
+                                   "derived by the session: with the coupling, the share of the probe's added mass x workspace\n"
+                                   "scale still held per simulation step (at most 10 ms), kept at half the device's max_damping\n"
+                                   "and max_stiffness, and the buoyancy at rest at most half of max_force (no cap at 1);\n"
+                                   "stats()['force_gain'] and ['force_gain_reason'] say what was chosen.")
+      .field<session::Feel>("feel", [](const S& s) { return s.feel; }, [](S& s, session::Feel f) { s.feel = f; },
+                            "With force_gain None: Feel.amplified (the largest gain the rendering holds passively)\n"
+                            "or Feel.physical (1:1 where it holds, else that gain; the reason says so). stats()'s\n"
+                            "hand_force (device N) against probe_force (fluid N) is what the hand feels of the fluid.")
+      .field<bool>("coupling", [](const S& s) { return s.loop.pipeline.coupling.enabled; },
+                   [](S& s, bool v) { s.loop.pipeline.coupling.enabled = v; },
+                   "Render the force at the haptic rate: each step identifies a local model of the fluid's force\n"
+                   "(added mass, drag, steady part) and a proxy carrying it is coupled to the hand by a\n"
+                   "spring-damper inside the device's limits. False: the low-passed step force (the seed's).\n"
+                   "A device that reports no rendering limits keeps the latter; stats()['coupling'] says which.")
+      .field<float>("coupling_stiffness", [](const S& s) { return s.loop.pipeline.coupling.stiffness_n_m; },
+                    [](S& s, float v) { s.loop.pipeline.coupling.stiffness_n_m = v; },
+                    "The coupling's spring (N/m); 0: a quarter of the device's max_stiffness.")
+      .field<float>("coupling_damping", [](const S& s) { return s.loop.pipeline.coupling.damping_n_s_m; },
+                    [](S& s, float v) { s.loop.pipeline.coupling.damping_n_s_m = v; },
+                    "The coupling's damper (N s/m); 0: half the device's max_damping.")
       .field<std::optional<float>>("probe_radius", [](const S& s) { return s.probe_radius_m; },
                                    [](S& s, const std::optional<float>& r) { s.probe_radius_m = r; },
                                    "The probe becomes a sphere of this radius (m, >= one cell); None: keep the simulation's\n"

@@ -26,10 +26,6 @@ constexpr double kPi = 3.14159265358979323846;
 HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& sim, const haptics::DevicePtr& device) {
   if (!device) throw InvalidArgument("haptic session: give a device (got None)");
   float& gain = s.loop.pipeline.map.force_gain;
-  if (!s.derive_force_gain) {
-    s.force_gain_reason = "force gain " + num(gain) + ": given";
-    return s;
-  }
   const std::optional<ProbeState> probe = sim.probe();
   double volume_m3 = 0.0;
   if (s.probe_radius_m || !probe || probe->kind == ProbeState::Kind::Sphere) {
@@ -40,13 +36,35 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
     const glm::dvec3 edge(box.hi - box.lo);
     volume_m3 = edge.x * edge.y * edge.z;
   }
+  const double added_kg = haptics::addedMassKg(sim.params().density_kg_m3, volume_m3);
+  s.loop.pipeline.coupling.added_mass_kg = added_kg;  // the local model's added mass
+  if (!s.derive_force_gain) {
+    s.force_gain_reason = "force gain " + num(gain) + ": given";
+    return s;
+  }
   const glm::vec3 scale = glm::abs(s.loop.pipeline.map.scale);
   const double step_s = s.sim_dt_s > 0.0 ? s.sim_dt_s : s.min_sim_dt_s;
-  const haptics::GainChoice c = haptics::renderableForceGain(
-      device->info(), haptics::addedMassKg(sim.params().density_kg_m3, volume_m3),
-      std::max({scale.x, scale.y, scale.z}), step_s);
+  const haptics::DeviceInfo info = device->info();
+  const auto& coupling = s.loop.pipeline.coupling;
+  // The coupling renders when enabled on a device with a stiffness (the loop fills it from the device).
+  const bool coupled = coupling.enabled && (coupling.stiffness_n_m > 0.0f || info.max_stiffness_n_m > 0.0f);
+  const double max_scale = std::max({scale.x, scale.y, scale.z});
+  // At rest the probe feels buoyancy: rho |g| V (N).
+  const double steady_n = sim.params().density_kg_m3 * glm::length(glm::dvec3(sim.params().gravity_m_s2)) * volume_m3;
+  const haptics::GainChoice c =
+      coupled ? haptics::coupledForceGain(info, added_kg, max_scale, step_s, steady_n, s.loop.pipeline.safety.max_force_n)
+              : haptics::renderableForceGain(info, added_kg, max_scale, step_s);
   gain = c.gain;
   s.force_gain_reason = c.reason;
+  if (s.feel == Feel::Physical) {  // 1:1, where the rendering holds it passively
+    if (c.gain >= 1.0f) {
+      gain = 1.0f;
+      s.force_gain_reason = "force gain 1: physical (1:1), the fluid's newtons on the hand (the rendering holds up to " +
+                            num3(c.gain) + ")";
+    } else {
+      s.force_gain_reason = "physical (1:1) is more than the rendering holds passively here: " + c.reason;
+    }
+  }
   return s;
 }
 }  // namespace
@@ -56,6 +74,15 @@ std::pair<glm::vec3, glm::vec3> HapticSession::workspaceBox() const {
   const haptics::WorkspaceMap& map = s_.loop.pipeline.map;
   const glm::vec3 a = map.positionToDomain(info.workspace_min_m), b = map.positionToDomain(info.workspace_max_m);
   return {glm::min(a, b), glm::max(a, b)};
+}
+
+const char* feelName(Feel f) { return f == Feel::Physical ? "physical" : "amplified"; }
+
+Feel feelFromName(const std::string& name) {
+  if (name == "amplified") return Feel::Amplified;
+  if (name == "physical") return Feel::Physical;
+  throw InvalidArgument("feel must be 'amplified' (the largest gain the rendering holds passively) or 'physical' (1:1), got '" +
+                        name + "'");
 }
 
 const char* stateName(SessionState s) {
@@ -389,6 +416,7 @@ void HapticSession::simLoop() {
       frame.pose_time_s = pose.time_s;
       frame.publish_time_s = done_s;
       frame.sim_rate_hz = rate.rateHz();
+      frame.step_dt_s = dt_s;
       forces_.write(frame);
       sim_steps_.fetch_add(1, std::memory_order_relaxed);
       sim_rate_hz_.store(rate.rateHz(), std::memory_order_relaxed);
@@ -453,6 +481,13 @@ HapticSessionStats HapticSession::stats() const {
   st.stale_after_s = loop_.latest().stale_after_s;
   st.force_gain = s_.loop.pipeline.map.force_gain;
   st.force_gain_reason = s_.force_gain_reason;
+  st.feel = s_.derive_force_gain ? feelName(s_.feel) : "given";
+  st.coupled = loop_.settings().pipeline.coupling.active();
+  st.added_mass_kg = s_.loop.pipeline.coupling.added_mass_kg;
+  const haptics::TickOutput latest = loop_.latest();
+  st.hand_force_n = latest.commanded_n;
+  st.probe_force_n = latest.sim_force_n;
+  st.drag_n_s_m = latest.drag_n_s_m;
   st.error = error();
   return st;
 }

@@ -36,6 +36,13 @@ class SimulationClaim;
 
 inline constexpr double kDefaultTraceS = 600.0;  // trace length the Python API keeps when asked, s
 
+// What the hand feels of the fluid's force (with derive_force_gain): Amplified, the largest gain
+// the rendering holds passively with its margin (rendering_limits.h), or Physical, 1:1 where that
+// largest gain is at least 1 (a probe in water at a large workspace scale gets that gain instead).
+enum class Feel { Amplified, Physical };
+const char* feelName(Feel f);
+Feel feelFromName(const std::string& name);  // "amplified" or "physical"; InvalidArgument otherwise
+
 struct HapticSessionSettings {
   // The session fills loop.pipeline.map.offset_m, loop.pipeline.filter.max_cutoff_hz,
   // loop.pipeline.safety.max_force_n and loop.trace_capacity from the settings below (resolve());
@@ -73,6 +80,7 @@ struct HapticSessionSettings {
   // True: loop.pipeline.map.force_gain is replaced by the gain the device can render for this
   // probe, fluid and workspace scale (haptics/rendering_limits.h); false: the given gain is used.
   bool derive_force_gain = true;
+  Feel feel = Feel::Amplified;     // with derive_force_gain: amplified (derived) or physical (1)
   std::string force_gain_reason;   // set by the session: how the gain in use was chosen
   void validate() const;
   // These settings with the derived loop fields filled in for this domain and device; validates.
@@ -93,6 +101,12 @@ struct HapticSessionStats {
   std::uint64_t snapshots = 0;     // field snapshots published
   double stale_after_s = 0.0;      // age at which the latest force starts fading (safety stage), s
   float force_gain = 0.0f;         // device N per fluid N in use
+  std::string feel;                // "amplified", "physical" or "given"
+  bool coupled = false;            // rendered through the virtual coupling (force at the haptic rate)
+  double added_mass_kg = 0.0;      // the probe's added mass the local model renders (fluid kg)
+  glm::vec3 hand_force_n{0.0f};    // the latest force on the hand (device N)
+  glm::vec3 probe_force_n{0.0f};   // the latest force of the fluid on the probe (fluid N)
+  glm::vec3 drag_n_s_m{0.0f};      // the local model's drag (fluid N s/m, <= 0)
   std::string force_gain_reason;   // how it was chosen
   std::string error;               // "" or the first error
 };

@@ -92,6 +92,10 @@ class ForceFilter(enum.Enum):
     lowpass = 0
     none = 1
 
+class Feel(enum.Enum):
+    amplified = 0
+    physical = 1
+
 class FluidSettings:
     """The grid, the fluid and its solver, the GL device (SI units); defaults are the engine's."""
     def __init__(self, **settings: Any) -> None: ...
@@ -152,6 +156,10 @@ class HapticSessionSettings:
     trace_seconds: float  # s
     snapshot: Optional[float]  # s between field snapshots; 0 = every step; None = off
     snapshot_temperature: bool
+    feel: Feel  # or its name: amplified (the derived gain) or physical (1:1), with force_gain None
+    coupling: bool  # render at 1 kHz through a virtual coupling (False: the low-passed step force)
+    coupling_stiffness: float  # N/m; 0 = a quarter of the device's max_stiffness
+    coupling_damping: float  # N s/m; 0 = half the device's max_damping
     @staticmethod
     def fields() -> List[str]: ...
     def to_dict(self) -> Dict[str, object]: ...

@@ -19,13 +19,15 @@ RADIUS = 0.1         # m
 PERIOD_S = 0.5       # longer than the limit cycle's period (about 0.3 s)
 
 
-def falcon_run(tmp_path, passivity=True, force_gain=1.0, hand_stiffness=300.0, resolution=20, **extra):
+def falcon_run(tmp_path, passivity=True, force_gain=1.0, hand_stiffness=300.0, resolution=20, coupling=False, **extra):
+    """A session on the simulated Falcon; coupling=False: the seed's rendering (the low-passed step
+    force), which these tests characterize (the coupling's own: test_haptic_feel.py)."""
     falcon = hf.open_simulated_falcon(hand_stiffness=hand_stiffness)
     try:
         run = run_haptic(falcon, SECONDS, tmp_path, resolution=(resolution,) * 3, solver="multigrid",
                          fluid_density=1000.0, plot=False, log=lambda line: None,
                          workspace_scale=SCALE, force_gain=force_gain, probe_radius=RADIUS,
-                         ramp_time=1.0, realtime=False, passivity=passivity, **extra)
+                         ramp_time=1.0, realtime=False, passivity=passivity, coupling=coupling, **extra)
     finally:
         falcon.close()
     table = np.loadtxt(run.csv_path, delimiter=",", skiprows=1)
@@ -90,7 +92,8 @@ def assert_passive_and_settled(run, trace, window_tolerance_j):
 
 @pytest.mark.parametrize("hand_stiffness", [300.0, 1500.0])
 def test_the_defaults_keep_the_loop_passive_and_the_hand_at_rest(tmp_path, hand_stiffness):
-    """The default force gain (what the Falcon can render) with the controller on."""
+    """The derived force gain of the seed's rendering (what the Falcon can render of the held step
+    force) with the controller on."""
     run, trace = falcon_run(tmp_path, force_gain=None, hand_stiffness=hand_stiffness)
     st = run.stats
     # Added mass rho V / 2 = 2.094 kg x scale 6 over the 10 ms shortest step: 1257 N s/m per

@@ -1,0 +1,66 @@
+#include "haptics/fluid_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+#include "common/format.h"
+
+namespace hf::haptics {
+
+FluidModel::FluidModel(double added_mass_kg, double max_drag_n_s_m)
+    : added_mass_kg_(added_mass_kg), max_drag_n_s_m_(max_drag_n_s_m) {
+  if (!std::isfinite(added_mass_kg) || added_mass_kg < 0.0) {
+    throw InvalidArgument("fluid model: the probe's added mass must be a finite number of kg >= 0, got " + num(added_mass_kg));
+  }
+  if (!(max_drag_n_s_m > 0.0)) {
+    throw InvalidArgument("fluid model: the largest drag must be a positive number of N s/m, got " + num(max_drag_n_s_m));
+  }
+}
+
+void FluidModel::addFrame(const glm::vec3& force_n, const glm::vec3& velocity_m_s, double step_s) {
+  accel_m_s2_ = (frames_ > 0 && step_s > 0.0 && std::isfinite(step_s))
+                    ? (velocity_m_s - last_velocity_m_s_) / static_cast<float>(step_s)
+                    : glm::vec3(0.0f);
+  last_velocity_m_s_ = velocity_m_s;
+  ++frames_;
+  // The force with the added-mass reaction taken out: what drag and the steady part make.
+  const glm::vec3 rest = force_n + static_cast<float>(added_mass_kg_) * accel_m_s2_;
+  rests_[next_] = rest;
+  velocities_[next_] = velocity_m_s;
+  next_ = (next_ + 1) % kWindow;
+  if (held_ < kWindow) ++held_;
+  fitDrag();
+  steady_n_ = rest - drag_n_s_m_ * velocity_m_s;
+}
+
+void FluidModel::fitDrag() {
+  if (held_ < 3) return;
+  constexpr double kMinVelocitySpread = 1e-3;  // m/s rms: below, the window says nothing about B
+  for (int a = 0; a < 3; ++a) {
+    double mv = 0.0, mf = 0.0;
+    for (int i = 0; i < held_; ++i) {
+      mv += velocities_[i][a];
+      mf += rests_[i][a];
+    }
+    mv /= held_;
+    mf /= held_;
+    double svv = 0.0, svf = 0.0;
+    for (int i = 0; i < held_; ++i) {
+      const double dv = velocities_[i][a] - mv;
+      svv += dv * dv;
+      svf += dv * (rests_[i][a] - mf);
+    }
+    if (!(svv > held_ * kMinVelocitySpread * kMinVelocitySpread)) continue;  // keep the last slope
+    const double b = svf / svv;
+    drag_n_s_m_[a] = std::isfinite(b) ? static_cast<float>(std::clamp(b, -max_drag_n_s_m_, 0.0)) : 0.0f;
+  }
+}
+
+void FluidModel::reset() {
+  held_ = next_ = 0;
+  steady_n_ = drag_n_s_m_ = accel_m_s2_ = last_velocity_m_s_ = glm::vec3(0.0f);
+  frames_ = 0;
+}
+
+}  // namespace hf::haptics
