@@ -27,11 +27,18 @@ import threading
 import time
 import zipfile
 
-ORDER, ZIP, WORK = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
-if ORDER not in ("bpy-first", "hapticfluid-first"):
-    sys.exit(f"ORDER must be bpy-first or hapticfluid-first, not {ORDER!r}")
-os.makedirs(WORK, exist_ok=False)
+# Inside a Blender binary (`blender -b --python bpy_check.py -- bpy-first ZIP WORK`, as
+# test_blender.sh runs it) bpy is loaded already: only bpy-first, and the caller sets the
+# BLENDER_USER_* folders under WORK before Blender starts.
+IN_BLENDER = "bpy" in sys.modules
+ARGS = sys.argv[sys.argv.index("--") + 1:] if IN_BLENDER else sys.argv[1:]
+ORDER, ZIP, WORK = ARGS[0], os.path.abspath(ARGS[1]), os.path.abspath(ARGS[2])
+if ORDER not in ("bpy-first", "hapticfluid-first") or (IN_BLENDER and ORDER != "bpy-first"):
+    sys.exit(f"ORDER must be bpy-first or (bpy module only) hapticfluid-first, not {ORDER!r}")
+os.makedirs(WORK, exist_ok=IN_BLENDER)
 for name in ("CONFIG", "SCRIPTS", "EXTENSIONS", "DATAFILES"):  # read when bpy starts
+    if IN_BLENDER and os.environ.get(f"BLENDER_USER_{name}") != os.path.join(WORK, name.lower()):
+        sys.exit(f"start Blender with BLENDER_USER_{name}={os.path.join(WORK, name.lower())} (test_blender.sh does)")
     os.environ[f"BLENDER_USER_{name}"] = os.path.join(WORK, name.lower())
 
 EXTENSION_MODULE = "bl_ext.user_default.hapticfluid"  # id "hapticfluid" in the user repository
