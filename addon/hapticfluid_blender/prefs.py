@@ -52,6 +52,10 @@ def package_problem():
         why = unsupported_here()
         if why:
             return f"{why}: the add-on's engine cannot load ({exc})"
+        missing = re.match(r"(lib(EGL|OpenGL)\.so\.\d+): cannot open shared object file", str(exc))
+        if missing:  # libglvnd is the system's on purpose (the wheel does not carry it)
+            return (f"Install your system's {missing.group(1)} (Debian/Ubuntu: apt install libegl1 libopengl0; "
+                    f"Fedora/RHEL: dnf install libglvnd-egl libglvnd-opengl): the engine needs it ({exc})")
         return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
                 f"(read by Blender 4.x only with --python-use-system-env): "
                 f"it is not importable ({exc})")

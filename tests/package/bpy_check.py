@@ -140,6 +140,22 @@ def install_extension():
     py = f"cp{sys.version_info[0]}{sys.version_info[1]}"
     too_new = prefs.unsupported_here([f"hapticfluid-0.1.0-{py}-{py}-manylinux_2_99_x86_64.whl"])
     check(too_new is not None and "glibc 2.99" in too_new, f"where glibc is too old it says so in one line: {too_new}")
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_egl(name, *args, **kwargs):  # a system without libglvnd's libEGL
+        if name == "hapticfluid":
+            raise ImportError("libEGL.so.1: cannot open shared object file: No such file or directory")
+        return real_import(name, *args, **kwargs)
+
+    builtins.__import__ = no_egl
+    try:
+        no_egl_problem = prefs.package_problem()
+    finally:
+        builtins.__import__ = real_import
+    check(no_egl_problem is not None and no_egl_problem.startswith("Install your system's libEGL.so.1 (Debian/Ubuntu: apt"),
+          f"without libEGL it names the package to install: {no_egl_problem}")
     other = prefs.unsupported_here(["hapticfluid-0.1.0-cp310-cp310-manylinux_2_28_x86_64.whl"])
     check(other is not None and "CPython 3.10, not this Blender's Python" in other, f"and for another Python: {other}")
     import hapticfluid
