@@ -16,8 +16,9 @@
 # web server) once in Preferences > Get Extensions > Repositories, and later versions arrive as
 # updates. Copy a newer zip into the folder and run this again (or server-generate) to publish.
 # Blender's validator and index generator come from `blender` 4.2+ on PATH, else from a bpy module
-# given as $HF_BPY_PYTHON (a python that imports bpy): the same scripts; with neither the zip is
-# still built, and the repository step says it was left out. tests/package validates the zip,
+# given as $HF_BPY_PYTHON (a python that imports bpy), else from the newest bpy the package tests
+# cached in ~/.cache/hapticfluid: the same scripts; with none the zip is still built, and the
+# repository step says it was left out. tests/package validates the zip,
 # installs it into bpy, and adds the repository to bpy.
 # Exit status: 0 built; 77 a wheel cannot be built on this machine (reason printed); other:
 # failed.
@@ -95,6 +96,10 @@ if [ -n "$blender_version" ] && [ "$(printf '%s\n4.2\n' "$blender_version" | sor
   extension_cli() { blender --factory-startup --command extension "$@"; }
 elif [ -n "${HF_BPY_PYTHON:-}" ]; then
   extension_cli() { "$HF_BPY_PYTHON" "$HF_ROOT/tests/package/extension_cli.py" "$@"; }
+elif cached="$(ls -d "${HF_BPY_CACHE:-$HOME/.cache/hapticfluid}"/bpy-*/.hf-ok 2>/dev/null | sort -V | tail -1)" \
+     && [ -n "$cached" ]; then  # a bpy the package tests installed (tests/package/bpy_venv.sh)
+  HF_BPY_PYTHON="$(dirname "$cached")/bin/python"
+  extension_cli() { "$HF_BPY_PYTHON" "$HF_ROOT/tests/package/extension_cli.py" "$@"; }
 else
   extension_cli() { return 77; }
 fi
@@ -102,7 +107,7 @@ fi
 set +e; extension_cli validate "$zip_path"; rc=$?; set -e
 case $rc in
   0) ;;
-  77) echo "   (not validated here: no Blender 4.2+ on PATH and no \$HF_BPY_PYTHON; tests/package validates it)" ;;
+  77) echo "   (not validated here: no Blender 4.2+ on PATH, no \$HF_BPY_PYTHON, no cached bpy; tests/package validates it)" ;;
   *) echo "error: Blender's validator rejects $zip_path" >&2; exit 1 ;;
 esac
 
@@ -117,7 +122,7 @@ case $rc in
   0) echo "== repository: $REPO ($(ls "$REPO" | grep -c '\.zip$') zip(s) + index.json): add it in Blender once" \
           "(Preferences > Get Extensions > Repositories > + > Add Remote Repository, URL file://$REPO/index.json" \
           "or its address on a web server)" ;;
-  77) echo "   (repository index not written: no Blender 4.2+ on PATH and no \$HF_BPY_PYTHON to run server-generate;" \
+  77) echo "   (repository index not written: no Blender 4.2+ on PATH, no \$HF_BPY_PYTHON, no cached bpy to run server-generate;" \
            "the zip is in $REPO)" ;;
   *) echo "error: Blender's server-generate failed for $REPO" >&2; exit 1 ;;
 esac
