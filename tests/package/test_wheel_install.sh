@@ -1,23 +1,25 @@
 #!/usr/bin/env bash
-# ctest package_wheel_install: the wheel that package_build put in PACKAGE_DIR/dist goes into a
-# new virtual environment (numpy from PyPI), then a process whose environment hides the build
+# ctest package_wheel_install_<tag>: the TAG wheel (cp311 or cp313) that package_build put in
+# PACKAGE_DIR/dist goes into a new virtual environment of that CPython (numpy from PyPI), then a process whose environment hides the build
 # tree (env -i, python -I, run from an empty folder) imports it, steps a 16^3 simulation,
 # writes a VDB and checks that OpenVDB, TBB, blosc, boost and Imath come from the wheel's own
 # hapticfluid.libs/, not from the system.
-#   bash test_wheel_install.sh PACKAGE_DIR
+#   bash test_wheel_install.sh TAG PACKAGE_DIR
 # Exit 77 (ctest SKIP): no wheel could be built here, or numpy cannot be fetched; reason printed.
 set -euo pipefail
-PKG="$(cd "$1" && pwd)"
+TAG="$1"
+PKG="$(cd "$2" && pwd)"
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 skip() { echo "SKIP: $*"; exit 77; }
 source "$HERE/../../scripts/package_common.sh"
 
-wheels=("$PKG"/dist/hapticfluid-*.whl)
-[ -f "${wheels[0]}" ] || skip "no wheel in $PKG/dist: package_build could not build one on this machine (its output says why)"
+wheels=("$PKG"/dist/hapticfluid-*-"$TAG"-*.whl)
+[ -f "${wheels[0]}" ] || skip "no $TAG wheel in $PKG/dist: package_build could not build one on this machine (its output says why)"
 wheel="${wheels[0]}"
-PY="$(hf_python311)" || skip "no CPython 3.11 with venv and ensurepip"
+pyver="${TAG#cp3}"; pyver="3.$pyver"
+PY="$(hf_python "$pyver")" || skip "no CPython $pyver with venv and ensurepip"
 
-VENV="$PKG/clean-venv"
+VENV="$PKG/clean-venv-$TAG"
 rm -rf "$VENV"
 t0=$(date +%s%N)
 "$PY" -m venv "$VENV"
