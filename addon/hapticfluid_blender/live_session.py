@@ -424,18 +424,14 @@ class LiveController:
     def _follow_device(self, latest):
         from mathutils import Vector
 
-        p = Vector(latest["position"])
-        off = Vector(self.session.workspace_offset)
-        scale = Vector(self.session.workspace_scale)
-        world = off + Vector((scale[0] * p[0], scale[1] * p[1], scale[2] * p[2]))
-        m = self.start_matrix.copy()
-        m.translation = world
+        m = self.start_matrix.copy()  # where the engine puts the probe: mapped and held off the walls
+        m.translation = Vector(tuple(float(x) for x in self.session.probe_origin(latest["position"])))
         self.probe.matrix_world = m
 
     def _take_trace(self):
         """Device modes: the device's poses since the last tick (one per haptic period); while
         recording, those TRACE_SAMPLES_PER_KEY times per key interval become samples of the
-        object's location (device -> world by the workspace map, less the object's parent offset)
+        object's location (where the engine puts the probe for that pose, less the object's parent offset)
         at their own times, so Record keys the hand's path, not the straight line between ticks.
         Needs the controller's clock to be the trace's (time.monotonic, CLOCK_MONOTONIC)."""
         trace = self.session.trace()
@@ -445,16 +441,16 @@ class LiveController:
         obj = self.probe
         world_now = obj.matrix_world.translation
         parent = tuple(world_now[i] - obj.location[i] for i in range(3))  # a parent's translation
-        off, scale = self.session.workspace_offset, self.session.workspace_scale
         rotation = tuple(getattr(obj, r.rotation_path))  # Falcon modes keep the start rotation
         spacing = r.interval_s / TRACE_SAMPLES_PER_KEY
         last_t = r.t0 + (r.samples[-1][0] - r.start_frame) / r.fps if r.samples else -math.inf
-        for t, p in zip(trace["time"], trace["position"]):
+        origins = self.session.probe_origin(trace["position"])  # where the engine put the probe
+        for t, w in zip(trace["time"], origins):
             t = float(t)
             if t < r.t0 or t < last_t + spacing:
                 continue
             last_t = t
-            location = tuple(float(off[i] + scale[i] * p[i]) - parent[i] for i in range(3))
+            location = tuple(float(w[i]) - parent[i] for i in range(3))
             r.samples.append((r.start_frame + (t - r.t0) * r.fps, location, rotation))
 
     def _update_drawer(self, latest):

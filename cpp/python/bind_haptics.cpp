@@ -420,6 +420,25 @@ session on it fails to start; close() still stops it (the session then fails wit
   c.def_property_readonly(
       "workspace_scale", [](const HapticSession& s) { return vec3Array(s.settings().loop.pipeline.map.scale); },
       "Domain metres per device metre, per axis (the fitted one with fit_workspace).");
+  c.def(
+      "probe_origin",
+      [](const HapticSession& s, const py::array_t<float, py::array::c_style | py::array::forcecast>& positions) {
+        if (positions.ndim() < 1 || positions.shape(positions.ndim() - 1) != 3 || positions.ndim() > 2) {
+          throw InvalidArgument("probe_origin: positions must be (3,) or (N, 3) device-frame metres");
+        }
+        py::array_t<float> out(std::vector<py::ssize_t>(positions.shape(), positions.shape() + positions.ndim()));
+        const float* in = positions.data();
+        float* o = out.mutable_data();
+        for (py::ssize_t i = 0; i < positions.size() / 3; ++i) {
+          const glm::vec3 w = s.probeOriginFor(glm::vec3(in[3 * i], in[3 * i + 1], in[3 * i + 2]));
+          for (int k = 0; k < 3; ++k) o[3 * i + k] = w[k];
+        }
+        return out;
+      },
+      py::arg("positions"),
+      "Where the engine puts the probe's origin (world m) for device positions ((3,) or (N, 3),\n"
+      "device frame, m): the workspace map, then the hold one cell from every wall. Draw and record\n"
+      "the probe there.");
   c.def_property_readonly(
       "workspace_box",
       [](const HapticSession& s) {

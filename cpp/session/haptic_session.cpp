@@ -217,6 +217,12 @@ glm::mat3 HapticSession::probeRotation(const glm::mat4& transform) {
   return glm::mat3(x, y, glm::cross(x, y));
 }
 
+glm::vec3 HapticSession::probeOriginFor(const glm::vec3& device_position_m) const {
+  haptics::PoseFrame pose;
+  pose.position_m = s_.loop.pipeline.map.positionToDomain(device_position_m);
+  return glm::vec3(poseFor(pose).transform[3]);
+}
+
 obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const {
   obstacle::RigidPose p;
   p.transform = base_transform_;

@@ -157,6 +157,10 @@ class HapticSession {
   // probeRotation()), with its angular velocity; a turn whose world box cannot keep one cell from
   // every wall keeps the starting rotation instead. Applied with Simulation::setProbePose.
   obstacle::RigidPose poseFor(const haptics::PoseFrame& pose) const;
+  // Where the engine puts the probe's origin (world m) for a device position (device frame, m):
+  // the session's workspace map, then poseFor()'s hold one cell from every wall. The host draws
+  // and records the probe there instead of mapping the device's position itself.
+  glm::vec3 probeOriginFor(const glm::vec3& device_position_m) const;
 
   // The rotation part of a probe transform (local -> world, may scale or mirror): Gram-Schmidt
   // on its columns x, then y, with z = x cross y, so always a proper rotation; the rest

@@ -340,6 +340,7 @@ class HapticSession:
         settings: Optional[HapticSessionSettings] = None,
         **settings_by_name: Any,
     ) -> None: ...
+    def probe_origin(self, positions: npt.ArrayLike) -> npt.NDArray[np.float32]: ...  # device m -> world m
     @property
     def workspace_box(self) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...  # world m (lo, hi)
     @property

@@ -162,3 +162,21 @@ def test_one_grid_rule_for_the_bake_and_the_live_session():
     s = assembly.fluid_settings((0.0, 0.0, 0.0), (1.0, 0.5, 0.5), 16, {"fluid_density": 1000.0, "gravity": [0, 0, -1]})
     assert s.resolution == (16, 8, 8) and s.fluid_density == pytest.approx(1000.0) and s.gravity[2] == -1.0
     assert not s.compute_residual
+
+
+def test_the_engine_says_where_it_puts_the_probe_for_a_device_position(small_sim):
+    falcon = hf.open_simulated_falcon()
+    try:
+        session = hf.HapticSession(small_sim, falcon, fit_workspace=True, probe_radius=0.1, realtime=False)
+        scale = np.asarray(session.workspace_scale)
+        offset = np.asarray(session.workspace_offset)
+        inside = np.array([0.01, -0.02, 0.005])
+        assert session.probe_origin(inside) == pytest.approx(offset + scale * inside, abs=1e-6)  # the map
+        # Past a wall the probe is held one cell of fluid from it: 1 m - 1/16 m - 0.1 m.
+        held = session.probe_origin(np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]))
+        assert held[0, 0] == pytest.approx(1.0 - 1.0 / 16 - 0.1, abs=1e-4)  # (a hair more than a cell)
+        assert held[1, 0] == pytest.approx(1.0 / 16 + 0.1, abs=1e-4)
+        with pytest.raises(hf.InvalidArgumentError, match="probe_origin"):
+            session.probe_origin(np.zeros((2, 2)))
+    finally:
+        falcon.close()
