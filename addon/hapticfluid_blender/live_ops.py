@@ -205,6 +205,9 @@ class HAPTICFLUID_OT_live_start(bpy.types.Operator):
         return {"FINISHED"}
 
     def invoke(self, context, _event):
+        live = context.scene.hapticfluid_live
+        if live.allow_unsafe_gain and not live.auto_force_gain:  # say what it risks first; OK runs execute()
+            return context.window_manager.invoke_props_dialog(self, width=420)
         if modal_guard.pending():
             message = modal_guard.REFUSAL.format(what="live session or bake")
             context.scene.hapticfluid_live.status = message
@@ -217,6 +220,15 @@ class HAPTICFLUID_OT_live_start(bpy.types.Operator):
         self._run.timer = (wm, wm.event_timer_add(TICK_S, window=context.window))
         wm.modal_handler_add(self)
         return {"RUNNING_MODAL"}
+
+    def draw(self, context):
+        live = context.scene.hapticfluid_live
+        col = self.layout.column()
+        col.label(text=f"Unsafe: Force Gain {live.force_gain:.3g} may be above what the device renders passively.",
+                  icon="ERROR")
+        col.label(text="The rendering may then put energy into your hand: oscillation, or a kick")
+        col.label(text="when the probe meets the fluid's push. Hold the grip firmly; Stop in the sidebar ends it.")
+        col.label(text="OK starts the session; to stay safe, turn on Derive Gain instead.")
 
     def modal(self, context, event):
         run = self._run

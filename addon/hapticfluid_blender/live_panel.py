@@ -141,6 +141,7 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         sub = col.column()
         sub.enabled = not live.auto_force_gain
         sub.prop(live, "force_gain", text="Gain")
+        sub.prop(live, "allow_unsafe_gain", text="Allow Unsafe Gain", icon="ERROR" if live.allow_unsafe_gain else "NONE")
         sub = col.row()
         sub.enabled = live.auto_force_gain
         sub.prop(live, "feel", expand=True)

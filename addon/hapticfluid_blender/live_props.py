@@ -83,7 +83,12 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
         description="Force gain the device can render for this probe, fluid and workspace scale (the engine "
                     "derives it; Stats shows why); off: Force Gain")
     force_gain: FloatProperty(name="Force Gain", default=1.0, min=0.0, max=1e6, soft_max=1000.0,
-                              description="Device newtons per fluid newton (Derive Gain off)")
+                              description="Device newtons per fluid newton (Derive Gain off); above what the "
+                                          "device renders passively, Start refuses it unless Allow Unsafe Gain is on")
+    allow_unsafe_gain: BoolProperty(
+        name="Allow Unsafe Gain", default=False,
+        description="Accept a Force Gain above what the device renders passively (Start asks to confirm): the "
+                    "rendering may then put energy into the hand, as oscillation or a kick")
     feel: EnumProperty(
         name="Feel", default=str(_DEFAULTS.get("feel", "amplified")).upper(),
         items=(("AMPLIFIED", "Amplified", "The largest gain the rendering holds passively (the engine derives it; "

@@ -122,6 +122,7 @@ def read_plan(scene) -> LivePlan:
                                f"'{firmware}' does not exist")
     session_args = {
         "force_gain": None if live.auto_force_gain else live.force_gain,  # None: the engine derives it
+        "allow_unsafe_gain": (not live.auto_force_gain) and live.allow_unsafe_gain,
         "feel": live.feel.lower(),  # with a derived gain: amplified or physical (1:1)
         "filter": "lowpass",
         "bandwidth_ratio": live.bandwidth_ratio,

@@ -165,6 +165,10 @@ depend on the device (max_force, passivity_max_damping) are checked when the ses
                                    "scale still held per simulation step (at most 10 ms), kept at half the device's max_damping\n"
                                    "and max_stiffness, and the buoyancy at rest at most half of max_force (no cap at 1);\n"
                                    "stats()['force_gain'] and ['force_gain_reason'] say what was chosen.")
+      .field<bool>("allow_unsafe_gain", [](const S& s) { return s.allow_unsafe_gain; },
+                   [](S& s, bool v) { s.allow_unsafe_gain = v; },
+                   "Accept a given force_gain above what the device renders passively (refused otherwise,\n"
+                   "naming that limit): the rendering may then put energy into the hand.")
       .field<session::Feel>("feel", [](const S& s) { return s.feel; }, [](S& s, session::Feel f) { s.feel = f; },
                             "With force_gain None: Feel.amplified (the largest gain the rendering holds passively)\n"
                             "or Feel.physical (1:1 where it holds, else that gain; the reason says so). stats()'s\n"

@@ -38,10 +38,6 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
   }
   const double added_kg = haptics::addedMassKg(sim.params().density_kg_m3, volume_m3);
   s.loop.pipeline.coupling.added_mass_kg = added_kg;  // the local model's added mass
-  if (!s.derive_force_gain) {
-    s.force_gain_reason = "force gain " + num(gain) + ": given";
-    return s;
-  }
   const glm::vec3 scale = glm::abs(s.loop.pipeline.map.scale);
   const double step_s = s.sim_dt_s > 0.0 ? s.sim_dt_s : s.min_sim_dt_s;
   const haptics::DeviceInfo info = device->info();
@@ -54,6 +50,18 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
   const haptics::GainChoice c =
       coupled ? haptics::coupledForceGain(info, added_kg, max_scale, step_s, steady_n, s.loop.pipeline.safety.max_force_n)
               : haptics::renderableForceGain(info, added_kg, max_scale, step_s);
+  if (!s.derive_force_gain) {
+    // A given gain above what the rendering holds passively only with allow_unsafe_gain.
+    if (gain > c.gain * (1.0f + 1e-4f) && !s.allow_unsafe_gain) {
+      throw InvalidArgument("force_gain " + num3(gain) + " is more than this device renders passively here (" + c.reason +
+                            "); give at most " + num3(c.gain) + ", None to derive it, or allow_unsafe_gain=True: the "
+                            "rendering may then put energy into the hand (oscillation, a kick when the probe meets "
+                            "the fluid's push)");
+    }
+    s.force_gain_reason = "force gain " + num(gain) + ": given" +
+                          (gain > c.gain * (1.0f + 1e-4f) ? " (unsafe: above the passive " + num3(c.gain) + ")" : "");
+    return s;
+  }
   gain = c.gain;
   s.force_gain_reason = c.reason;
   if (s.feel == Feel::Physical) {  // 1:1, where the rendering holds it passively

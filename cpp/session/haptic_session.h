@@ -80,6 +80,9 @@ struct HapticSessionSettings {
   // True: loop.pipeline.map.force_gain is replaced by the gain the device can render for this
   // probe, fluid and workspace scale (haptics/rendering_limits.h); false: the given gain is used.
   bool derive_force_gain = true;
+  // A given gain above the derived one (what the rendering holds passively) is refused unless
+  // this is set: the user accepted that the rendering may then put energy into the hand.
+  bool allow_unsafe_gain = false;
   Feel feel = Feel::Amplified;     // with derive_force_gain: amplified (derived) or physical (1)
   std::string force_gain_reason;   // set by the session: how the gain in use was chosen
   void validate() const;

@@ -156,6 +156,7 @@ class HapticSessionSettings:
     trace_seconds: float  # s
     snapshot: Optional[float]  # s between field snapshots; 0 = every step; None = off
     snapshot_temperature: bool
+    allow_unsafe_gain: bool  # a given force_gain above the passive one is refused without it
     feel: Feel  # or its name: amplified (the derived gain) or physical (1:1), with force_gain None
     coupling: bool  # render at 1 kHz through a virtual coupling (False: the low-passed step force)
     coupling_stiffness: float  # N/m; 0 = a quarter of the device's max_stiffness

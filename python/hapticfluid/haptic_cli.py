@@ -260,6 +260,9 @@ def _add_haptic(sub) -> None:
     p.add_argument("--force-gain", type=_number, default=None,
                    help="device N per fluid N (default: the gain the device can render for this "
                         "probe, fluid and workspace scale, from its max damping and stiffness)")
+    p.add_argument("--allow-unsafe-gain", action="store_true",
+                   help="accept a --force-gain above what the device renders passively (refused otherwise): "
+                        "the rendering may then put energy into the hand")
     p.add_argument("--no-passivity", action="store_true",
                    help="observe the energy delivered to the hand but do not damp it (the passivity "
                         "controller is on by default)")
@@ -291,7 +294,7 @@ def cmd_haptic(args: argparse.Namespace) -> int:
             fluid_density=args.fluid_density, gravity=args.gravity, gl_device=args.gl_device,
             plot=not args.no_plot, log=lambda line: print(line, flush=True),
             workspace_scale=args.workspace_scale, force_gain=args.force_gain,
-            probe_radius=args.probe_radius, filter=args.filter,
+            allow_unsafe_gain=args.allow_unsafe_gain, probe_radius=args.probe_radius, filter=args.filter,
             bandwidth_ratio=args.bandwidth_ratio, prediction=args.prediction,
             max_force=args.max_force, ramp_time=args.ramp_time, realtime=not args.no_realtime,
             passivity=not args.no_passivity)

@@ -26,7 +26,7 @@ def falcon_run(tmp_path, passivity=True, force_gain=1.0, hand_stiffness=300.0, r
     try:
         run = run_haptic(falcon, SECONDS, tmp_path, resolution=(resolution,) * 3, solver="multigrid",
                          fluid_density=1000.0, plot=False, log=lambda line: None,
-                         workspace_scale=SCALE, force_gain=force_gain, probe_radius=RADIUS,
+                         workspace_scale=SCALE, force_gain=force_gain, allow_unsafe_gain=True, probe_radius=RADIUS,
                          ramp_time=1.0, realtime=False, passivity=passivity, coupling=coupling, **extra)
     finally:
         falcon.close()

@@ -180,3 +180,23 @@ def test_the_engine_says_where_it_puts_the_probe_for_a_device_position(small_sim
             session.probe_origin(np.zeros((2, 2)))
     finally:
         falcon.close()
+
+
+def test_a_gain_above_the_passive_one_needs_allow_unsafe_gain():
+    with hf.Simulation(resolution=(16, 16, 16), fluid_density=1000.0) as water:
+        falcon = hf.open_simulated_falcon()
+        try:
+            derived = hf.HapticSession(water, falcon, probe_radius=0.1, workspace_scale=6.0, realtime=False)
+            passive = derived.stats()["force_gain"]
+            assert 0.0 < passive < 1.0  # water at this scale: less than 1:1 renders passively
+            with pytest.raises(hf.InvalidArgumentError, match="allow_unsafe_gain") as info:
+                hf.HapticSession(water, falcon, probe_radius=0.1, workspace_scale=6.0, force_gain=1.0, realtime=False)
+            assert f"{passive:.3g}" in str(info.value)  # names the largest passive gain
+            at_limit = hf.HapticSession(water, falcon, probe_radius=0.1, workspace_scale=6.0, force_gain=passive,
+                                        realtime=False)
+            assert "unsafe" not in at_limit.stats()["force_gain_reason"]
+            unsafe = hf.HapticSession(water, falcon, probe_radius=0.1, workspace_scale=6.0, force_gain=1.0,
+                                      allow_unsafe_gain=True, realtime=False)
+            assert "unsafe" in unsafe.stats()["force_gain_reason"]
+        finally:
+            falcon.close()
