@@ -10,12 +10,8 @@ HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 skip() { echo "SKIP: $*"; exit 77; }
 zips=("$PKG"/dist/hapticfluid-*.zip)
 [ -f "${zips[0]}" ] || skip "no extension zip in $PKG/dist: package_build could not build one on this machine (its output says why)"
-set +e
-BPY_PY="$(bash "$HERE/bpy_venv.sh" "$VERSION")"
-rc=$?
-set -e
-[ $rc -eq 77 ] && skip "bpy==$VERSION is not to be had here (bpy_venv.sh said why, above)"
-[ $rc -eq 0 ] || { echo "FAIL: bpy==$VERSION could not be installed (above)"; exit 1; }
+source "$HERE/bpy_or_skip.sh"
+bpy_python_or_skip "$VERSION"
 work="$PKG/bpy-$VERSION-refuses"
 rm -rf "$work"
 env -i HOME="$PKG" PATH=/usr/bin:/bin "$BPY_PY" -I "$HERE/bpy_refuses.py" "${zips[0]}" "$work"

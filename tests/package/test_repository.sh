@@ -16,12 +16,8 @@ skip() { echo "SKIP: $*"; exit 77; }
 wheels=("$PKG"/dist/hapticfluid-*.whl)
 [ ${#wheels[@]} -ge 2 ] && [ -f "${wheels[0]}" ] \
   || skip "no wheels in $PKG/dist: package_build could not build them on this machine (its output says why)"
-set +e
-BPY_PY="$(bash "$HERE/bpy_venv.sh" "$VERSION")"
-rc=$?
-set -e
-[ $rc -eq 77 ] && skip "bpy==$VERSION is not to be had here (bpy_venv.sh said why, above)"
-[ $rc -eq 0 ] || { echo "FAIL: bpy==$VERSION could not be installed (above)"; exit 1; }
+source "$HERE/bpy_or_skip.sh"
+bpy_python_or_skip "$VERSION"
 
 work="$PKG/repository-$VERSION"
 rm -rf "$work"
