@@ -128,9 +128,9 @@ py::array_t<float> snapshotArray(const std::shared_ptr<const session::FieldSnaps
   return a;
 }
 
-}  // namespace
-
-void addHaptics(py::module_& m) {
+// The devices: DeviceInfo, DeviceState, Device, the virtual devices' factories and the session's
+// defaults.
+void addDeviceTypes(py::module_& m) {
   py::class_<DeviceInfo>(m, "DeviceInfo", "What a haptic device is and can do (SI units).")
       .def_readonly("name", &DeviceInfo::name)
       .def_readonly("kind", &DeviceInfo::kind, "'falcon', 'simulated_falcon', 'scripted', 'host' or 'null'.")
@@ -281,40 +281,11 @@ session on it fails to start; close() still stops it (the session then fails wit
       [m]() { return m.attr("HapticSessionSettings")().attr("to_dict")(); },
       "The HapticSession's default settings by name (SI units): HapticSessionSettings().to_dict().");
 
-  py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
-  c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& settings, const py::kwargs& kwargs) {
-          if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
-          const auto s = settingsWithKeywords<session::HapticSessionSettings>(settings, kwargs, "HapticSession");
-          return std::make_unique<HapticSession>(sim, std::move(device), s);
-        }),
-        py::arg("simulation"), py::arg("device"), py::arg("settings") = py::none(), py::keep_alive<1, 2>());
-  c.def_property_readonly("settings", [](const HapticSession& s) { return s.settings(); },
-                          "The HapticSessionSettings in use (a copy; force_gain None when derived: stats() has it).");
-  // Started sessions join a WeakSet on the module; an atexit hook stops those still running
-  // before the interpreter tears down (their threads must not outlive the objects they use).
-  py::module_ weakref = py::module_::import("weakref");
-  m.attr("_live_haptic_sessions") = weakref.attr("WeakSet")();
-  const auto start = [m](const py::object& self) {
-    m.attr("_live_haptic_sessions").attr("add")(self);
-    auto& s = self.cast<HapticSession&>();
-    py::gil_scoped_release release;
-    s.start();
-  };
-  c.def("start", start, "Start the haptic and simulation threads (once). Returns at once.");
-  c.def("pause", &HapticSession::pause, py::call_guard<py::gil_scoped_release>(),
-        "Force down to zero at slew_rate (8 N at 200 N/s: 40 ms); the simulation holds after its\n"
-        "current step.");
-  c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
-        "Step again; the force ramps in again over ramp_time.");
-  c.def("stop", [](HapticSession& s, double timeout) {
-          FlushLogAfter flush;  // what the session's threads queued (hapticfluid.haptics, .fluid, ...)
-          py::gil_scoped_release release;
-          s.stop(timeout);
-        }, py::arg("timeout") = 10.0,
-        "Force down to zero at slew_rate (max_force / slew_rate, at most 2 s) and both threads ended: waits at most\n"
-        "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
-        "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
-        "Any thread may call it; concurrent calls take turns.");
+}
+
+// What a running session reports: state, error, stats, the latest tick, its trace and snapshots,
+// where the engine puts the probe and the workspace.
+void addSessionReadings(py::class_<HapticSession>& c) {
   c.def_property_readonly("state", [](const HapticSession& s) { return session::stateName(s.state()); },
                           "'idle', 'running', 'paused', 'stopped' (force output ended, even if stop() timed out\n"
                           "waiting for the last simulation step) or 'failed'.");
@@ -447,6 +418,47 @@ session on it fails to start; close() still stops it (the session then fails wit
       },
       "The device's workspace in the domain, (minimum corner, maximum corner) in world m: where the\n"
       "probe can go (the simulation keeps it one cell from every wall).");
+}
+
+}  // namespace
+
+void addHaptics(py::module_& m) {
+  addDeviceTypes(m);
+  py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
+  c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& settings, const py::kwargs& kwargs) {
+          if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
+          const auto s = settingsWithKeywords<session::HapticSessionSettings>(settings, kwargs, "HapticSession");
+          return std::make_unique<HapticSession>(sim, std::move(device), s);
+        }),
+        py::arg("simulation"), py::arg("device"), py::arg("settings") = py::none(), py::keep_alive<1, 2>());
+  c.def_property_readonly("settings", [](const HapticSession& s) { return s.settings(); },
+                          "The HapticSessionSettings in use (a copy; force_gain None when derived: stats() has it).");
+  // Started sessions join a WeakSet on the module; an atexit hook stops those still running
+  // before the interpreter tears down (their threads must not outlive the objects they use).
+  py::module_ weakref = py::module_::import("weakref");
+  m.attr("_live_haptic_sessions") = weakref.attr("WeakSet")();
+  const auto start = [m](const py::object& self) {
+    m.attr("_live_haptic_sessions").attr("add")(self);
+    auto& s = self.cast<HapticSession&>();
+    py::gil_scoped_release release;
+    s.start();
+  };
+  c.def("start", start, "Start the haptic and simulation threads (once). Returns at once.");
+  c.def("pause", &HapticSession::pause, py::call_guard<py::gil_scoped_release>(),
+        "Force down to zero at slew_rate (8 N at 200 N/s: 40 ms); the simulation holds after its\n"
+        "current step.");
+  c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
+        "Step again; the force ramps in again over ramp_time.");
+  c.def("stop", [](HapticSession& s, double timeout) {
+          FlushLogAfter flush;  // what the session's threads queued (hapticfluid.haptics, .fluid, ...)
+          py::gil_scoped_release release;
+          s.stop(timeout);
+        }, py::arg("timeout") = 10.0,
+        "Force down to zero at slew_rate (max_force / slew_rate, at most 2 s) and both threads ended: waits at most\n"
+        "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
+        "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
+        "Any thread may call it; concurrent calls take turns.");
+  addSessionReadings(c);
   c.def("__enter__", [start](const py::object& self) {
     if (self.cast<HapticSession&>().state() == session::SessionState::Idle) start(self);
     return self;

@@ -114,9 +114,8 @@ session::SimulationState stateFromDict(const Simulation& sim, const py::dict& d)
   return st;
 }
 
-}  // namespace
-
-void addSimulation(py::module_& m) {
+// StepReport: what one step measured.
+void addStepReport(py::module_& m) {
   py::class_<session::StepReport>(m, "StepReport", "What one step measured.")
       .def_property_readonly("force", [](const session::StepReport& r) { return vec3Array(r.force_n); },
                              "Fluid force on the probe (N), numpy array (3,).")
@@ -160,6 +159,308 @@ void addSimulation(py::module_& m) {
                ", wall_ms=" + std::to_string(r.wall_ms) + ")";
       });
 
+}
+
+// The probe: a sphere or a closed mesh, its pose, and what the simulation holds.
+void addProbeMethods(py::class_<Simulation>& c) {
+  c.def(
+      "set_probe",
+      [](Simulation& s, const Vec3& centre, float radius, const Vec3& velocity, const Vec3& angular_velocity) {
+        obstacle::SpherePose pose;
+        pose.centre_m = toVec3(centre);
+        pose.radius_m = radius;
+        pose.velocity_m_s = toVec3(velocity);
+        pose.angular_velocity_rad_s = toVec3(angular_velocity);
+        s.setSphereProbe(pose);
+      },
+      py::arg("centre"), py::arg("radius"), py::arg("velocity") = Vec3{0, 0, 0},
+      py::arg("angular_velocity") = Vec3{0, 0, 0},
+      "Place the spherical probe: centre (m, world), radius (m, >= one cell), linear velocity (m/s)\n"
+      "and angular velocity (rad/s) imposed on the fluid faces it covers. It must lie inside the domain.");
+  c.def(
+      "set_mesh_probe",
+      [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
+         const Vec3& velocity, const Vec3& angular_velocity, const std::optional<Vec3>& torque_centre) {
+        obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
+        obstacle::RigidPose pose;
+        pose.transform = toTransform(transform);
+        pose.velocity_m_s = toVec3(velocity);
+        pose.angular_velocity_rad_s = toVec3(angular_velocity);
+        std::optional<glm::vec3> centre;
+        if (torque_centre) centre = toVec3(*torque_centre);
+        py::gil_scoped_release release;
+        s.setMeshProbe(std::move(mesh), pose, centre);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(),
+      py::arg("velocity") = Vec3{0, 0, 0}, py::arg("angular_velocity") = Vec3{0, 0, 0},
+      py::arg("torque_centre") = py::none(), R"doc(
+Make the probe a rigid closed triangle mesh (replaces any probe). The arrays are copied.
+
+vertices: (N, 3) real numbers, the object's local frame (m).
+triangles: (M, 3) integers, vertex indices, counter-clockwise seen from outside (a mesh that is
+    inside out as a whole works too).
+transform: 4x4 local -> world matrix (the object's matrix_world; rows, translation in the last
+    column, m; may rotate, scale and mirror), or None for the identity.
+velocity: velocity of the object's origin (the transform's translation), m/s.
+angular_velocity: rad/s, world frame, about the origin; faces the solid covers move at
+    velocity + angular_velocity x (x - origin).
+torque_centre: world point (m) for StepReport.torque, or None for the centroid of the cells
+    the mesh covers. A given point is fixed in the world: set_probe_pose does not move it.
+
+The mesh must be closed and consistently oriented: after merging vertices at identical
+positions, every edge is used once in each direction (several shells are fine; zero-area
+triangles are fine). A cell is solid when the mesh winds around its centre (nonzero winding
+number, counted as signed crossings along z). Parts thinner than a cell can be missed. The
+posed mesh's bounding box (a conservative one, from the local box and bounding sphere) must
+keep one cell of fluid from every wall. Raises InvalidArgumentError otherwise, saying what to
+change; nothing changes then.
+)doc");
+  c.def(
+      "set_probe_pose",
+      [](Simulation& s, const py::object& transform, const Vec3& velocity, const Vec3& angular_velocity) {
+        obstacle::RigidPose pose;
+        pose.transform = toTransform(transform);
+        pose.velocity_m_s = toVec3(velocity);
+        pose.angular_velocity_rad_s = toVec3(angular_velocity);
+        s.setProbePose(pose);
+      },
+      py::arg("transform"), py::arg("velocity") = Vec3{0, 0, 0}, py::arg("angular_velocity") = Vec3{0, 0, 0},
+      R"doc(
+Move the current probe without re-uploading its shape: cheap, never waits for the GPU (for a
+1 kHz haptic loop or a bake driver); the next step uses the new pose.
+
+transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity. For a sphere
+    probe only its translation is used, as the centre.
+velocity: of the origin (m/s). angular_velocity: world frame (rad/s).
+A mesh's torque_centre, if one was given, stays the same world point; to take the torque
+about a point that moves with the body, compute it from the report's torque_centre, force and
+torque (tau_c = tau - (c - torque_centre) x force), or call set_mesh_probe again.
+Raises InvalidArgumentError if there is no probe or the pose leaves the domain's margin.
+)doc");
+  c.def("clear_probe", &Simulation::clearProbe, "Remove the probe from the fluid.");
+  c.def_property_readonly(
+      "probe",
+      [](const Simulation& s) -> py::object {
+        auto p = s.probe();
+        if (!p) return py::none();
+        py::dict d;
+        if (p->kind == session::ProbeState::Kind::Sphere) {
+          d["kind"] = "sphere";
+          d["centre"] = vec3Array(p->sphere.centre_m);
+          d["radius"] = p->sphere.radius_m;
+          d["velocity"] = vec3Array(p->sphere.velocity_m_s);
+          d["angular_velocity"] = vec3Array(p->sphere.angular_velocity_rad_s);
+        } else {
+          d["kind"] = "mesh";
+          d["transform"] = transformArray(p->pose.transform);
+          d["vertex_count"] = p->mesh->vertices_m.size();
+          d["triangle_count"] = p->mesh->triangles.size();
+          d["velocity"] = vec3Array(p->pose.velocity_m_s);
+          d["angular_velocity"] = vec3Array(p->pose.angular_velocity_rad_s);
+        }
+        d["torque_centre"] = p->torque_centre_m ? py::object(vec3Array(*p->torque_centre_m)) : py::none();
+        return std::move(d);
+      },
+      "The probe as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m), velocity (m/s),\n"
+      "angular_velocity (rad/s). Mesh: kind 'mesh', transform (4x4, m), vertex_count, triangle_count,\n"
+      "velocity (m/s), angular_velocity (rad/s). Both: torque_centre (m, or None = centroid).");
+}
+
+// The smoke source: a sphere or a closed mesh, its pose, and what the simulation holds.
+void addSourceMethods(py::class_<Simulation>& c) {
+  c.def(
+      "set_smoke_source",
+      [](Simulation& s, const Vec3& centre, float radius, float density, float temperature,
+         const py::object& emission) {
+        fluid::SmokeSource src;
+        src.enabled = true;
+        src.centre_m = toVec3(centre);
+        src.radius_m = radius;
+        src.density = density;
+        src.temperature_k = temperature;
+        src.emission = settingArg<fluid::SourceEmission>(emission, "emission");
+        s.setSmokeSource(src);
+      },
+      py::arg("centre"), py::arg("radius"), py::arg("density") = 1.0f, py::arg("temperature") = 0.0f,
+      py::arg("emission") = "hold",
+      "Emit smoke in a sphere (replaces any source): centre (m), radius (m). emission 'hold': its cells\n"
+      "are held at least at `density` (concentration) and `temperature` (K above ambient); 'rate':\n"
+      "`density` (concentration per second) and `temperature` (K/s) are added per second.");
+  c.def(
+      "set_smoke_source_mesh",
+      [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
+         float density, float temperature, const py::object& emission) {
+        obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
+        const glm::mat4 m = toTransform(transform);
+        const fluid::SourceEmission e = settingArg<fluid::SourceEmission>(emission, "emission");
+        py::gil_scoped_release release;
+        s.setMeshSmokeSource(std::move(mesh), m, density, temperature, e);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(), py::arg("density") = 1.0f,
+      py::arg("temperature") = 0.0f, py::arg("emission") = "hold", R"doc(
+Make the smoke source a closed triangle mesh emitting from its volume (replaces any source;
+Mantaflow's mesh flow object). The arrays are copied.
+
+vertices: (N, 3) real numbers, the object's local frame (m).
+triangles: (M, 3) integers, vertex indices; the mesh must be closed and consistently oriented,
+    as for set_mesh_probe (several shells are fine; overlapping shells count their overlap twice
+    in partly covered cells).
+transform: 4x4 local -> world matrix (matrix_world: rows, translation in the last column, m;
+    may rotate, scale and mirror), or None for the identity. set_smoke_source_pose moves it.
+density: emission 'hold': smoke concentration (dimensionless) the covered cells are raised to at
+    least; 'rate': concentration added per second.
+temperature: 'hold': K above ambient; 'rate': K per second.
+emission: 'hold' or 'rate'. A cell covered by the fraction c (0..1) gets c times the values:
+    each step computes c on the GPU, sampled on SOURCE_SUBSAMPLES^2 vertical lines per cell and
+    exact along them, so a moving source emits smoothly rather than cell by cell; a 'rate'
+    source of volume V adds density x V x dt of smoke (concentration x m^3) per step.
+
+The posed mesh must meet the domain (the part outside emits nothing) and reach no further than
+one domain size past any wall. Cells inside the probe get nothing. Raises InvalidArgumentError
+otherwise, saying what to change; nothing changes then.
+)doc");
+  c.def(
+      "set_smoke_source_pose",
+      [](Simulation& s, const py::object& transform) { s.setSmokeSourcePose(toTransform(transform)); },
+      py::arg("transform"), R"doc(
+Move the mesh smoke source without re-uploading it: cheap, never waits for the GPU; the next
+step emits at the new pose (call it every step or frame to animate the source).
+
+transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity.
+Raises InvalidArgumentError if there is no mesh source or the pose is refused.
+)doc");
+  c.def_property_readonly(
+      "smoke_source",
+      [](const Simulation& s) -> py::object {
+        py::dict d;
+        if (auto m = s.meshSmokeSource()) {
+          d["kind"] = "mesh";
+          d["transform"] = transformArray(m->transform);
+          d["vertex_count"] = m->mesh->vertices_m.size();
+          d["triangle_count"] = m->mesh->triangles.size();
+          d["density"] = m->density;
+          d["temperature"] = m->temperature_k;
+          d["emission"] = enumName(m->emission);
+          return std::move(d);
+        }
+        const fluid::SmokeSource src = s.smokeSource();
+        if (!src.enabled) return py::none();
+        d["kind"] = "sphere";
+        d["centre"] = vec3Array(src.centre_m);
+        d["radius"] = src.radius_m;
+        d["density"] = src.density;
+        d["temperature"] = src.temperature_k;
+        d["emission"] = enumName(src.emission);
+        return std::move(d);
+      },
+      "The smoke source as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m). Mesh: kind\n"
+      "'mesh', transform (4x4, m), vertex_count, triangle_count. Both: density, temperature, emission\n"
+      "('hold': concentration and K above ambient; 'rate': per second).");
+  c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); },
+        "Stop emitting smoke (removes a sphere or mesh source).");
+}
+
+// Stepping and the object's lifetime.
+void addStepMethods(py::class_<Simulation>& c) {
+  c.def(
+      "step",
+      [](Simulation& s, double dt) {
+        FlushLogAfter flush;  // the simulation's once-only warning, on logger "hapticfluid.fluid"
+        py::gil_scoped_release release;
+        return s.step(dt);
+      },
+      py::arg("dt"),
+      "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
+      "force reduction. Returns a StepReport; blocks until its force is read back. The first step whose\n"
+      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid.fluid' (once per simulation).");
+  c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
+  c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
+        "Fluid at rest, no smoke, time 0; probe and settings kept.");
+  c.def("close", &Simulation::close, py::call_guard<py::gil_scoped_release>(),
+        "Free the GPU fields and end the GL thread now (also done when the object is collected).\n"
+        "Later calls that need the GPU raise HapticFluidError.");
+  c.def_property_readonly("closed", &Simulation::closed, "True after close().");
+  c.def("__enter__", [](Simulation& s) -> Simulation& { return s; }, py::return_value_policy::reference);
+  c.def("__exit__", [](Simulation& s, py::args) {
+    py::gil_scoped_release release;
+    s.close();
+  });
+}
+
+// The fields read back, and the checkpoint.
+void addFieldMethods(py::class_<Simulation>& c) {
+  c.def("density", [](Simulation& s) { return readField(s, Field::Density); },
+        "Smoke concentration, float32 (nx, ny, nz).");
+  c.def("temperature", [](Simulation& s) { return readField(s, Field::Temperature); },
+        "Temperature above ambient (K), float32 (nx, ny, nz).");
+  c.def(
+      "pressure",
+      [](Simulation& s, bool hydrostatic) {
+        return readField(s, hydrostatic ? Field::Pressure : Field::DynamicPressure);
+      },
+      py::arg("hydrostatic") = true,
+      "Pressure at cell centres (Pa), float32 (nx, ny, nz). With hydrostatic=True it is the\n"
+      "physical pressure (solved dynamic part + rho g.(x - top of the domain)); solid cells hold 0.\n"
+      "In a closed box the dynamic part is defined up to a constant.");
+  c.def(
+      "velocity",
+      [](Simulation& s) {
+        return py::make_tuple(readField(s, Field::VelocityX), readField(s, Field::VelocityY),
+                              readField(s, Field::VelocityZ));
+      },
+      "Staggered face velocities (m/s): u (nx+1, ny, nz), v (nx, ny+1, nz), w (nx, ny, nz+1).");
+  c.def(
+      "cell_classes",
+      [](Simulation& s) {
+        std::vector<std::uint8_t> data;
+        {
+          py::gil_scoped_release release;
+          data = s.readCellClasses();
+        }
+        return fieldArray(std::move(data), s.grid().res);
+      },
+      "Cell classes of the latest step, uint8 (nx, ny, nz): 0 outside, 1 surrounding, 2 boundary, 3 inside.");
+  c.def("state", &stateDict,
+        "Checkpoint: a dict of float32 arrays 'velocity_x' (nx+1, ny, nz), 'velocity_y', 'velocity_z'\n"
+        "(m/s on faces), 'density', 'temperature' (K), 'pressure' (dynamic pressure, Pa: the next\n"
+        "solve's warm start) and the scalars 'time' (s) and 'steps'. Probe, source and settings are\n"
+        "not included. Restoring it with set_state() makes later steps bit-identical.");
+  c.def(
+      "set_state",
+      [](Simulation& s, const py::dict& d) {
+        session::SimulationState st = stateFromDict(s, d);
+        py::gil_scoped_release release;
+        s.restoreState(st);
+      },
+      py::arg("state"),
+      "Restore a dict made by state() (same resolution). Every array must be float32 with its\n"
+      "field's shape and finite; checked before anything changes (InvalidArgumentError).");
+}
+
+// Module functions and constants of the simulation.
+void addConstants(py::module_& m) {
+  m.def(
+      "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
+      py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
+  m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
+  m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
+  m.attr("MAX_TIME_STEP_S") = static_cast<double>(fluid::kMaxTimeStep);
+  // Smoke sources: emission modes, value limits, mesh coverage sampling (vertical lines per cell
+  // along x and along y).
+  m.attr("SOURCE_EMISSIONS") = py::tuple(m.attr("SourceEmission").attr("__members__"));  // the names
+  m.attr("MAX_SOURCE_DENSITY") = static_cast<double>(fluid::kMaxFactor);
+  m.attr("MAX_SOURCE_TEMPERATURE_K") = static_cast<double>(fluid::kMaxTemperature);
+  m.attr("SOURCE_SUBSAMPLES") = emitter::kSourceSubsamples;
+  m.attr("CELL_OUTSIDE") = 0;
+  m.attr("CELL_SURROUNDING") = 1;
+  m.attr("CELL_BOUNDARY") = 2;
+  m.attr("CELL_INSIDE") = 3;
+}
+
+}  // namespace
+
+void addSimulation(py::module_& m) {
+  addStepReport(m);
   py::class_<Simulation> c(m, "Simulation", R"doc(
 A 3D smoke/fluid simulation on the GPU (or Mesa llvmpipe) with a rigid probe: a sphere or a
 closed triangle mesh, moving with a linear and an angular velocity.
@@ -264,282 +565,11 @@ a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can
                       "so the force changes continuously as it moves. Off: faces are open or covered by the\n"
                       "probe's voxels (whole cells switch in one step).");
 
-  c.def(
-      "set_probe",
-      [](Simulation& s, const Vec3& centre, float radius, const Vec3& velocity, const Vec3& angular_velocity) {
-        obstacle::SpherePose pose;
-        pose.centre_m = toVec3(centre);
-        pose.radius_m = radius;
-        pose.velocity_m_s = toVec3(velocity);
-        pose.angular_velocity_rad_s = toVec3(angular_velocity);
-        s.setSphereProbe(pose);
-      },
-      py::arg("centre"), py::arg("radius"), py::arg("velocity") = Vec3{0, 0, 0},
-      py::arg("angular_velocity") = Vec3{0, 0, 0},
-      "Place the spherical probe: centre (m, world), radius (m, >= one cell), linear velocity (m/s)\n"
-      "and angular velocity (rad/s) imposed on the fluid faces it covers. It must lie inside the domain.");
-  c.def(
-      "set_mesh_probe",
-      [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
-         const Vec3& velocity, const Vec3& angular_velocity, const std::optional<Vec3>& torque_centre) {
-        obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
-        obstacle::RigidPose pose;
-        pose.transform = toTransform(transform);
-        pose.velocity_m_s = toVec3(velocity);
-        pose.angular_velocity_rad_s = toVec3(angular_velocity);
-        std::optional<glm::vec3> centre;
-        if (torque_centre) centre = toVec3(*torque_centre);
-        py::gil_scoped_release release;
-        s.setMeshProbe(std::move(mesh), pose, centre);
-      },
-      py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(),
-      py::arg("velocity") = Vec3{0, 0, 0}, py::arg("angular_velocity") = Vec3{0, 0, 0},
-      py::arg("torque_centre") = py::none(), R"doc(
-Make the probe a rigid closed triangle mesh (replaces any probe). The arrays are copied.
-
-vertices: (N, 3) real numbers, the object's local frame (m).
-triangles: (M, 3) integers, vertex indices, counter-clockwise seen from outside (a mesh that is
-    inside out as a whole works too).
-transform: 4x4 local -> world matrix (the object's matrix_world; rows, translation in the last
-    column, m; may rotate, scale and mirror), or None for the identity.
-velocity: velocity of the object's origin (the transform's translation), m/s.
-angular_velocity: rad/s, world frame, about the origin; faces the solid covers move at
-    velocity + angular_velocity x (x - origin).
-torque_centre: world point (m) for StepReport.torque, or None for the centroid of the cells
-    the mesh covers. A given point is fixed in the world: set_probe_pose does not move it.
-
-The mesh must be closed and consistently oriented: after merging vertices at identical
-positions, every edge is used once in each direction (several shells are fine; zero-area
-triangles are fine). A cell is solid when the mesh winds around its centre (nonzero winding
-number, counted as signed crossings along z). Parts thinner than a cell can be missed. The
-posed mesh's bounding box (a conservative one, from the local box and bounding sphere) must
-keep one cell of fluid from every wall. Raises InvalidArgumentError otherwise, saying what to
-change; nothing changes then.
-)doc");
-  c.def(
-      "set_probe_pose",
-      [](Simulation& s, const py::object& transform, const Vec3& velocity, const Vec3& angular_velocity) {
-        obstacle::RigidPose pose;
-        pose.transform = toTransform(transform);
-        pose.velocity_m_s = toVec3(velocity);
-        pose.angular_velocity_rad_s = toVec3(angular_velocity);
-        s.setProbePose(pose);
-      },
-      py::arg("transform"), py::arg("velocity") = Vec3{0, 0, 0}, py::arg("angular_velocity") = Vec3{0, 0, 0},
-      R"doc(
-Move the current probe without re-uploading its shape: cheap, never waits for the GPU (for a
-1 kHz haptic loop or a bake driver); the next step uses the new pose.
-
-transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity. For a sphere
-    probe only its translation is used, as the centre.
-velocity: of the origin (m/s). angular_velocity: world frame (rad/s).
-A mesh's torque_centre, if one was given, stays the same world point; to take the torque
-about a point that moves with the body, compute it from the report's torque_centre, force and
-torque (tau_c = tau - (c - torque_centre) x force), or call set_mesh_probe again.
-Raises InvalidArgumentError if there is no probe or the pose leaves the domain's margin.
-)doc");
-  c.def("clear_probe", &Simulation::clearProbe, "Remove the probe from the fluid.");
-  c.def_property_readonly(
-      "probe",
-      [](const Simulation& s) -> py::object {
-        auto p = s.probe();
-        if (!p) return py::none();
-        py::dict d;
-        if (p->kind == session::ProbeState::Kind::Sphere) {
-          d["kind"] = "sphere";
-          d["centre"] = vec3Array(p->sphere.centre_m);
-          d["radius"] = p->sphere.radius_m;
-          d["velocity"] = vec3Array(p->sphere.velocity_m_s);
-          d["angular_velocity"] = vec3Array(p->sphere.angular_velocity_rad_s);
-        } else {
-          d["kind"] = "mesh";
-          d["transform"] = transformArray(p->pose.transform);
-          d["vertex_count"] = p->mesh->vertices_m.size();
-          d["triangle_count"] = p->mesh->triangles.size();
-          d["velocity"] = vec3Array(p->pose.velocity_m_s);
-          d["angular_velocity"] = vec3Array(p->pose.angular_velocity_rad_s);
-        }
-        d["torque_centre"] = p->torque_centre_m ? py::object(vec3Array(*p->torque_centre_m)) : py::none();
-        return std::move(d);
-      },
-      "The probe as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m), velocity (m/s),\n"
-      "angular_velocity (rad/s). Mesh: kind 'mesh', transform (4x4, m), vertex_count, triangle_count,\n"
-      "velocity (m/s), angular_velocity (rad/s). Both: torque_centre (m, or None = centroid).");
-  c.def(
-      "set_smoke_source",
-      [](Simulation& s, const Vec3& centre, float radius, float density, float temperature,
-         const py::object& emission) {
-        fluid::SmokeSource src;
-        src.enabled = true;
-        src.centre_m = toVec3(centre);
-        src.radius_m = radius;
-        src.density = density;
-        src.temperature_k = temperature;
-        src.emission = settingArg<fluid::SourceEmission>(emission, "emission");
-        s.setSmokeSource(src);
-      },
-      py::arg("centre"), py::arg("radius"), py::arg("density") = 1.0f, py::arg("temperature") = 0.0f,
-      py::arg("emission") = "hold",
-      "Emit smoke in a sphere (replaces any source): centre (m), radius (m). emission 'hold': its cells\n"
-      "are held at least at `density` (concentration) and `temperature` (K above ambient); 'rate':\n"
-      "`density` (concentration per second) and `temperature` (K/s) are added per second.");
-  c.def(
-      "set_smoke_source_mesh",
-      [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
-         float density, float temperature, const py::object& emission) {
-        obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
-        const glm::mat4 m = toTransform(transform);
-        const fluid::SourceEmission e = settingArg<fluid::SourceEmission>(emission, "emission");
-        py::gil_scoped_release release;
-        s.setMeshSmokeSource(std::move(mesh), m, density, temperature, e);
-      },
-      py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(), py::arg("density") = 1.0f,
-      py::arg("temperature") = 0.0f, py::arg("emission") = "hold", R"doc(
-Make the smoke source a closed triangle mesh emitting from its volume (replaces any source;
-Mantaflow's mesh flow object). The arrays are copied.
-
-vertices: (N, 3) real numbers, the object's local frame (m).
-triangles: (M, 3) integers, vertex indices; the mesh must be closed and consistently oriented,
-    as for set_mesh_probe (several shells are fine; overlapping shells count their overlap twice
-    in partly covered cells).
-transform: 4x4 local -> world matrix (matrix_world: rows, translation in the last column, m;
-    may rotate, scale and mirror), or None for the identity. set_smoke_source_pose moves it.
-density: emission 'hold': smoke concentration (dimensionless) the covered cells are raised to at
-    least; 'rate': concentration added per second.
-temperature: 'hold': K above ambient; 'rate': K per second.
-emission: 'hold' or 'rate'. A cell covered by the fraction c (0..1) gets c times the values:
-    each step computes c on the GPU, sampled on SOURCE_SUBSAMPLES^2 vertical lines per cell and
-    exact along them, so a moving source emits smoothly rather than cell by cell; a 'rate'
-    source of volume V adds density x V x dt of smoke (concentration x m^3) per step.
-
-The posed mesh must meet the domain (the part outside emits nothing) and reach no further than
-one domain size past any wall. Cells inside the probe get nothing. Raises InvalidArgumentError
-otherwise, saying what to change; nothing changes then.
-)doc");
-  c.def(
-      "set_smoke_source_pose",
-      [](Simulation& s, const py::object& transform) { s.setSmokeSourcePose(toTransform(transform)); },
-      py::arg("transform"), R"doc(
-Move the mesh smoke source without re-uploading it: cheap, never waits for the GPU; the next
-step emits at the new pose (call it every step or frame to animate the source).
-
-transform: 4x4 local -> world matrix (matrix_world, m), or None for the identity.
-Raises InvalidArgumentError if there is no mesh source or the pose is refused.
-)doc");
-  c.def_property_readonly(
-      "smoke_source",
-      [](const Simulation& s) -> py::object {
-        py::dict d;
-        if (auto m = s.meshSmokeSource()) {
-          d["kind"] = "mesh";
-          d["transform"] = transformArray(m->transform);
-          d["vertex_count"] = m->mesh->vertices_m.size();
-          d["triangle_count"] = m->mesh->triangles.size();
-          d["density"] = m->density;
-          d["temperature"] = m->temperature_k;
-          d["emission"] = enumName(m->emission);
-          return std::move(d);
-        }
-        const fluid::SmokeSource src = s.smokeSource();
-        if (!src.enabled) return py::none();
-        d["kind"] = "sphere";
-        d["centre"] = vec3Array(src.centre_m);
-        d["radius"] = src.radius_m;
-        d["density"] = src.density;
-        d["temperature"] = src.temperature_k;
-        d["emission"] = enumName(src.emission);
-        return std::move(d);
-      },
-      "The smoke source as a dict, or None. Sphere: kind 'sphere', centre (m), radius (m). Mesh: kind\n"
-      "'mesh', transform (4x4, m), vertex_count, triangle_count. Both: density, temperature, emission\n"
-      "('hold': concentration and K above ambient; 'rate': per second).");
-  c.def("clear_smoke_source", [](Simulation& s) { s.setSmokeSource(fluid::SmokeSource{}); },
-        "Stop emitting smoke (removes a sphere or mesh source).");
-  c.def(
-      "step",
-      [](Simulation& s, double dt) {
-        FlushLogAfter flush;  // the simulation's once-only warning, on logger "hapticfluid.fluid"
-        py::gil_scoped_release release;
-        return s.step(dt);
-      },
-      py::arg("dt"),
-      "Advance by dt seconds (> 0): voxelize the probe, advect, forces, pressure solve, projection,\n"
-      "force reduction. Returns a StepReport; blocks until its force is read back. The first step whose\n"
-      "pressure solve misses pressure_tolerance logs a warning on logger 'hapticfluid.fluid' (once per simulation).");
-  c.def_property_readonly("last_report", &Simulation::lastReport, "The StepReport of the latest step.");
-  c.def("reset", &Simulation::reset, py::call_guard<py::gil_scoped_release>(),
-        "Fluid at rest, no smoke, time 0; probe and settings kept.");
-  c.def("close", &Simulation::close, py::call_guard<py::gil_scoped_release>(),
-        "Free the GPU fields and end the GL thread now (also done when the object is collected).\n"
-        "Later calls that need the GPU raise HapticFluidError.");
-  c.def_property_readonly("closed", &Simulation::closed, "True after close().");
-  c.def("__enter__", [](Simulation& s) -> Simulation& { return s; }, py::return_value_policy::reference);
-  c.def("__exit__", [](Simulation& s, py::args) {
-    py::gil_scoped_release release;
-    s.close();
-  });
-  c.def("density", [](Simulation& s) { return readField(s, Field::Density); },
-        "Smoke concentration, float32 (nx, ny, nz).");
-  c.def("temperature", [](Simulation& s) { return readField(s, Field::Temperature); },
-        "Temperature above ambient (K), float32 (nx, ny, nz).");
-  c.def(
-      "pressure",
-      [](Simulation& s, bool hydrostatic) {
-        return readField(s, hydrostatic ? Field::Pressure : Field::DynamicPressure);
-      },
-      py::arg("hydrostatic") = true,
-      "Pressure at cell centres (Pa), float32 (nx, ny, nz). With hydrostatic=True it is the\n"
-      "physical pressure (solved dynamic part + rho g.(x - top of the domain)); solid cells hold 0.\n"
-      "In a closed box the dynamic part is defined up to a constant.");
-  c.def(
-      "velocity",
-      [](Simulation& s) {
-        return py::make_tuple(readField(s, Field::VelocityX), readField(s, Field::VelocityY),
-                              readField(s, Field::VelocityZ));
-      },
-      "Staggered face velocities (m/s): u (nx+1, ny, nz), v (nx, ny+1, nz), w (nx, ny, nz+1).");
-  c.def(
-      "cell_classes",
-      [](Simulation& s) {
-        std::vector<std::uint8_t> data;
-        {
-          py::gil_scoped_release release;
-          data = s.readCellClasses();
-        }
-        return fieldArray(std::move(data), s.grid().res);
-      },
-      "Cell classes of the latest step, uint8 (nx, ny, nz): 0 outside, 1 surrounding, 2 boundary, 3 inside.");
-  c.def("state", &stateDict,
-        "Checkpoint: a dict of float32 arrays 'velocity_x' (nx+1, ny, nz), 'velocity_y', 'velocity_z'\n"
-        "(m/s on faces), 'density', 'temperature' (K), 'pressure' (dynamic pressure, Pa: the next\n"
-        "solve's warm start) and the scalars 'time' (s) and 'steps'. Probe, source and settings are\n"
-        "not included. Restoring it with set_state() makes later steps bit-identical.");
-  c.def(
-      "set_state",
-      [](Simulation& s, const py::dict& d) {
-        session::SimulationState st = stateFromDict(s, d);
-        py::gil_scoped_release release;
-        s.restoreState(st);
-      },
-      py::arg("state"),
-      "Restore a dict made by state() (same resolution). Every array must be float32 with its\n"
-      "field's shape and finite; checked before anything changes (InvalidArgumentError).");
-  m.def(
-      "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
-      py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
-  m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
-  m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
-  m.attr("MAX_TIME_STEP_S") = static_cast<double>(fluid::kMaxTimeStep);
-  // Smoke sources: emission modes, value limits, mesh coverage sampling (vertical lines per cell
-  // along x and along y).
-  m.attr("SOURCE_EMISSIONS") = py::tuple(m.attr("SourceEmission").attr("__members__"));  // the names
-  m.attr("MAX_SOURCE_DENSITY") = static_cast<double>(fluid::kMaxFactor);
-  m.attr("MAX_SOURCE_TEMPERATURE_K") = static_cast<double>(fluid::kMaxTemperature);
-  m.attr("SOURCE_SUBSAMPLES") = emitter::kSourceSubsamples;
-  m.attr("CELL_OUTSIDE") = 0;
-  m.attr("CELL_SURROUNDING") = 1;
-  m.attr("CELL_BOUNDARY") = 2;
-  m.attr("CELL_INSIDE") = 3;
+  addProbeMethods(c);
+  addSourceMethods(c);
+  addStepMethods(c);
+  addFieldMethods(c);
+  addConstants(m);
 }
 
 }  // namespace hf::python
