@@ -90,7 +90,7 @@ def place_probe(sim: "hf.Simulation", shape: str, matrix: Any, radius: Optional[
     v, w = tuple(float(x) for x in velocity), tuple(float(x) for x in angular_velocity)
     if shape == "sphere":
         sim.set_probe(tuple(m[:3, 3]), sphere_radius(radius, m), velocity=v, angular_velocity=w)
-    elif sim.probe is None or sim.probe.get("kind") != "mesh":
+    elif (sim.probe or {}).get("kind") != "mesh":  # (Simulation.probe builds its dict on each read)
         sim.set_mesh_probe(np.asarray(vertices, dtype=np.float32), np.asarray(triangles, dtype=np.int32), m,
                            velocity=v, angular_velocity=w)
     else:
