@@ -229,11 +229,15 @@ def bake_cycle(tmp):
     labels = " ".join(draw(panels.HAPTICFLUID_PT_bake).labels())
     check("Bake again" in labels and "cache is out of date" in labels and "Vorticity" in labels,
           f"the panel says the cache is out of date: {labels}")
-    refused(bpy.ops.hapticfluid.bake_resume, "set these back", "fluid.vorticity differ")
     s.vorticity = 0.4
 
     layout = draw(panels.HAPTICFLUID_PT_bake)
     check(not any("out of date" in t for t in layout.labels()), "set back: no warning")
+    s.vorticity = 0.9
+    check(bpy.ops.hapticfluid.bake_resume() == {"FINISHED"}
+          and "fluid.vorticity changed: re-bake every frame, 1-3" in s.status,
+          f"Resume after a changed setting re-bakes every frame and says why: {s.status}")
+    check(properties.changed_cache_inputs(scene, s) == [], "after it the cache is up to date")
     s.is_baking, s.progress = True, 0.25
     layout = draw(panels.HAPTICFLUID_PT_bake)
     bars = [(kw, owner) for kind, kw, owner in layout.log if kind == "prop" and kw["name"] == "progress"]

@@ -19,8 +19,8 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import bake_ops, cache_bar, farm_ops, legacy, live_ops, live_panel, live_props, panels, physics_panels, \
-    prefs, properties  # noqa: E402  (bl_info first)
+from . import bake_ops, cache_bar, cache_plan, farm_ops, legacy, live_ops, live_panel, live_props, panels, \
+    physics_panels, prefs, properties  # noqa: E402  (bl_info first)
 
 classes = (
     *properties.classes,
@@ -52,6 +52,7 @@ def register():
     live_props.attach()
     physics_panels.attach()
     cache_bar.attach()
+    cache_plan.attach()
     for handler in _LOAD_HANDLERS:  # in order: a migrated is_baking is cleared next
         if handler not in bpy.app.handlers.load_post:
             bpy.app.handlers.load_post.append(handler)
@@ -74,6 +75,7 @@ def unregister():
     for handler in _LOAD_HANDLERS:
         if handler in bpy.app.handlers.load_post:
             bpy.app.handlers.load_post.remove(handler)
+    cache_plan.detach()
     cache_bar.detach()
     physics_panels.detach()
     live_props.detach()

@@ -15,7 +15,7 @@ import threading
 
 import bpy
 
-from . import blender_scene, modal_guard, properties, roles, volume
+from . import blender_scene, cache_plan, modal_guard, properties, roles, volume
 
 TIMER_S = 0.2
 log = logging.getLogger(__name__)
@@ -104,9 +104,12 @@ def _finish_job(job, collection=None):
         _show_volume(scene, job, result.last_frame, collection)
     per = f", {result.seconds_per_frame:.2f} s/frame" if result.frames_written else ""
     note = blender_scene.cache_note(settings)
+    why = f" ({result.plan.text})" if job.resume and result.plan is not None else ""
     settings.status = (f"bake {result.status}: {result.frames_written} frame(s){per}; last complete frame "
-                       f"{result.last_frame}" + (f"; {note}" if note else ""))
+                       f"{result.last_frame}{why}" + (f"; {note}" if note else ""))
     settings.progress = progress.fraction if progress is not None else settings.progress
+    if not bpy.app.background:  # the panel's plan and the Timeline's bar (scripts call refresh themselves)
+        cache_plan.refresh(scene)
     return ("WARNING" if result.status == "cancelled" else "INFO"), settings.status
 
 
@@ -164,8 +167,9 @@ class _BakeBase(_IdleOnly):
         except (blender_scene.SceneError, ValueError) as exc:
             return self._refuse(settings, str(exc))
         job = _BakeJob(bake_scene, self.resume, context.scene.name)
-        if not self.resume:  # what the new cache is made from, for "cache out of date"
-            settings.baked_inputs = properties.cache_inputs_json(context.scene, settings)
+        # what the cache is made from once this bake ends, for "cache out of date" (a Resume after a
+        # changed setting re-bakes every frame with it)
+        settings.baked_inputs = properties.cache_inputs_json(context.scene, settings)
         settings.is_baking = True
         settings.progress = 0.0
         note = blender_scene.cache_note(settings)
@@ -252,7 +256,9 @@ class HAPTICFLUID_OT_bake(_BakeBase, bpy.types.Operator):
 
 
 class HAPTICFLUID_OT_bake_resume(_BakeBase, bpy.types.Operator):
-    """Continue a cancelled or interrupted bake after its last complete frame (raise End first to extend it)"""
+    """Bake what the cache lacks: keep every frame that still holds what the scene bakes and re-bake from the
+    first missing, damaged or changed frame (the probe's keys), starting at the checkpoint before it; continues a
+    cancelled bake, extends one after End was raised, and re-bakes every frame after a changed setting"""
 
     bl_idname = "hapticfluid.bake_resume"
     bl_label = "Resume"

@@ -177,6 +177,7 @@ def scene_dict(scene, settings):
             "compression": settings.compression,
             "half_float": settings.half_float,
             "tolerance": settings.tolerance,
+            "checkpoint_every": settings.checkpoint_every,
         },
     }
     source = source_dict(settings)

@@ -1,6 +1,9 @@
 """The baked range on the Timeline, as Mantaflow's cache bar: a bar along the bottom of the
-Timeline's frame area over the frames the domain's Volume object shows, blue when baked, orange
-while baking, red when the cache is out of date (a setting changed since the bake).
+Timeline's frame area, blue over the frames that hold what the scene bakes now, red over baked
+frames a change has invalidated (the re-bake plan, cache_plan.py: "keys changed from frame 80"
+turns 80 on red, a changed setting all of them), orange over the range while baking. Before a
+plan is made (just after opening a file), the frames the domain's Volume object shows are drawn
+blue, or red when a setting changed since the bake.
 
 Blender's own cache bars (point caches) are drawn in C and have no Python hook, so this is a
 ``POST_PIXEL`` draw handler on the Dope Sheet/Timeline editor's frame region, drawn only in its
@@ -11,7 +14,7 @@ cannot draw). Each baked frame gets a one-frame-wide cell centred on its frame n
 
 import bpy
 
-from . import properties, roles
+from . import cache_plan, properties, roles
 
 BAR_BOTTOM_PX = 18  # above the region's lower edge (clear of the horizontal scroll bar), at UI scale 1
 BAR_HEIGHT_PX = 6
@@ -22,6 +25,19 @@ COLOURS = {  # RGBA
 }
 
 _handle = None
+
+
+def runs(scene):
+    """[(first frame, last frame, state)] to draw: the plan's baked and outdated runs, or the
+    baked_range as one run (while baking, before a plan is made, or when a setting changed since
+    the bake: that outdates every frame, known at once); [] for nothing."""
+    s = roles.settings_of(scene)
+    entry = cache_plan.get(scene)
+    if s.domain is not None and not s.is_baking and entry is not None and entry.runs \
+            and not properties.changed_cache_inputs(scene, s):
+        return [r for r in entry.runs if r[2] in COLOURS]
+    found = baked_range(scene)
+    return [found] if found is not None else []
 
 
 def baked_range(scene):
@@ -69,25 +85,25 @@ def draw():
         return
     if not hasattr(bpy.types.Object, "hapticfluid"):
         return
-    found = baked_range(context.scene)
-    if found is None:
+    found = runs(context.scene)
+    if not found:
         return
     import gpu
     from gpu_extras.batch import batch_for_shader
 
-    first, last, state = found
-    x0, y0, x1, y1 = bar_rect(region, first, last, context.preferences.system.ui_scale)
-    x0, x1 = max(x0, 0.0), min(x1, float(region.width))
-    if x1 <= x0:
-        return
     shader = _shader()
-    batch = batch_for_shader(shader, "TRIS", {"pos": ((x0, y0), (x1, y0), (x1, y1), (x0, y1))},
-                             indices=((0, 1, 2), (0, 2, 3)))
     blend = gpu.state.blend_get()
     gpu.state.blend_set("ALPHA")
     shader.bind()
-    shader.uniform_float("color", COLOURS[state])
-    batch.draw(shader)
+    for first, last, state in found:
+        x0, y0, x1, y1 = bar_rect(region, first, last, context.preferences.system.ui_scale)
+        x0, x1 = max(x0, 0.0), min(x1, float(region.width))
+        if x1 <= x0:
+            continue
+        batch = batch_for_shader(shader, "TRIS", {"pos": ((x0, y0), (x1, y0), (x1, y1), (x0, y1))},
+                                 indices=((0, 1, 2), (0, 2, 3)))
+        shader.uniform_float("color", COLOURS[state])
+        batch.draw(shader)
     gpu.state.blend_set(blend)
 
 

@@ -4,7 +4,7 @@ role's settings are in the Physics tab (physics_panels.py)."""
 
 import bpy
 
-from . import farm_ops, prefs, properties, roles
+from . import cache_plan, farm_ops, prefs, properties, roles
 from .ui_text import wrapped_label
 
 def draw_problems(layout, context, s):
@@ -38,9 +38,25 @@ def draw_bake(layout, context, s):
             wrapped_label(layout.box(), context,
                           "Bake again (or set them back): the cache is out of date, changed since the bake: "
                           + ", ".join(changed), icon="ERROR")
+        draw_plan(layout, context)
     if s.status:
         failed = s.status.startswith(("bake failed", "bake not started"))
         wrapped_label(layout, context, s.status, icon="ERROR" if failed else "INFO")
+
+
+PLAN_ICONS = {"complete": "CHECKMARK", "inputs": "ERROR", "settings": "ERROR", "damaged": "ERROR"}
+
+
+def draw_plan(layout, context):
+    """What Resume would do now (cache_plan.py): 'Probe keys changed from frame 80: re-bake
+    80-120 from the checkpoint at 72', or that every frame is up to date."""
+    entry = cache_plan.get(context.scene)
+    if entry is None or not entry.text:
+        return
+    text = entry.text[:1].upper() + entry.text[1:]
+    if entry.kind != "complete":
+        text += " (Resume)"
+    wrapped_label(layout, context, text, icon=PLAN_ICONS.get(entry.kind, "INFO"))
 
 
 def _settings_poll(context):

@@ -148,6 +148,26 @@ def _draw_cache(col, s, _context):
     files.prop(s, "half_float")
     col.prop(s, "compression")
     col.prop(s, "tolerance")
+    col.prop(s, "checkpoint_every")
+    cost = checkpoint_cost(s)
+    if cost:
+        col.label(text=cost, icon="DISK_DRIVE")
+
+
+def checkpoint_cost(s):
+    """'Checkpoints: 6.34 MB each, 4 kept' at the domain's resolution and frame range ('' without
+    the package or a usable domain); ``s`` is the domain's settings group."""
+    try:
+        from hapticfluid import assembly
+        from hapticfluid.bake.plan import checkpoint_cost as cost
+
+        from . import blender_scene
+
+        lo, hi = blender_scene.world_box(s.id_data)
+        cells = assembly.grid([hi[i] - lo[i] for i in range(3)], s.resolution).cells
+    except Exception:  # no package, or a domain the bake refuses (its panel says why)
+        return ""
+    return "Checkpoints: " + cost(cells, s.frame_end - s.frame_start + 1, s.checkpoint_every)
 
 
 def _draw_probe_velocity(col, _s, context):

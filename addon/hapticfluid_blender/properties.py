@@ -75,6 +75,11 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
         description="Compression of the VDB files")
     tolerance: FloatProperty(name="Sparse Tolerance", default=1e-4, min=0.0, max=1.0, precision=5,
                              description="Values at or below this are left out of the files (sparse)")
+    checkpoint_every: IntProperty(
+        name="Checkpoint Every", default=10, min=0, max=9999, soft_max=100,  # hapticfluid.bake.scene.CHECKPOINT_EVERY
+        description="Keep the simulation's full state every this many frames (0: only the latest), so that "
+                    "after a change Resume re-bakes from the checkpoint before it instead of from the start; "
+                    "each costs the size shown below on disk")
     fluid_density: FloatProperty(name="Fluid Density (kg/m³)", default=1.2, min=1e-3, max=1e5, unit="NONE",
                                  description="Density of the fluid (kg/m^3): 1.2 air, 1000 water")
     open_top: BoolProperty(name="Open Top", default=True,

@@ -223,9 +223,15 @@ def _legacy_plan(scene: BakeScene, cache_dir: Path, manifest: Optional[Dict[str,
 
 
 def describe_checkpoints(scene: BakeScene) -> str:
-    """'6.3 MB each, 12 kept' for the scene's resolution, range and interval."""
-    size = scene.checkpoint_bytes
-    kept = scene.frame_count // scene.checkpoint_every if scene.checkpoint_every else 0
+    """'6.34 MB each, 12 kept' for the scene's resolution, range and interval."""
+    return checkpoint_cost(scene.grid_resolution, scene.frame_count, scene.checkpoint_every)
+
+
+def checkpoint_cost(cells: Tuple[int, int, int], frame_count: int, every: int) -> str:
+    """'6.34 MB each, 12 kept' (and the total from 1 GB on) for a grid of ``cells``, a bake of
+    ``frame_count`` frames and a checkpoint kept every ``every`` frames (0: none kept)."""
+    size = _cache.checkpoint_bytes(cells)
+    kept = max(0, frame_count) // every if every else 0
     return f"{_bytes(size)} each, {kept} kept" + (f" ({_bytes(kept * size)})" if kept * size >= 1e9 else "")
 
 
