@@ -5,6 +5,7 @@ report that starts with the fix and writes nothing."""
 
 import json
 import os
+import re
 import shutil
 import tempfile
 
@@ -83,6 +84,15 @@ def main():
         check(exported["cache"]["directory"] == os.path.join("..", "..", "caches", "shot"),
               f"the exported scene's cache is relative to its folder: {exported['cache']['directory']}")
         check([k["frame"] for k in exported["probe"]["keys"]] == [0, 1, 2, 3, 4], "probe keys from frame 0 to 4")
+
+        farm.bake_chunk_size = 2  # a chained bake: Bake 1-2, Render 1-2, Bake 3-4, Render 3-4
+        check(bpy.ops.hapticfluid.write_farm_job() == {"FINISHED"}, "Write Farm Job with a bake chunk finished")
+        with open(os.path.join(job, "template.yaml"), encoding="utf-8") as f:
+            steps = re.findall(r'^  - name: "([^"]+)"', f.read(), flags=re.M)
+        check(steps == ["Bake 1-2", "Render 1-2", "Bake 3-4", "Render 3-4"], f"chained OpenJD steps: {steps}")
+        with open(os.path.join(job, "flamenco_job.json"), encoding="utf-8") as f:
+            check(json.load(f)["settings"]["bake_chunk_size"] == 2, "the Flamenco job gets the bake chunk size")
+        farm.bake_chunk_size = 0
 
         from hapticfluid.bake import bake, list_frames, load_scene
 

@@ -33,6 +33,11 @@ class HapticFluidFarmSettings(bpy.types.PropertyGroup):
         description="Folder of the rendered frames, frame_####.png (under the shared root)")
     chunk_size: IntProperty(name="Chunk Size", default=8, min=1, max=150,
                             description="Frames rendered by one render task (OpenJD allows at most 150)")
+    bake_chunk_size: IntProperty(
+        name="Bake Chunk", default=0, min=0, max=100000,
+        description="Frames per bake task: the bake becomes a chain of tasks (frames 1-24, 25-48, ...), each "
+                    "continuing from the checkpoint the one before left in the cache, so a preempted worker loses "
+                    "at most one chunk and a chunk's renders start as soon as it is baked. 0: one bake task")
     job_kind: EnumProperty(
         name="Farm", default="BOTH",
         items=(("OPENJD", "OpenJD", "Open Job Description template + parameters (openjd run, Deadline Cloud)"),
@@ -90,7 +95,7 @@ def write_job(scene) -> dict:
     atomic_write(scene_file, lambda f: json.dump(data, f, indent=1))
     job = FarmJob(shared_root=root, scene_file=scene_file, cache_dir=cache, output_dir=output,
                   frame_start=settings.frame_start, frame_end=settings.frame_end, resolution=settings.resolution,
-                  chunk_size=farm.chunk_size, python_path=farm.python_path or None,
+                  chunk_size=farm.chunk_size, bake_chunk_size=farm.bake_chunk_size, python_path=farm.python_path or None,
                   name=f"hapticfluid {os.path.splitext(os.path.basename(bpy.data.filepath))[0] or scene.name}")
     files, commands = [scene_file], []
     if farm.job_kind in ("OPENJD", "BOTH"):
@@ -146,7 +151,7 @@ def draw(layout, context):
     box = layout.box()
     box.label(text="Farm", icon="NETWORK_DRIVE")
     col = box.column()
-    for name in ("shared_root", "job_dir", "output_dir", "chunk_size", "job_kind", "python_path"):
+    for name in ("shared_root", "job_dir", "output_dir", "chunk_size", "bake_chunk_size", "job_kind", "python_path"):
         col.prop(farm, name)
     col.operator(HAPTICFLUID_OT_write_farm_job.bl_idname, icon="EXPORT")
     if farm.submit_command:

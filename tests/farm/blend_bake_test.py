@@ -1,6 +1,8 @@
 """The farm's bake task on a .blend: `python3 -m hapticfluid.farm bake` runs the add-on's
-bake_blend.py in Blender with the job's cache folder (not the .blend's own), and a re-queued
-task resumes (nothing rewritten). Run by ctest (label farm): python3 blend_bake_test.py BLENDER ADDON_DIR
+bake_blend.py in Blender with the job's cache folder (not the .blend's own): a first chunk
+(`--until 2`), the rest continuing from its checkpoint (frames 1-2 not rewritten), and a re-queued
+task that resumes the finished bake (nothing rewritten). Run by ctest (label farm): python3
+blend_bake_test.py BLENDER ADDON_DIR
 """
 
 import json
@@ -37,9 +39,9 @@ def fail(message):
     sys.exit(1)
 
 
-def bake_task(root: Path, blender: str) -> str:
+def bake_task(root: Path, blender: str, *until: str) -> str:
     r = subprocess.run([sys.executable, "-m", "hapticfluid.farm", "bake", "--root", str(root), "--resolution", "16",
-                        "--cache", "caches/shot", "--blender", blender, "shot.blend"],
+                        "--cache", "caches/shot", "--blender", blender, "shot.blend", *until],
                        capture_output=True, text=True, timeout=600)
     print(r.stdout[-4000:], r.stderr[-4000:], sep="\n", flush=True)
     if r.returncode != 0:
@@ -56,9 +58,16 @@ def main(blender: str, addon: str) -> None:
                             "--python", str(script)], capture_output=True, text=True, timeout=300)
         if r.returncode != 0 or not (root / "shot.blend").exists():
             fail(f"making the .blend failed:\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}")
-        out = bake_task(root, blender)
+        out = bake_task(root, blender, "--until", "2")  # a first chunk
         cache = root / "caches" / "shot"
         manifest = json.loads((cache / "hapticfluid_bake.json").read_text())
+        if manifest["frames_done"] != [1, 2] or "bake finished: 2 frame(s)" not in out:
+            fail(f"the chunk --until 2 baked frames {manifest['frames_done']}")
+        first_chunk = {p.name: p.stat().st_mtime_ns for p in (cache / "data").iterdir()}
+        out = bake_task(root, blender)  # the rest, from the chunk's checkpoint
+        manifest = json.loads((cache / "hapticfluid_bake.json").read_text())
+        if any((cache / "data" / name).stat().st_mtime_ns != t for name, t in first_chunk.items()):
+            fail("the task after the chunk rewrote the chunk's frames")
         if manifest["frames_done"] != [1, 2, 3] or not manifest["complete"]:
             fail(f"frames done: {manifest['frames_done']}")
         if manifest["scene"]["resolution"] != 16:
@@ -67,11 +76,12 @@ def main(blender: str, addon: str) -> None:
             fail("the bake went to the .blend's own cache folder, not the job's")
         before = {p.name: p.stat().st_mtime_ns for p in (cache / "data").iterdir()}
         out = bake_task(root, blender)
-        if "resuming" not in out or "finished: 0 frame(s)" not in out:
+        if "finished: 0 frame(s)" not in out:
             fail("the re-queued task did not resume the finished bake")
         if {p.name: p.stat().st_mtime_ns for p in (cache / "data").iterdir()} != before:
             fail("the re-queued task rewrote frames")
-        print("ok: .blend baked by the farm task into the job's cache; the re-queued task resumed", flush=True)
+        print("ok: .blend baked by the farm task into the job's cache, a chunk --until 2 then the rest; the "
+              "re-queued task resumed", flush=True)
     finally:
         shutil.rmtree(root, ignore_errors=True)
 

@@ -66,7 +66,39 @@ check("frames 1-3,10-12 in chunks of 2: 1-2, 3-3, 10-11, 12-12", () => {
     assert.strictEqual(tasks[0].commands[0].parameters.args[0], "PYTHONPATH=/opt/hf");
 });
 
-// 3. Refusals: a backwards range, a missing required setting, an undeclared one.
+// 3. A chained bake: bake_chunk_size 4 over frames 3-12 (as `write --bake-chunk 4` submits it).
+check("bake_chunk_size 4 over 3-12: bake chunks 3-6, 7-10, 11-12 chained, each chunk's renders after it alone", () => {
+    const { tasks } = compile(script, { settings: { ...base, frames: "3-12", chunk_size: 3, bake_chunk_size: 4 } });
+    assert.deepStrictEqual(tasks.map(t => [t.name, t.type, t.dependsOn]), [
+        ["bake-3-6", "hapticfluid-gpu", []],
+        ["render-3-5", "blender", ["bake-3-6"]], ["render-6-6", "blender", ["bake-3-6"]],
+        ["bake-7-10", "hapticfluid-gpu", ["bake-3-6"]],
+        ["render-7-9", "blender", ["bake-7-10"]], ["render-10-10", "blender", ["bake-7-10"]],
+        ["bake-11-12", "hapticfluid-gpu", ["bake-7-10"]],
+        ["render-11-12", "blender", ["bake-11-12"]]]);
+    const bakeArgs = tasks.filter(t => t.type === "hapticfluid-gpu").map(t => t.commands[0].parameters.args);
+    assert.deepStrictEqual(bakeArgs.map(a => a.slice(a.indexOf("a.blend"))),
+                           [["a.blend", "--until", "6"], ["a.blend", "--until", "10"], ["a.blend", "--until", "12"]]);
+});
+check("a chained bake over split frames 1-3,10-12: every chunk baked in turn, renders only of frames asked for", () => {
+    const { tasks } = compile(script, { settings: { ...base, frames: "1-3,10-12", chunk_size: 8, bake_chunk_size: 5 } });
+    assert.deepStrictEqual(tasks.map(t => [t.name, t.dependsOn]), [
+        ["bake-1-5", []], ["render-1-3", ["bake-1-5"]], ["bake-6-10", ["bake-1-5"]], ["render-10-10", ["bake-6-10"]],
+        ["bake-11-12", ["bake-6-10"]], ["render-11-12", ["bake-11-12"]]]);
+});
+check("bake_chunk_size 0 or covering every frame: one bake task without --until", () => {
+    for (const size of [0, 10, 99]) {
+        const { tasks } = compile(script, { settings: { ...base, frames: "3-12", bake_chunk_size: size } });
+        assert.deepStrictEqual(tasks.filter(t => t.type === "hapticfluid-gpu").map(t => t.name), ["bake"]);
+        assert.ok(!tasks[0].commands[0].parameters.args.includes("--until"));
+    }
+});
+check("a negative bake_chunk_size is refused naming the setting", () => {
+    assert.throws(() => compile(script, { settings: { ...base, frames: "1-4", bake_chunk_size: -2 } }),
+                  /bake_chunk_size must be 0 \(one bake task\) or a number of frames >= 1, got -2/);
+});
+
+// 4. Refusals: a backwards range, a missing required setting, an undeclared one.
 check("a backwards frame range is refused", () => {
     assert.throws(() => compile(script, { settings: { ...base, frames: "9-2" } }), /ends before it starts/);
 });

@@ -113,7 +113,7 @@ def main(job_python_path: str, blender: str) -> None:
         # A re-queued bake task (the worker died, the farm retries it): resumes, writes nothing new.
         before = (cache / "data" / "fluid_data_0004.vdb").stat().st_mtime_ns
         r = run(job + ["--step", "Bake"], timeout=600)
-        if r.returncode != 0 or "resuming" not in r.stdout or "finished: 0 frame(s)" not in r.stdout:
+        if r.returncode != 0 or "finished: 0 frame(s)" not in r.stdout:
             fail("the re-queued bake task did not resume a finished bake as a no-op")
         if (cache / "data" / "fluid_data_0004.vdb").stat().st_mtime_ns != before:
             fail("the re-queued bake task rewrote a complete frame")

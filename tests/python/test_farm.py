@@ -1,5 +1,6 @@
 """hapticfluid.farm: the job writer (paths relative to the shared root, names the job files
-declare), frame chunks, the bake task's resume decision and the shipped job files."""
+declare), frame chunks, the chained bake's OpenJD template, the bake task's command lines and the
+shipped job files."""
 
 import json
 import re
@@ -10,7 +11,6 @@ import pytest
 import yaml
 
 from hapticfluid import farm
-from hapticfluid.bake.cache import checkpoint_path
 from hapticfluid.farm import bake_step
 
 ADDON = Path(__file__).resolve().parents[2] / "addon"
@@ -65,6 +65,7 @@ def test_flamenco_settings_are_relative_and_declared_by_the_job_type(tmp_path):
     s = body["settings"]
     assert (s["scene_file"], s["cache_dir"], s["output_dir"]) == ("shots/a.json", "cache/a", "renders/a")
     assert s["shared_root"] == tmp_path.as_posix() and s["frames"] == "1-48" and s["chunk_size"] == 10
+    assert s["bake_chunk_size"] == 0
     declared = set(re.findall(r'\{ key: "(\w+)"', farm.FLAMENCO_JOB_TYPE.read_text()))
     assert set(s) <= declared
     assert "/api/v3/jobs" in written["command"]
@@ -101,13 +102,102 @@ def test_frames_and_chunks():
         farm.frame_chunks(5, 4, 2)
 
 
-def test_the_bake_task_resumes_only_when_the_cache_has_a_checkpoint(tmp_path):
-    cache = tmp_path / "c"
-    assert "--resume" not in bake_step.bake_command_json(tmp_path / "s.json", 64, cache)
-    checkpoint_path(cache).parent.mkdir(parents=True)
-    checkpoint_path(cache).write_bytes(b"any")
-    assert bake_step.bake_command_json(tmp_path / "s.json", 64, cache) == [
-        "bake", str(tmp_path / "s.json"), "--resolution", "64", "--cache", str(cache), "--resume"]
+def test_the_bake_task_always_resumes_the_lazy_cache_and_stops_at_until(tmp_path):
+    # --resume on an empty cache bakes from the first frame, so every run and re-queue is one command
+    assert bake_step.bake_command_json(tmp_path / "s.json", 64, tmp_path / "c") == [
+        "bake", str(tmp_path / "s.json"), "--resolution", "64", "--cache", str(tmp_path / "c"), "--resume"]
+    assert bake_step.bake_command_json(tmp_path / "s.json", 64, tmp_path / "c", until=24)[-3:] == [
+        "--resume", "--until", "24"]
+
+
+def test_the_bake_task_passes_until_to_the_bake(tmp_path, monkeypatch):
+    import hapticfluid.cli
+
+    seen = []
+    monkeypatch.setattr(hapticfluid.cli, "main", lambda argv: seen.append(argv) or 0)
+    (tmp_path / "shots").mkdir()
+    (tmp_path / "shots" / "a.json").write_text("{}")
+    from hapticfluid.farm.__main__ import main
+
+    assert main(["bake", "--root", str(tmp_path), "--resolution", "16", "--cache", "c", "shots/a.json",
+                 "--until", "24"]) == 0
+    assert seen == [["bake", str(tmp_path / "shots" / "a.json"), "--resolution", "16", "--cache",
+                     str(tmp_path / "c"), "--resume", "--until", "24"]]
+
+
+def test_the_bake_command_line_takes_until_and_refuses_a_bad_one(capsys):
+    from hapticfluid.farm.__main__ import build_parser
+
+    args = build_parser().parse_args(["bake", "s.json", "--resolution", "16", "--cache", "c", "--until", "24"])
+    assert args.until == 24
+    assert build_parser().parse_args(["bake", "s.json", "--resolution", "16", "--cache", "c"]).until is None
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["bake", "s.json", "--resolution", "16", "--cache", "c", "--until", "x"])
+    assert "--until: must be a frame number (an integer), got 'x'" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["write", "s.json", "--root", "r", "--cache", "c", "--output", "o", "--frames",
+                                   "1-4", "--resolution", "16", "--job", "j", "--bake-chunk", "-1"])
+    assert "--bake-chunk: must be 0 (one bake task) or a number of frames >= 1, got -1" in capsys.readouterr().err
+
+
+def _steps(template_text):
+    return {s["name"]: s for s in yaml.safe_load(template_text)["steps"]}
+
+
+def test_bake_chunks_split_the_frames_or_keep_one_task():
+    assert farm.bake_chunks(1, 48, 0) == [(1, 48)]
+    assert farm.bake_chunks(1, 48, 48) == farm.bake_chunks(1, 48, 100) == [(1, 48)]
+    assert farm.bake_chunks(1, 50, 24) == [(1, 24), (25, 48), (49, 50)]
+    with pytest.raises(ValueError, match=r"bake chunk size must be 0 \(one bake task\) or a number of frames >= 1, got -3"):
+        farm.bake_chunks(1, 48, -3)
+
+
+def test_a_chained_bake_is_one_bake_and_one_render_step_per_chunk(tmp_path):
+    job = _job(tmp_path, frame_end=50, bake_chunk_size=24, chunk_size=5)
+    farm.write_openjd_job(job, tmp_path / "jobs" / "a")
+    text = (tmp_path / "jobs" / "a" / "template.yaml").read_text()
+    t = yaml.safe_load(text)
+    assert [s["name"] for s in t["steps"]] == ["Bake 1-24", "Render 1-24", "Bake 25-48", "Render 25-48",
+                                               "Bake 49-50", "Render 49-50"]
+    steps = _steps(text)
+    shipped = _template()
+    # each bake chunk depends on the chunk before it only; each render step on its own chunk's bake only
+    assert "dependencies" not in steps["Bake 1-24"]
+    assert steps["Bake 25-48"]["dependencies"] == [{"dependsOn": "Bake 1-24"}]
+    assert steps["Bake 49-50"]["dependencies"] == [{"dependsOn": "Bake 25-48"}]
+    for chunk in ("1-24", "25-48", "49-50"):
+        render = steps[f"Render {chunk}"]
+        assert render["dependencies"] == [{"dependsOn": f"Bake {chunk}"}]
+        (param,) = render["parameterSpace"]["taskParameterDefinitions"]
+        assert param["range"] == chunk and param["type"] == "CHUNK[INT]"
+        assert render["script"] == shipped["steps"][1]["script"]  # the shipped command, unchanged
+        bake = steps[f"Bake {chunk}"]
+        assert bake["hostRequirements"] == shipped["steps"][0]["hostRequirements"]
+        args = bake["script"]["actions"]["onRun"]["args"]
+        assert args == shipped["steps"][0]["script"]["actions"]["onRun"]["args"] + ["--until", chunk.split("-")[1]]
+    # the steps fix the frames: no Frames parameter, and none in the values
+    assert "Frames" not in {p["name"] for p in t["parameterDefinitions"]}
+    assert {p["name"] for p in t["parameterDefinitions"]} == {p["name"] for p in shipped["parameterDefinitions"]} - {"Frames"}
+    values = json.loads((tmp_path / "jobs" / "a" / "parameters.json").read_text())
+    assert "Frames" not in values and values["ChunkSize"] == 5
+    assert t["jobEnvironments"] == shipped["jobEnvironments"]
+
+
+def test_one_bake_task_writes_the_shipped_template_unchanged(tmp_path):
+    for size in (0, 48, 60):
+        farm.write_openjd_job(_job(tmp_path, bake_chunk_size=size), tmp_path / f"j{size}")
+        assert (tmp_path / f"j{size}" / "template.yaml").read_text() == farm.OPENJD_TEMPLATE.read_text()
+        assert json.loads((tmp_path / f"j{size}" / "parameters.json").read_text())["Frames"] == "1-48"
+
+
+def test_the_chained_template_refuses_a_shipped_template_of_another_shape():
+    text = farm.OPENJD_TEMPLATE.read_text()
+    with pytest.raises(RuntimeError, match=r"exactly one 'range: \"\{\{Param.Frames\}\}\"' in the Render step"):
+        farm.chained_openjd_template(text.replace('range: "{{Param.Frames}}"', 'range: "1-9"'), [(1, 4), (5, 9)], "1-9")
+    with pytest.raises(RuntimeError, match="must have the steps Bake, then Render"):
+        farm.chained_openjd_template(text.replace("  - name: Render\n", "  - name: Draw\n"), [(1, 4), (5, 9)], "1-9")
+    with pytest.raises(ValueError, match="at least 2 chunks"):
+        farm.chained_openjd_template(text, [(1, 9)], "1-9")
 
 
 def test_a_blend_scene_is_baked_by_the_add_ons_script_into_the_job_s_cache(tmp_path, monkeypatch):
@@ -116,7 +206,9 @@ def test_a_blend_scene_is_baked_by_the_add_ons_script_into_the_job_s_cache(tmp_p
     assert cmd[:3] == ["blender", "--background", str(tmp_path / "shot.blend")]
     assert cmd[cmd.index("--python") + 1] == str(ADDON / "hapticfluid_blender" / "bake_blend.py")
     assert f"cache_dir = {str(tmp_path / 'c')!r}" in cmd[cmd.index("--python-expr") + 1]
-    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96"]
+    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--resume"]
+    cmd = bake_step.bake_command_blend("blender", tmp_path / "shot.blend", 96, tmp_path / "c", until=12)
+    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--resume", "--until", "12"]
 
 
 def test_the_bake_task_names_a_missing_scene(tmp_path, caplog):
