@@ -317,23 +317,28 @@ def test_bake_killed_by_sigkill_resumes_to_identical_frames(tmp_path):
 
 def test_damaged_or_foreign_checkpoint_is_refused(tmp_path):
     scene = scene_from_dict(scene_dict(tmp_path / "c", frames=2))
-    bake(scene)
+    bake(scene, until=1)
     ck = bake_cache.checkpoint_path(tmp_path / "c")
     good = ck.read_bytes()
     ck.write_bytes(good[: len(good) // 2])  # truncated, as a partial write would be
     with pytest.raises(BakeError, match="damaged or incomplete"):
-        bake(scene, resume=True)
+        bake_cache.load_checkpoint(tmp_path / "c", scene.fingerprint())
     raw = bytearray(good)
     raw[len(raw) // 2] ^= 0xFF  # one flipped byte in the middle of an array
     ck.write_bytes(bytes(raw))
     with pytest.raises(BakeError, match="damaged|checksum"):
-        bake(scene, resume=True)
+        bake_cache.load_checkpoint(tmp_path / "c", scene.fingerprint())
+    # resume never uses it: it replays from the first frame to bake frame 2, and says why
+    lines = []
+    result = bake(scene, resume=True, log=lines.append)
+    assert result.resumed_from is None and result.frames_written == 1, lines
+    assert any("damaged" in line and "earlier checkpoint" in line for line in lines), lines
     ck.write_bytes(good)
     with pytest.raises(BakeError, match="other settings"):
-        bake(scene.with_resolution(20), resume=True)
+        bake_cache.load_checkpoint(tmp_path / "c", scene.with_resolution(20).fingerprint())
     ck.unlink()
     with pytest.raises(BakeError, match="no checkpoint"):
-        bake(scene, resume=True)
+        bake_cache.load_checkpoint(tmp_path / "c", scene.fingerprint())
 
 
 def test_missing_or_unwritable_cache_fails_before_any_work(tmp_path):

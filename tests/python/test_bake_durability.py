@@ -58,11 +58,14 @@ def test_resuming_a_finished_bake_keeps_the_manifest_complete(tmp_path):
     scene = _small_scene(tmp_path / "c", 2)
     assert bake(scene).last_frame == 2
     assert read_manifest(tmp_path / "c")["complete"] is True
-    again = bake(scene, resume=True)
-    assert again.frames_written == 0 and again.last_frame == 2 and again.resumed_from == 2
+    before = (tmp_path / "c" / "hapticfluid_bake.json").read_bytes()
+    again = bake(scene, resume=True)  # nothing to do: the cache is left as it was, manifest included
+    assert again.frames_written == 0 and again.last_frame == 2 and again.resumed_from is None
+    assert again.plan.kind == "complete"
+    assert (tmp_path / "c" / "hapticfluid_bake.json").read_bytes() == before
     manifest = read_manifest(tmp_path / "c")
     assert manifest["complete"] is True and manifest["frames_done"] == [1, 2]
-    assert [s["resumed_from"] for s in manifest["sessions"]] == [None, 2]
+    assert [s["resumed_from"] for s in manifest["sessions"]] == [None]
 
 
 def test_a_sheared_key_is_refused_not_silently_changed():

@@ -1,10 +1,12 @@
 """Resume extends a finished bake when the end frame is raised (the checkpoint matches the
-settings up to its own frame), and a checkpoint from other settings names what differs."""
+settings up to its own frame), and a change of settings is named and re-baked."""
 
 import numpy as np
 import pytest
 
-from hapticfluid.bake import BakeError, bake, frame_path, list_frames, scene_from_dict
+from hapticfluid.bake import BakeError, bake, frame_path, list_frames, rebake_plan, scene_from_dict
+from hapticfluid.bake.cache import load_checkpoint
+from hapticfluid.bake.plan import InputsLedger
 from hapticfluid.bake.openvdb_python import import_openvdb, missing_reason
 
 vdb = import_openvdb()
@@ -47,12 +49,19 @@ def test_raising_the_end_frame_and_resuming_extends_the_bake(tmp_path):
         np.testing.assert_array_equal(density(reference, frame), density(cache, frame), err_msg=f"frame {frame}")
 
 
-def test_a_checkpoint_from_other_settings_names_them(tmp_path):
+def test_resume_names_the_settings_that_changed_and_rebakes_what_they_change(tmp_path):
+    """A changed global setting re-bakes every frame and names it; moved keys re-bake from the
+    first frame they shape; a checkpoint loaded for other settings is refused naming them."""
     cache = tmp_path / "c"
     bake(per_frame_scene(cache, end=2))
+    assert rebake_plan(per_frame_scene(cache, end=3, vorticity=0.9)).text == \
+        "fluid.vorticity changed: re-bake every frame, 1-3"
+    assert rebake_plan(per_frame_scene(cache, end=2).with_resolution(16)).text == \
+        "grid_resolution, resolution changed: re-bake every frame, 1-2"
+    assert rebake_plan(per_frame_scene(cache, end=2, shift=0.01)).text == \
+        "probe keys changed from frame 1: re-bake 1-2 from the start"
+    other = per_frame_scene(cache, end=2, vorticity=0.9)
     with pytest.raises(BakeError, match=r"\(fluid\.vorticity differ\)"):
-        bake(per_frame_scene(cache, end=3, vorticity=0.9), resume=True)
-    with pytest.raises(BakeError, match=r"grid_resolution, resolution differ"):
-        bake(per_frame_scene(cache, end=2).with_resolution(16), resume=True)
-    with pytest.raises(BakeError, match=r"\(probe\.keys differ\)"):  # the probe's path up to the checkpoint moved
-        bake(per_frame_scene(cache, end=2, shift=0.01), resume=True)
+        load_checkpoint(cache, other.fingerprint(), inputs_sha256=InputsLedger(other).chain)
+    result = bake(per_frame_scene(cache, end=3, vorticity=0.9), resume=True)
+    assert result.frames_written == 3 and result.plan.kind == "settings"

@@ -4,12 +4,19 @@ Layout (like Mantaflow's OpenVDB cache, so tools that know Blender's fluid cache
 
     <cache>/data/fluid_data_####.vdb     one file per frame (frame number, 4 digits)
     <cache>/checkpoint/state.npz         the simulation state after the last complete frame
-    <cache>/hapticfluid_bake.json        the manifest: scene settings, frames done, timings
+    <cache>/checkpoint/state_####.npz    kept checkpoints: the state after every K-th frame
+                                         (scene cache.checkpoint_every), and after the last
+                                         frame of a bake stopped with ``until`` (a farm chunk)
+    <cache>/hapticfluid_bake.json        the manifest: scene settings, frames done with what
+                                         each consumed (plan.py), kept checkpoints, timings
 
 Every file is written under a temporary name in its own folder and renamed into place when
 complete (a rename within a folder is atomic), so each path holds either its old content or
-its new one. The checkpoint carries a SHA-256 of each array and of the scene's settings, so a
-damaged checkpoint, or one from other settings, is refused with a clear error.
+its new one. The checkpoint carries a SHA-256 of each array and of the scene's settings and
+inputs up to its frame, so a damaged checkpoint, or one from other settings or other keys, is
+refused with a clear error. A kept checkpoint is a hard link to the latest one as written (no
+second write: the next frame's checkpoint replaces the latest by a rename, a new file), or a
+copy where the file system has no hard links.
 """
 
 from __future__ import annotations
@@ -22,7 +29,7 @@ import re
 import tempfile
 import zipfile
 from pathlib import Path
-from typing import Any, Dict, Iterator, List, Optional, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -32,6 +39,7 @@ from hapticfluid.files import atomic_write
 DATA_DIR = "data"
 CHECKPOINT_DIR = "checkpoint"
 CHECKPOINT_FILE = "state.npz"
+KEPT_PATTERN = re.compile(r"^state_(\d{4})\.npz$")
 MANIFEST_FILE = "hapticfluid_bake.json"
 FRAME_PREFIX = "fluid_data_"
 FRAME_PATTERN = re.compile(r"^fluid_data_(\d{4})\.vdb$")
@@ -51,8 +59,83 @@ def checkpoint_path(cache_dir: "str | os.PathLike") -> Path:
     return Path(cache_dir) / CHECKPOINT_DIR / CHECKPOINT_FILE
 
 
+def kept_checkpoint_path(cache_dir: "str | os.PathLike", frame: int) -> Path:
+    return Path(cache_dir) / CHECKPOINT_DIR / f"state_{frame:04d}.npz"
+
+
 def manifest_path(cache_dir: "str | os.PathLike") -> Path:
     return Path(cache_dir) / MANIFEST_FILE
+
+
+def checkpoint_bytes(cells: "Tuple[int, int, int]") -> int:
+    """Bytes of one checkpoint for a grid of ``cells``: the six float32 state arrays (three
+    velocity components on faces, density, temperature, pressure) and about 4 KB of zip
+    headers and metadata."""
+    nx, ny, nz = (int(n) for n in cells)
+    values = (nx + 1) * ny * nz + nx * (ny + 1) * nz + nx * ny * (nz + 1) + 3 * nx * ny * nz
+    return 4 * values + 4096
+
+
+def list_kept_checkpoints(cache_dir: "str | os.PathLike") -> List[int]:
+    """Frames of the kept checkpoints (checkpoint/state_####.npz), ascending."""
+    try:
+        names = os.listdir(Path(cache_dir) / CHECKPOINT_DIR)
+    except (FileNotFoundError, NotADirectoryError):
+        return []
+    return sorted(int(m.group(1)) for m in (KEPT_PATTERN.match(name) for name in names) if m)
+
+
+def keep_checkpoint(cache_dir: "str | os.PathLike", frame: int) -> Path:
+    """Keep the latest checkpoint (which must be frame ``frame``'s) as state_####.npz: a hard
+    link made under a temporary name and renamed into place (atomic), or a copy where links
+    are refused."""
+    import shutil
+
+    from hapticfluid.files import sync_folder
+
+    latest = checkpoint_path(cache_dir)
+    kept = kept_checkpoint_path(cache_dir, frame)
+    tmp = kept.with_name(f".{kept.name}.{os.getpid()}.tmp")
+    try:
+        try:
+            os.link(latest, tmp)
+        except FileExistsError:
+            os.unlink(tmp)
+            os.link(latest, tmp)
+        except OSError:  # no hard links here (some network and FAT file systems): a copy
+            shutil.copyfile(latest, tmp)
+        os.replace(tmp, kept)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    sync_folder(kept.parent)
+    return kept
+
+
+def remove_checkpoints_from(cache_dir: "str | os.PathLike", frame: int) -> List[int]:
+    """Delete the kept checkpoints of frames >= ``frame`` and the latest one if it is of such a
+    frame (they hold states the frames being re-baked will change); returns their frames."""
+    removed = []
+    for f in list_kept_checkpoints(cache_dir):
+        if f >= frame:
+            kept_checkpoint_path(cache_dir, f).unlink()
+            removed.append(f)
+    latest = checkpoint_path(cache_dir)
+    at = checkpoint_frame(latest)
+    if at is not None and at >= frame:
+        latest.unlink()
+    return removed
+
+
+def checkpoint_frame(path: "str | os.PathLike") -> Optional[int]:
+    """The frame a checkpoint file holds the state after, read from its metadata only; None if
+    the file is missing or unreadable (load_checkpoint says why)."""
+    try:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:  # reads the meta member only
+            return int(json.loads(bytes(z["meta"]).decode())["frame"])
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError, UnicodeDecodeError, TypeError):
+        return None
 
 
 def list_frames(cache_dir: "str | os.PathLike") -> List[int]:
@@ -151,8 +234,7 @@ def free_cache_locked(cache_dir: "str | os.PathLike") -> int:
         for p in folder.iterdir():
             name = p.name
             ours = (pattern is not None and pattern.match(name)) or name in (CHECKPOINT_FILE, MANIFEST_FILE) \
-                or (name.startswith(f".{FRAME_PREFIX}") or name.startswith(f".{CHECKPOINT_FILE}.")
-                    or name.startswith(f".{MANIFEST_FILE}.")) and name.endswith(".tmp")
+                or (folder.name == CHECKPOINT_DIR and KEPT_PATTERN.match(name)) or _is_our_temporary(name)
             if ours and p.is_file():
                 candidates.append(p)
     for p in candidates:
@@ -166,6 +248,13 @@ def free_cache_locked(cache_dir: "str | os.PathLike") -> int:
     return removed
 
 
+def _is_our_temporary(name: str) -> bool:
+    """A temporary file of a frame, a checkpoint (latest or kept) or the manifest."""
+    return name.startswith(".") and name.endswith(".tmp") and (
+        name.startswith(f".{FRAME_PREFIX}") or name.startswith(f".{CHECKPOINT_FILE}.")
+        or name.startswith(f".{MANIFEST_FILE}.") or KEPT_PATTERN.match(name[1:].split(".npz.")[0] + ".npz") is not None)
+
+
 def remove_temporaries(cache_dir: "str | os.PathLike") -> int:
     """Delete temporary files a killed bake left behind (never a complete file); returns how many."""
     cache = Path(cache_dir)
@@ -174,8 +263,7 @@ def remove_temporaries(cache_dir: "str | os.PathLike") -> int:
         if not folder.is_dir():
             continue
         for p in folder.iterdir():
-            if p.name.startswith(".") and p.name.endswith(".tmp") and p.is_file() and any(
-                    p.name.startswith(f".{stem}") for stem in (FRAME_PREFIX, CHECKPOINT_FILE, MANIFEST_FILE)):
+            if _is_our_temporary(p.name) and p.is_file():
                 p.unlink()
                 removed += 1
     return removed
@@ -207,13 +295,26 @@ def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
 
 def fingerprint_until(fingerprint: Dict[str, Any], frame: int) -> Dict[str, Any]:
     """The fingerprint as the state after ``frame`` depends on it: the probe's and a mesh
-    source's keys up to that frame only, so that raising the end frame (more keys) still resumes
-    the checkpoint."""
+    source's keys up to the first one at or after that frame (the poses up to ``frame`` are
+    interpolated towards it), so that raising the end frame (more keys) still resumes the
+    checkpoint."""
     out = dict(fingerprint)
     for name in ("probe", "source"):
         part = fingerprint.get(name)
         if part and "keys" in part:
-            out[name] = {**part, "keys": [k for k in part["keys"] if k[0] <= frame]}
+            keys = sorted(part["keys"], key=lambda k: k[0])
+            upto = next((i for i, k in enumerate(keys) if k[0] >= frame), len(keys) - 1)
+            out[name] = {**part, "keys": keys[:upto + 1]}
+    return out
+
+
+def without_keys(fingerprint: Dict[str, Any]) -> Dict[str, Any]:
+    """The fingerprint without the probe's and source's keyed poses: the global settings."""
+    out = dict(fingerprint)
+    for name in ("probe", "source"):
+        part = out.get(name)
+        if part and "keys" in part:
+            out[name] = {k: v for k, v in part.items() if k != "keys"}
     return out
 
 
@@ -259,8 +360,10 @@ _CHUNK_BYTES = 1 << 22  # hashed and written in 4 MiB slices of the array's own 
 
 
 def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str, Any],
-                    fingerprint: Dict[str, Any]) -> Path:
-    """Write the state after ``frame`` (a dict from Simulation.state()) atomically.
+                    fingerprint: Dict[str, Any], inputs_sha256: Optional[str] = None) -> Path:
+    """Write the state after ``frame`` (a dict from Simulation.state()) atomically as the
+    latest checkpoint. ``inputs_sha256``: the digest of the global settings and every frame's
+    inputs up to ``frame`` (plan.InputsLedger.chain), which load_checkpoint compares.
 
     Each array goes into the .npy member straight from its own memory (no copy), and its SHA-256
     is computed from the same slices as they are written; the metadata with the digests is the
@@ -283,7 +386,10 @@ def save_checkpoint(cache_dir: "str | os.PathLike", frame: int, state: Dict[str,
                 "frame": int(frame),
                 "scalars": {k: (float(v) if isinstance(v, float) else int(v)) for k, v in scalars.items()},
                 "settings_sha256": settings_digest(fingerprint_until(fingerprint, frame)),
-                "settings": fingerprint_until(fingerprint, frame),  # to say which setting differs on resume
+                # to say which setting differs on resume: without the keys when the inputs digest
+                # covers them (a long performance's keys would make the metadata megabytes long)
+                "settings": fingerprint_until(fingerprint, frame) if inputs_sha256 is None else without_keys(fingerprint),
+                **({"inputs_sha256": inputs_sha256} if inputs_sha256 is not None else {}),
                 "arrays": {k: {"sha256": digests[k], "order": _memory_order(a), "shape": list(a.shape),
                                "dtype": str(a.dtype)} for k, a in arrays.items()},
             }
@@ -308,14 +414,19 @@ def _write_npy_member(z: zipfile.ZipFile, name: str, a: np.ndarray) -> str:
     return digest.hexdigest()
 
 
-def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any]) -> Tuple[int, Dict[str, Any]]:
-    """(frame, state dict for Simulation.set_state) of the cache's checkpoint; BakeError if it is
-    missing, damaged, or was written for other settings."""
-    path = checkpoint_path(cache_dir)
+def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any],
+                    inputs_sha256: Optional[Callable[[int], str]] = None,
+                    path: "Optional[str | os.PathLike]" = None) -> Tuple[int, Dict[str, Any]]:
+    """(frame, state dict for Simulation.set_state) of the cache's latest checkpoint, or of the
+    checkpoint file ``path``; BakeError if it is missing, damaged, or was written for other
+    settings. ``inputs_sha256(frame)``: where the checkpoint records the digest of the inputs
+    up to its frame, it must equal this (the keys are then compared exactly, frame by frame)."""
+    path = checkpoint_path(cache_dir) if path is None else Path(path)
     if not path.exists():
         raise BakeError(f"no checkpoint to resume from in '{Path(cache_dir)}' (expected {path}); bake without "
                         "resume to start from the first frame")
-    fix = "delete the cache's checkpoint folder (or free the cache) and bake from the start"
+    fix = ("a resume (--resume) falls back to an earlier checkpoint or the first frame by itself; or free the "
+           "cache and bake from the start")
     try:
         with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:  # our handle: closed on errors too
             meta = json.loads(bytes(z["meta"]).decode())
@@ -326,10 +437,15 @@ def load_checkpoint(cache_dir: "str | os.PathLike", fingerprint: Dict[str, Any])
         raise BakeError(f"checkpoint '{path}' has format {meta.get('format')!r}, this version reads "
                         f"{', '.join(map(str, READABLE_CHECKPOINT_FORMATS))}; {fix}")
     now = fingerprint_until(fingerprint, int(meta.get("frame", 0)))
-    if meta.get("settings_sha256") not in (settings_digest(now), settings_digest(fingerprint)):
+    if inputs_sha256 is not None and "inputs_sha256" in meta:
+        settings_match = meta["inputs_sha256"] == inputs_sha256(int(meta.get("frame", 0)))
+        now = without_keys(fingerprint)
+    else:
+        settings_match = meta.get("settings_sha256") in (settings_digest(now), settings_digest(fingerprint))
+    if not settings_match:
         saved = meta.get("settings")
         which = (", ".join(settings_differences(saved, now)) if isinstance(saved, dict)
-                 else "resolution, fluid, probe keys, frames, grids or substeps")
+                 else "resolution, fluid, probe keys, frames, grids or substeps") or "probe or source keys"
         raise BakeError(f"set these back to what the checkpoint was baked with, or bake from the start: checkpoint "
                         f"'{path}' was baked with other settings ({which} differ)")
     state: Dict[str, Any] = {}

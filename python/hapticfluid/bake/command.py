@@ -14,6 +14,7 @@ import threading
 from pathlib import Path
 
 from hapticfluid.bake import cache as _cache
+from hapticfluid.bake import plan as _plan
 from hapticfluid.bake import verify as _verify
 from hapticfluid.bake.driver import BakeProgress, bake
 from hapticfluid.bake.scene import load_scene
@@ -34,7 +35,16 @@ def add_parser(sub, resolution_type) -> None:
                     "Ctrl-C stops between substeps; --resume continues after the last complete frame.")
     p.add_argument("scene", metavar="SCENE", help="scene description (.json)")
     p.add_argument("--resume", action="store_true",
-                   help="continue after the cache's checkpoint instead of starting over")
+                   help="bake only what the cache lacks: keep every frame that still holds what the scene bakes and "
+                        "re-bake from the first missing, damaged or changed one (changed probe or source keys), "
+                        "starting at the latest checkpoint before it; a changed setting (resolution, fluid) "
+                        "re-bakes all, as does an empty cache")
+    p.add_argument("--until", type=int, default=None, metavar="FRAME",
+                   help="stop after this frame (within the scene's frames), keeping its checkpoint: the next "
+                        "'--resume' continues from it (farm chunks)")
+    p.add_argument("--plan", action="store_true",
+                   help="bake nothing: say what '--resume' would do (which frames are kept, which re-baked and "
+                        "from which checkpoint) and the checkpoints' disk cost")
     p.add_argument("--resolution", type=resolution_type, default=None, metavar="N",
                    help="cells along the domain's longest edge (overrides the scene's 'resolution')")
     p.add_argument("--cache", default=None, metavar="DIR",
@@ -55,7 +65,9 @@ def cmd_bake(args: argparse.Namespace) -> int:
         from dataclasses import replace
         scene = replace(scene, cache_dir=Path(args.cache))
     if args.verify:
-        return verify_command(scene.cache_dir, args)
+        return verify_command(scene, args)
+    if args.plan:
+        return plan_command(scene)
 
     cancel = threading.Event()
     over = threading.Event()  # the bake has returned or raised: a signal now changes nothing
@@ -91,7 +103,7 @@ def cmd_bake(args: argparse.Namespace) -> int:
             print(line, flush=True)
 
     try:
-        result = bake(scene, resume=args.resume, progress=show, cancel=cancel, log=log)
+        result = bake(scene, resume=args.resume, progress=show, cancel=cancel, log=log, until=args.until)
     finally:
         over.set()
         for s, handler in previous.items():
@@ -113,22 +125,40 @@ def cmd_bake(args: argparse.Namespace) -> int:
     return 0
 
 
-def verify_command(cache_dir: Path, args: argparse.Namespace) -> int:
-    """``bake --verify``: report the cache's damaged frames; 0 if none, 1 otherwise."""
+def verify_command(scene, args: argparse.Namespace) -> int:
+    """``bake --verify``: report the cache's damaged frames and checkpoints; 0 if none, 1 otherwise."""
+    cache_dir = scene.cache_dir
     if not Path(cache_dir).is_dir():
         raise _cache.BakeError(f"cache folder '{cache_dir}' does not exist: there is no bake to verify")
     with _cache.bake_lock(cache_dir):  # not while a bake rewrites the frames
         report = _verify.verify_cache(cache_dir)
+        checkpoints = _plan.verify_checkpoints(scene)
     for line in report.lines():
         print(line)
+    for name, problem in sorted(checkpoints.items()):
+        print(f"{name}: {problem}")
     unrecorded = len(report.checked) - report.recorded
     how = f" ({unrecorded} without a recorded digest: header checked only)" if unrecorded else ""
-    if report.ok:
-        print(f"verify: all {len(report.checked)} frame file(s) the manifest lists are sound{how}")
+    kept = len(_cache.list_kept_checkpoints(cache_dir)) + _cache.checkpoint_path(cache_dir).is_file()
+    if report.ok and not checkpoints:
+        print(f"verify: all {len(report.checked)} frame file(s) the manifest lists are sound{how}, and all "
+              f"{kept} checkpoint(s)")
         return 0
-    print(f"verify: {len(report.damaged)} of {len(report.checked)} frame file(s) are missing or damaged{how}; "
-          f"rebake them with: {resume_command(args)}")
+    print(f"verify: {len(report.damaged)} of {len(report.checked)} frame file(s) are missing or damaged{how}, "
+          f"{len(checkpoints)} of {kept} checkpoint(s) unusable; rebake with: {resume_command(args)}")
     return 1
+
+
+def plan_command(scene) -> int:
+    """``bake --plan``: print what a resume would do; 0 when there is nothing to bake, 1 otherwise."""
+    plan = _plan.rebake_plan(scene, check_files=True)
+    print(plan.text)
+    for f in sorted(plan.damaged):
+        print(f"frame {f}: {plan.damaged[f]}")
+    kept = _cache.list_kept_checkpoints(scene.cache_dir)
+    print(f"checkpoints: every {scene.checkpoint_every} frame(s), {_plan.describe_checkpoints(scene)}"
+          + (f"; kept now: {', '.join(map(str, kept))}" if kept else ""))
+    return 0 if plan.first_frame is None else 1
 
 
 def resume_command(args: argparse.Namespace) -> str:
@@ -137,6 +167,8 @@ def resume_command(args: argparse.Namespace) -> str:
     import shlex
 
     words = ["python3", "-m", "hapticfluid", "bake", str(args.scene), "--resume"]
+    if getattr(args, "until", None) is not None:
+        words += ["--until", str(args.until)]
     if args.resolution is not None:
         words += ["--resolution", str(args.resolution)]
     if args.cache is not None:

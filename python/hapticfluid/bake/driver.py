@@ -12,10 +12,12 @@ restarts from the checkpoint and rewrites f identically. These writes run on a w
 then loses at most those two, and resume rewrites them identically. A failed write stops the
 bake with a BakeError naming the frame, after every earlier frame has landed.
 
-Resume first checks every frame up to the checkpoint's (verify.py). The checkpoint holds only
-the state after its frame, so when an earlier frame is missing or damaged, resume replays the
-simulation from the first frame without writing the frames before the damaged one (they are
-sound, and the replay reproduces them bit for bit) and rewrites every frame from it on.
+Resume bakes what the cache lacks (plan.py): it finds the first frame that is missing, damaged
+(verify.py) or whose inputs changed, starts from the latest checkpoint before it (kept every
+scene.checkpoint_every frames, beside the latest), replays the frames between without writing
+them (they are sound, and the replay reproduces them bit for bit) and rewrites every frame from
+it on. Each frame's record in the manifest carries the inputs it consumed, and each checkpoint
+the digest of the inputs up to its frame, so a checkpoint is only used for the scene that made it.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ import numpy as np
 import hapticfluid as hf
 from hapticfluid import assembly
 from hapticfluid.bake import cache as _cache
+from hapticfluid.bake import plan as _plan
 from hapticfluid.bake import verify as _verify
 from hapticfluid.bake import writer as _writer
 from hapticfluid.bake.scene import BakeScene, ProbeSpec, SmokeSource
@@ -79,6 +82,7 @@ class BakeResult:
     seconds: float  # wall time of this session
     seconds_per_frame: float  # mean over this session's frames (nan if none)
     damaged_frames: Tuple[int, ...] = ()  # resume: frames found missing or damaged, and rebaked
+    plan: Optional["_plan.RebakePlan"] = None  # what the bake set out to do (plan.rebake_plan)
 
 
 def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
@@ -254,87 +258,121 @@ def _cancel_check(cancel: CancelCheck) -> Callable[[], bool]:
 
 
 def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[BakeProgress], None]] = None,
-         cancel: CancelCheck = None, log: Optional[Callable[[str], None]] = None) -> BakeResult:
+         cancel: CancelCheck = None, log: Optional[Callable[[str], None]] = None,
+         until: Optional[int] = None) -> BakeResult:
     """Bake ``scene`` into its cache folder.
 
-    resume: continue after the cache's checkpoint (BakeError if there is none or it does not
-        match the scene); otherwise the cache's previous bake files are deleted first. Resume
-        checks every frame file up to the checkpoint first (size and SHA-256 from the manifest,
-        or the VDB header) and rebakes from the earliest missing or damaged one (replaying the
-        simulation from the first frame: see the module); BakeResult.damaged_frames lists them.
+    resume: bake only what the cache lacks (plan.rebake_plan): keep every frame that still holds
+        what this scene bakes, and re-bake from the first frame that is missing, damaged (size and
+        SHA-256 against the manifest) or whose inputs changed (the probe's or source's keys),
+        starting from the latest kept checkpoint before it; a changed global setting (resolution,
+        fluid, ...) re-bakes every frame, as does an empty cache. Otherwise the cache's previous
+        bake files are deleted first and every frame is baked. BakeResult.plan says which case
+        applied; BakeResult.damaged_frames lists the damaged frames found.
     progress: called after every substep and every written frame with a BakeProgress.
     cancel: a threading.Event or a callable; checked once per frame of the trajectory check and
         between substeps. A bake cancelled before its first step leaves the cache as it was (an
         earlier bake included); later, it keeps every complete frame and its checkpoint, so it
         can be resumed.
     log: receives one line per frame.
-    Raises InvalidArgumentError (scene), BakeError (cache, checkpoint), HapticFluidError (engine).
+    until: stop after this frame (frame_start .. frame_end; default frame_end), keeping its
+        checkpoint (a farm chunk: the next chunk resumes from it).
+    Raises InvalidArgumentError (scene, until), BakeError (cache, checkpoint), HapticFluidError (engine).
     """
     say = log or (lambda _line: None)
+    if until is not None and (isinstance(until, bool) or not isinstance(until, int)
+                              or not scene.frame_start <= until <= scene.frame_end):
+        raise hf.InvalidArgumentError(f"until must be a frame from {scene.frame_start} to {scene.frame_end} (the "
+                                      f"scene's frames), got {until!r}")
     is_cancelled = _cancel_check(cancel)
     cache_dir = _cache.prepare_cache(scene.cache_dir)  # before any work: a clear error if unwritable
     with _cache.bake_lock(cache_dir):  # one bake per cache folder at a time (processes included)
-        return _bake_locked(scene, cache_dir, resume, progress, is_cancelled, say)
+        return _bake_locked(scene, cache_dir, resume, progress, is_cancelled, say,
+                            scene.frame_end if until is None else until)
+
+
+def _start_state(scene: BakeScene, cache_dir: Path, plan: _plan.RebakePlan, ledger: _plan.InputsLedger,
+                 say: Callable[[str], None]) -> Tuple[Optional[int], Optional[Dict[str, Any]]]:
+    """(frame, state) of the latest usable checkpoint the plan allows, or (None, None) to start
+    from rest. A checkpoint that fails its checks is reported and the one before it tried."""
+    fingerprint = scene.fingerprint()
+    for frame in reversed(plan.checkpoints):
+        path = _plan.checkpoint_file(cache_dir, frame)
+        try:
+            at, state = _cache.load_checkpoint(cache_dir, fingerprint, inputs_sha256=ledger.chain, path=path)
+        except _cache.BakeError as exc:
+            say(f"{exc}: trying an earlier checkpoint")
+            _log.warning("%s", exc)
+            continue
+        if at != frame:
+            say(f"checkpoint '{path}' holds frame {at}, not {frame}: trying an earlier checkpoint")
+            continue
+        return at, state
+    return None, None
 
 
 def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                  progress: Optional[Callable[[BakeProgress], None]], is_cancelled: Callable[[], bool],
-                 say: Callable[[str], None]) -> BakeResult:
+                 say: Callable[[str], None], until: int) -> BakeResult:
     fingerprint = scene.fingerprint()
-    resumed_from = None
-    state = None
+    ledger = _plan.InputsLedger(scene)
     old: Dict[str, Any] = {}
-    damaged: Tuple[int, ...] = ()
     if not resume:
         _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
+        plan = _plan.RebakePlan("fresh", scene.frame_start, scene.frame_end, scene.frame_start, scene.frame_start - 1,
+                                f"bake every frame, {scene.frame_start}-{scene.frame_end}, from the start")
     else:
-        resumed_from, state = _cache.load_checkpoint(cache_dir, fingerprint)
         _cache.remove_temporaries(cache_dir)
-        if resumed_from < scene.frame_start - 1 or resumed_from > scene.frame_end:
-            raise _cache.BakeError(f"checkpoint is for frame {resumed_from}, outside this bake's frames "
-                                   f"{scene.frame_start}..{scene.frame_end}; bake from the start")
+        plan = _plan.rebake_plan(scene, check_files=True, ledger=ledger)
+        for f in sorted(plan.damaged):
+            say(f"damaged: frame {f}: {plan.damaged[f]} ({_cache.FRAME_PREFIX}{f:04d}.vdb)")
         try:
             old = _cache.read_manifest(cache_dir) or {}
         except _cache.BakeError as exc:  # resume needs only the checkpoint; the manifest is rewritten
             say(f"{exc}: resuming without it (every frame file is checked against its header)")
             _log.warning("%s", exc)
-        report = _verify.verify_frames(cache_dir, range(scene.frame_start, resumed_from + 1), _verify.records_of(old))
-        if not report.ok:
-            damaged = tuple(sorted(report.damaged))
-            for line in report.lines():
-                say(f"damaged: {line}")
-            say(f"{len(damaged)} frame file(s) missing or damaged; the checkpoint holds the state after frame "
-                f"{resumed_from}, so the bake replays from frame {scene.frame_start} and rewrites frames "
-                f"{damaged[0]}..{scene.frame_end}")
-            resumed_from, state = None, None
-    # Frames before write_from are sound and kept; the simulation starts at `first` (after the
-    # checkpoint, or at frame_start to replay up to a damaged frame).
-    write_from = damaged[0] if damaged else None
+    say(plan.text)
+    damaged = tuple(sorted(plan.damaged))
+    write_from = plan.first_frame
+    if write_from is None or write_from > until:
+        say(f"nothing to bake up to frame {until}")
+        last = (write_from - 1) if write_from is not None else scene.frame_end
+        return BakeResult(status="finished", cache_dir=cache_dir, frames_written=0, last_frame=last,
+                          resumed_from=None, seconds=0.0, seconds_per_frame=float("nan"), damaged_frames=damaged,
+                          plan=plan)
+    keep_old = plan.kind not in ("fresh", "settings")
+    resumed_from, state = (None, None)
+    if keep_old and plan.checkpoint_frame >= scene.frame_start:
+        resumed_from, state = _start_state(scene, cache_dir, plan, ledger, say)
+        if resumed_from is None:
+            say(f"no usable checkpoint before frame {write_from}: the bake replays from frame {scene.frame_start}")
 
     manifest: Dict[str, Any] = {
         "format": "hapticfluid-bake",
         "hapticfluid_version": hf.__version__,
         "openvdb_version": hf.openvdb_version(),
         "scene": scene.to_dict(),
+        "inputs": ledger.manifest_entry(),
         "frame_files": f"{_cache.DATA_DIR}/{_cache.FRAME_PREFIX}####.vdb",
         "frames_done": [],
         "last_frame": None,
         "complete": False,
+        "checkpoint_every": scene.checkpoint_every,
+        "checkpoints": [],
         "sessions": [],
     }
-    if resume:
+    if keep_old:
         sessions = old.get("sessions", [])
         manifest["sessions"] = list(sessions) if isinstance(sessions, list) else []
     first = scene.frame_start if resumed_from is None else resumed_from + 1
-    if write_from is None:
-        write_from = first
-    manifest["frames_done"] = list(range(scene.frame_start, write_from))
+    manifest["frames_done"] = list(range(scene.frame_start, write_from)) if keep_old else []
     manifest["frame_records"] = {str(f): r for f, r in _verify.records_of(old).items()
-                                 if scene.frame_start <= f < write_from}
-    manifest["last_frame"] = write_from - 1 if write_from > scene.frame_start else None
-    manifest["complete"] = write_from > scene.frame_end  # resuming a finished bake: nothing left to do
+                                 if scene.frame_start <= f < write_from} if keep_old else {}
+    for f in manifest["frames_done"]:  # a legacy cache's records get their inputs (they matched its checkpoint)
+        manifest["frame_records"].setdefault(str(f), {}).setdefault("inputs", ledger.frames[f])
+    manifest["last_frame"] = write_from - 1 if write_from > scene.frame_start and keep_old else None
     session: Dict[str, Any] = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0,
-                               "seconds": 0.0, "device": None}
+                               "seconds": 0.0, "device": None, "plan": plan.text}
     if damaged:
         session["rebaked_damaged_frames"] = list(damaged)
     manifest["sessions"].append(session)
@@ -345,28 +383,43 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     solver = _SolverTally()
     with make_simulation(scene) as sim:
         session["device"] = sim.device.get("renderer")
-        # a bad pose fails here, and a cancel returns here, before the old bake is freed
+        # a bad pose fails here, and a cancel returns here, before the old bake is touched
         if not check_trajectory(sim, scene, first, is_cancelled) or is_cancelled():
             say("cancelled before the first step; the cache is as it was")
             return BakeResult(status="cancelled", cache_dir=cache_dir, frames_written=0,
-                              last_frame=resumed_from, resumed_from=resumed_from,
+                              last_frame=manifest["last_frame"], resumed_from=resumed_from,
                               seconds=time.perf_counter() - t0, seconds_per_frame=float("nan"),
-                              damaged_frames=damaged)
+                              damaged_frames=damaged, plan=plan)
         if state is not None:
             sim.set_state(state)
-        elif not damaged:
+        if not keep_old:
             _cache.free_cache_locked(cache_dir)
             _cache.prepare_cache(cache_dir)
+        else:
+            _cache.remove_checkpoints_from(cache_dir, write_from)  # states the re-bake changes
+        manifest["checkpoints"] = [{"frame": f, "bytes": _cache.kept_checkpoint_path(cache_dir, f).stat().st_size}
+                                   for f in _cache.list_kept_checkpoints(cache_dir)]
         _cache.write_manifest(cache_dir, manifest)
-        say(f"baking frames {write_from}..{scene.frame_end} of {scene.frame_start}..{scene.frame_end} at "
+        say(f"baking frames {write_from}..{until} of {scene.frame_start}..{scene.frame_end} at "
             f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "
-            f"{session['device']} into {cache_dir}")
+            f"{session['device']} into {cache_dir}"
+            + (f", from the checkpoint at {resumed_from}" if resumed_from is not None else ""))
         files_written = [0]  # the writer thread's count (`written` is this thread's, as reported)
+
+        def keep(frame: int) -> bool:
+            every = scene.checkpoint_every
+            return (every > 0 and (frame - scene.frame_start + 1) % every == 0) or (frame == until < scene.frame_end)
 
         def write_job(job: _writer.FrameJob) -> None:  # on the writer thread, one frame after the other
             path = write_frame(scene, job.state, job.frame, job.substeps)
-            manifest["frame_records"][str(job.frame)] = _verify.frame_record(path)
-            _cache.save_checkpoint(cache_dir, job.frame, job.state, fingerprint)
+            record = _verify.frame_record(path)
+            record["inputs"] = ledger.frames[job.frame]
+            manifest["frame_records"][str(job.frame)] = record
+            _cache.save_checkpoint(cache_dir, job.frame, job.state, fingerprint, inputs_sha256=ledger.chain(job.frame))
+            if keep(job.frame):
+                kept = _cache.keep_checkpoint(cache_dir, job.frame)
+                manifest["checkpoints"] = [c for c in manifest["checkpoints"] if c["frame"] != job.frame] + [
+                    {"frame": job.frame, "bytes": kept.stat().st_size}]
             manifest["frames_done"].append(job.frame)
             manifest["last_frame"] = job.frame
             manifest["complete"] = job.frame == scene.frame_end
@@ -388,7 +441,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
 
         writer = _writer.FrameWriter(write_job)
         try:
-            for frame in range(first, scene.frame_end + 1):
+            for frame in range(first, until + 1):
                 n = substeps_for_frame(scene, sim, frame)
                 dt = scene.frame_dt / n
                 frame_t0 = time.perf_counter()
@@ -407,7 +460,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                         progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
                 if status == "cancelled":
                     break
-                if frame < write_from:  # replaying up to a damaged frame: this one's file is sound
+                if frame < write_from:  # replaying up to the first frame to write: this one's file is kept
                     continue
                 frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
                 writer.put(_writer.FrameJob(frame, n, frame_state, time.perf_counter() - frame_t0,
@@ -428,7 +481,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     return BakeResult(status=status, cache_dir=cache_dir, frames_written=written,
                       last_frame=manifest["last_frame"], resumed_from=resumed_from, seconds=seconds,
                       seconds_per_frame=seconds / written if written else float("nan"),
-                      damaged_frames=damaged)
+                      damaged_frames=damaged, plan=plan)
 
 
 def _progress(scene: BakeScene, frame: int, first: int, written: int, substep: int, substeps: int,

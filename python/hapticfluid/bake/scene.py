@@ -48,7 +48,10 @@ Format (JSON; every length in metres, times in seconds or frames; keys marked * 
         "grids": ["density", "velocity"],  any of density (always written), velocity, pressure
         "compression": "blosc",            blosc, zip or none
         "half_float": false,               16-bit floats in the files
-        "tolerance": 0.0001                |value| <= tolerance -> inactive voxel (sparse)
+        "tolerance": 0.0001,               |value| <= tolerance -> inactive voxel (sparse)
+        "checkpoint_every": 10             keep the full state every N frames [10] (0: only the
+                                           latest), so a changed passage re-bakes from the
+                                           checkpoint before it (cache.py)
       },
       "device": ""                         GL device ('' auto, 'software', or an EGL index)
     }
@@ -72,6 +75,7 @@ from hapticfluid import Advection, FluidSettings, InvalidArgumentError, Pressure
 from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
 
 GRID_NAMES = ("density", "velocity", "pressure")
+CHECKPOINT_EVERY = 10  # frames between kept checkpoints: at most 9 frames replayed before a change
 COMPRESSIONS = ("blosc", "zip", "none")
 # The fluid settings a scene file may set, with the engine's defaults (hapticfluid.FluidSettings):
 # enums by their names, vectors as tuples, so the dict is what the JSON holds.
@@ -212,6 +216,7 @@ class BakeScene:
     half_float: bool = False
     tolerance: float = 1e-4
     device: str = ""
+    checkpoint_every: int = CHECKPOINT_EVERY  # frames between kept checkpoints (0: only the latest)
 
     # ---- derived grid ------------------------------------------------------------------
     @property
@@ -226,6 +231,13 @@ class BakeScene:
     def grid_size(self) -> Tuple[float, float, float]:
         """The simulated box's edges (m): whole cells, so possibly a hair off domain_size."""
         return assembly.grid(self.domain_size, self.resolution).size
+
+    @property
+    def checkpoint_bytes(self) -> int:
+        """Bytes of one checkpoint at this resolution (cache.checkpoint_bytes)."""
+        from hapticfluid.bake.cache import checkpoint_bytes
+
+        return checkpoint_bytes(self.grid_resolution)
 
     @property
     def frame_count(self) -> int:
@@ -262,12 +274,31 @@ class BakeScene:
             "tolerance": self.tolerance,
         }
 
+    def global_fingerprint(self) -> Dict[str, Any]:
+        """The fingerprint without the keyed poses: what every frame depends on, so a change
+        here invalidates every frame (the keys are compared frame by frame: frame_inputs)."""
+        from hapticfluid.bake.cache import without_keys
+
+        return without_keys(self.fingerprint())
+
+    def frame_inputs(self, frame: int) -> Dict[str, str]:
+        """What frame ``frame`` consumes beyond the global settings, as digests: the keys the
+        probe's (and a mesh source's) poses during the frame (frames frame-1 .. frame) are
+        interpolated from. Equal digests give the same substep poses to the bit."""
+        out = {}
+        for name, part in (("probe", self.probe), ("source", self.source)):
+            trajectory = getattr(part, "trajectory", None) if part is not None else None
+            if trajectory is not None:
+                out[name] = trajectory.digest_between(frame - 1, frame)[:32]
+        return out
+
     def to_dict(self) -> Dict[str, Any]:
         """The scene in its JSON form (keys as matrices), for the manifest."""
         d = self.fingerprint()
         d["frame_end"] = self.frame_end
         d["cache_dir"] = str(self.cache_dir)
         d["device"] = self.device
+        d["checkpoint_every"] = self.checkpoint_every
         return d
 
     # ---- checks ------------------------------------------------------------------------
@@ -498,7 +529,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     max_substeps = _integer("max_substeps", top.get("max_substeps", 16), 1)
     _check_step_range(fps, substeps, max_substeps)
 
-    c = _table("cache", top["cache"], ("directory", "grids", "compression", "half_float", "tolerance"))
+    c = _table("cache", top["cache"], ("directory", "grids", "compression", "half_float", "tolerance",
+                                       "checkpoint_every"))
     directory = c.get("directory")
     if not isinstance(directory, str) or not directory or "\0" in directory:
         raise _err("cache.directory", f"must be a folder path (no NUL character), got {directory!r}")
@@ -520,6 +552,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     if not isinstance(half, bool):
         raise _err("cache.half_float", f"expected true or false, got {half!r}")
     tolerance = _number("cache.tolerance", c.get("tolerance", 1e-4), minimum=0.0)
+    checkpoint_every = _integer("cache.checkpoint_every", c.get("checkpoint_every", CHECKPOINT_EVERY), 0)
     device = top.get("device", "")
     if not isinstance(device, str):
         raise _err("device", f"expected a string, got {device!r}")
@@ -527,7 +560,8 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     scene = BakeScene(domain_origin=origin, domain_size=size, resolution=resolution, frame_start=start,
                       frame_end=end, fps=fps, cache_dir=cache_dir, fluid=fluid, source=source, probe=probe,
                       substeps=substeps, cfl=cfl, max_substeps=max_substeps, grids=grids,
-                      compression=compression, half_float=half, tolerance=tolerance, device=device)
+                      compression=compression, half_float=half, tolerance=tolerance, device=device,
+                      checkpoint_every=checkpoint_every)
     scene.check_probe_path()
     return scene
 

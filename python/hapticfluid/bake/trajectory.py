@@ -11,6 +11,7 @@ velocities in m/s and angular velocities in rad/s (world axes).
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass
 from typing import Iterable, List, Sequence, Tuple
@@ -169,6 +170,8 @@ class Trajectory:
         if frame >= f[-1]:
             return self._poses[-1]
         i = int(np.searchsorted(f, frame, side="right")) - 1
+        if frame == f[i]:  # exactly a key: that key (an interpolation at t = 0 could round)
+            return self._poses[i]
         a, b = self._poses[i], self._poses[i + 1]
         t = (frame - f[i]) / (f[i + 1] - f[i])
         return Pose(
@@ -176,6 +179,25 @@ class Trajectory:
             rotation=slerp(a.rotation, b.rotation, t),
             scale=a.scale + t * (b.scale - a.scale),
         )
+
+    def keys_between(self, frame_a: float, frame_b: float) -> List[Tuple[float, Pose]]:
+        """The keys that every pose from frame_a to frame_b (inclusive) is computed from: the last
+        key at or before frame_a, every key in between, and the first key at or after frame_b
+        (fewer where the range lies before the first key or after the last). Two trajectories
+        whose keys_between agree give the same poses over the range, to the bit."""
+        f = self._frames
+        lo = max(0, int(np.searchsorted(f, frame_a, side="right")) - 1)
+        hi = min(len(f) - 1, int(np.searchsorted(f, frame_b, side="left")))
+        return [(float(f[i]), self._poses[i]) for i in range(lo, max(lo, hi) + 1)]
+
+    def digest_between(self, frame_a: float, frame_b: float) -> str:
+        """SHA-256 (hex) of keys_between: the frame numbers and the poses' float64 values."""
+        h = hashlib.sha256()
+        for frame, pose in self.keys_between(frame_a, frame_b):
+            h.update(np.array([frame], dtype=np.float64).tobytes())
+            for part in (pose.translation, pose.rotation, pose.scale):
+                h.update(np.ascontiguousarray(part, dtype=np.float64).tobytes())
+        return h.hexdigest()
 
     def motion(self, frame_a: float, frame_b: float, dt_s: float) -> Motion:
         """The pose at frame_b and the mean velocities from frame_a to frame_b (dt_s seconds)."""
