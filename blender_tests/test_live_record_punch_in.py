@@ -21,6 +21,9 @@ and the modal operator's timer do, with the controller told that the timeline pl
    the probe follows them again.
 3. Punch-in in Mouse mode: keys 1-48, Record at 10 and 20, the object dragged between frame
    changes: the keys 11-20 hold the dragged poses, the keys outside 10-20 unchanged to the bit.
+4. Re-bake after a punch-in: the Sweep 1-48 baked (16^3, with a smoke source), a punch-in 20-30,
+   then Resume (the bake's rebake_plan): frames 1-19 the same files, not rewritten (inode,
+   mtime, bytes), frames 20-48 re-baked and different.
 Any failure raises, so Blender exits 1."""
 
 import math
@@ -40,12 +43,14 @@ PATH_TOLERANCE_M = 0.002
 CHANNELS = ("location", "rotation_euler")
 
 
-def new_scene(device, gesture="REST"):
-    """A 1 m domain cube (corner at the origin), a sphere probe at its centre, 16^3, 24 fps."""
+def new_scene(device, gesture="REST", source=False):
+    """A 1 m domain cube (corner at the origin), a sphere probe at its centre (and a smoke source
+    at its floor), 16^3, 24 fps."""
     scene = empty_file()
     domain = cube(1.0, CENTRE, "Domain")
     probe = uv_sphere(0.08, CENTRE, "Probe")
-    bake = set_roles(scene, domain, probe)
+    smoke = uv_sphere(0.08, (0.5, 0.5, 0.15), "Source") if source else None
+    bake = set_roles(scene, domain, probe, smoke)
     bake.probe_shape = "SPHERE"
     bake.pressure_iterations = 10
     live = scene.hapticfluid_live
@@ -193,8 +198,8 @@ def timeline_record_keys_what_plays():
     check(keys(probe) == old, "one undo restores the old keys")
 
 
-def record_a_sweep_over_frames_1_to_48():
-    scene, probe = new_scene("SIMULATED_FALCON", "SWEEP")
+def record_a_sweep_over_frames_1_to_48(source=False):
+    scene, probe = new_scene("SIMULATED_FALCON", "SWEEP", source=source)
     run = start(scene, warm_s=1.0)  # past the 0.6 s homing gesture
     scene.frame_set(1)
     live_ops.tick(run)
@@ -305,11 +310,70 @@ def punch_in_with_the_mouse():
     unchanged_outside(old, keys(probe), 10 - 1e-3, 20 + 1e-3, "Mouse punch-in 10-20")
 
 
+def rebake_after_a_punch_in():
+    """Issue 31 item 3's last step: the recorded 1-48 motion baked, a punch-in 20-30, then one
+    press (Resume, which follows hapticfluid.bake.rebake_plan) re-bakes from the checkpoint
+    before frame 20: frames 1-19 are the same files (inode, mtime, bytes), frames 20-48 differ."""
+    import hashlib
+    import os
+    import tempfile
+
+    from hapticfluid.bake import rebake_plan, scene_from_dict
+
+    from hapticfluid_blender import blender_scene
+    from support import frames_on_disk, remove_on_exit, settings
+
+    scene, probe = record_a_sweep_over_frames_1_to_48(source=True)
+    bake = settings(scene)
+    bake.resolution, bake.substeps = 16, 1
+    bake.frame_start, bake.frame_end = 1, 48
+    bake.cache_dir = remove_on_exit(tempfile.mkdtemp(prefix="hf_punch_rebake_"))
+    t0 = time.monotonic()
+    check(bpy.ops.hapticfluid.bake() == {"FINISHED"}, f"baked 1-48 ({time.monotonic() - t0:.1f} s)")
+
+    def files():
+        out = {}
+        for name in frames_on_disk(bake.cache_dir):
+            path = os.path.join(bake.cache_dir, "data", name)
+            st = os.stat(path)
+            with open(path, "rb") as f:
+                out[name] = (st.st_ino, st.st_mtime_ns, hashlib.sha256(f.read()).hexdigest())
+        return out
+
+    baked = files()
+    check(len(baked) == 48, f"48 frame files ({len(baked)})")
+    time.sleep(0.05)  # a rewrite within the same clock tick could keep the mtime
+    scene.hapticfluid_live.hand_gesture = "CIRCLE"
+    run = start(scene, warm_s=1.5)
+    play(run, range(1, 21))
+    record()
+    play(run, range(21, 31))
+    record()
+    live_ops.stop_all()
+    check(run.controller.last_take == (20.0, 30.0, False), f"punched in over 20-30 ({run.controller.last_take})")
+
+    plan = rebake_plan(scene_from_dict(blender_scene.scene_dict(scene, bake)))
+    print(f"MEASURED rebake plan after the punch-in: {plan.kind}, first frame {plan.first_frame}, checkpoint "
+          f"{plan.checkpoint_frame}: {plan.text}")
+    check(plan.kind == "inputs" and plan.first_frame == 20 and plan.checkpoint_frame < 20,
+          f"the plan re-bakes from frame 20 from a checkpoint before it: {plan.text}")
+    t0 = time.monotonic()
+    check(bpy.ops.hapticfluid.bake_resume() == {"FINISHED"}, f"one press re-bakes ({time.monotonic() - t0:.1f} s)")
+    rebaked = files()
+    names = sorted(baked)
+    kept = [n for n in names[:19] if rebaked.get(n) == baked[n]]
+    changed = [n for n in names[19:] if rebaked[n][2] != baked[n][2]]
+    check(len(kept) == 19, f"frames 1-19 not rewritten: the same inode, mtime and bytes ({len(kept)} of 19)")
+    check(len(changed) == 29, f"frames 20-48 re-baked and different ({len(changed)} of 29; unchanged: "
+                              f"{sorted(set(names[19:]) - set(changed))})")
+
+
 def main():
     hapticfluid_blender.register()
     timeline_record_keys_what_plays()
     punch_in_with_the_simulated_falcon()
     punch_in_with_the_mouse()
+    rebake_after_a_punch_in()
     hapticfluid_blender.unregister()
     print("record and punch-in: ok")
 
