@@ -77,6 +77,7 @@ def _make_drawer():
 def run_for(scene):
     """The running session of this scene, or None."""
     for run in _RUNNING:
+        run.controller.refresh_references()  # after an undo
         try:
             if run.controller.scene == scene:
                 return run
@@ -272,12 +273,17 @@ class HAPTICFLUID_OT_live_stop(bpy.types.Operator):
 
 
 class HAPTICFLUID_OT_live_record(bpy.types.Operator):
-    """Record the probe's performed motion as location and rotation keys (press again to finish); keys in the
-    recorded range are replaced"""
+    """Record the probe's motion as location and rotation keys at the Key Rate (press again to finish); the keys in
+    the recorded frames are replaced, all others stay as they were. While the timeline plays it punches in: the
+    existing motion plays until Record (frame A), from there Mouse and Falcon drive the probe until Record again
+    (frame B, keyed too). Timeline mode re-records the motion as it plays (the pose the fluid's probe followed, at
+    the frames played). One undo restores the old keys"""
 
     bl_idname = "hapticfluid.live_record"
     bl_label = "Record"
-    bl_options = {"REGISTER", "UNDO"}
+    # No UNDO flag: Record-off pushes its own two undo steps, one before the keys change (the
+    # channels punched in unmuted) and one after, so one undo restores the old keys.
+    bl_options = {"REGISTER"}
 
     @classmethod
     def poll(cls, context):
@@ -287,15 +293,36 @@ class HAPTICFLUID_OT_live_record(bpy.types.Operator):
     def execute(self, context):
         controller = run_for(context.scene).controller
         if controller.recording is not None:
-            n = controller.stop_recording()
-            self.report({"INFO"}, f"recorded {n} key(s) of the probe's motion")
+            n = controller.stop_recording(before_write=lambda: _undo_push("Before Record"))
+            if n:
+                _undo_push("Record")
+                a, b, looped = controller.last_take
+                self.report({"INFO"}, f"recorded {n} key(s) of the probe's motion, frames {a:g}-{b:g}"
+                                      + (" (the timeline looped: the take ends at its end frame)" if looped else ""))
+            else:
+                self.report({"WARNING"}, "Play the timeline (Space) while recording: no frame was played, nothing "
+                                         "was keyed" if controller.plan.mode == "TIMELINE" else
+                                         "Move the probe while recording: nothing was performed to key")
             return {"FINISHED"}
         try:
             controller.start_recording()
         except live_session.SessionError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
+        r = controller.recording
+        if controller.plan.mode == "TIMELINE" and not controller.timeline_playing():
+            self.report({"WARNING"}, "Play the timeline (Space): in Timeline mode Record keys the frames as they play")
+        elif r.frame_locked and r.muted:
+            self.report({"INFO"}, f"punch-in from frame {r.start_frame:g}: the probe follows you until Record again")
         return {"FINISHED"}
+
+
+def _undo_push(message):
+    """An undo step of the current state (main thread, from an operator)."""
+    try:
+        bpy.ops.ed.undo_push(message=message)
+    except RuntimeError as exc:  # no undo stack (e.g. a script run without a window manager)
+        log.info("hapticfluid: no undo step for %s (%s)", message, exc)
 
 
 classes = (HAPTICFLUID_OT_live_start, HAPTICFLUID_OT_live_stop, HAPTICFLUID_OT_live_record)

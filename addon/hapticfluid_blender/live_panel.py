@@ -101,11 +101,23 @@ class HAPTICFLUID_PT_live(bpy.types.Panel):
         if live.is_running:
             row.operator("hapticfluid.live_stop", icon="PAUSE")
             row.operator("hapticfluid.live_record", icon="REC", depress=live.is_recording,
-                         text="Recording" if live.is_recording else "Record")
+                         text=record_text(context.scene) if live.is_recording else "Record")
         else:
             row.operator("hapticfluid.live_start", icon="PLAY")
         if live.status:
             wrapped_label(layout, context, live.status)
+
+
+def record_text(scene) -> str:
+    """The Record button's text while recording: a take locked to the playing timeline says the
+    frame it started at (a punch-in: the keys from there on are being replaced)."""
+    from . import live_ops
+
+    run = live_ops.run_for(scene)
+    take = run.controller.recording if run is not None else None
+    if take is not None and take.frame_locked:
+        return f"Recording from {take.start_frame:g}"
+    return "Recording"
 
 
 class HAPTICFLUID_PT_live_settings(bpy.types.Panel):

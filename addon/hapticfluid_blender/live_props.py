@@ -47,8 +47,8 @@ ROTATION_NOTE = ("The object's location and rotation drive the fluid; its scale 
 DEVICE_ITEMS = (
     ("MOUSE", "Mouse / Transform", "No device: the probe object's transform drives the fluid; grab it (G), "
                                    "turn it (R) or move it any way Blender allows. " + ROTATION_NOTE),
-    ("TIMELINE", "Timeline", "The probe's animation drives the fluid while the timeline plays. "
-                             + ROTATION_NOTE),
+    ("TIMELINE", "Timeline", "The probe's animation drives the fluid while the timeline plays (Record re-records "
+                             "it as it plays, at the frames played). " + ROTATION_NOTE),
     ("FALCON", "Falcon", "A Novint Falcon: the probe follows its grip and the force goes to the handle"),
     ("SIMULATED_FALCON", "Simulated Falcon", "The Falcon driver on a simulated Falcon held by a simulated hand "
                                              "(demos and tests, no hardware)"),

@@ -70,9 +70,32 @@ class _Recording:
     fps: float
     interval_s: float
     t0: float
+    # Frame-locked (the timeline plays): a sample's frame is the frame played when it was performed
+    # (clock_frames maps the clock to the played frame), and Record-off keys the frame then played
+    # (B), so the take replaces exactly the frames A..B that played. Otherwise the frame is
+    # start_frame + elapsed x fps (a performance recorded over a still timeline).
+    frame_locked: bool = False
+    clock_frames: List[Tuple[float, float]] = field(default_factory=list)  # (clock s, frame played)
+    muted: List[Tuple[str, int, bool]] = field(default_factory=list)  # (path, index, mute before) punched in
+    trace_t: float = -math.inf         # clock time of the last trace pose kept (s)
+    looped: bool = False               # the timeline jumped back: samples after it are not kept
     # (frame, location, rotation) of the object at every tick: the motion performed, as Blender
     # knew it (a drag moves the object once per pass of the event loop, as often as it redraws)
     samples: List[Tuple[float, Tuple[float, ...], Tuple[float, ...]]] = field(default_factory=list)
+
+    def frame_at(self, t: float) -> Optional[float]:
+        """The frame a pose performed at clock time t belongs to; None before the take."""
+        if t < self.t0:
+            return None
+        if not self.frame_locked:
+            return self.start_frame + (t - self.t0) * self.fps
+        pairs = self.clock_frames
+        if not pairs or t <= pairs[0][0]:
+            return self.start_frame
+        for (ta, fa), (tb, fb) in zip(pairs, pairs[1:]):
+            if t <= tb:
+                return fa + (fb - fa) * (t - ta) / (tb - ta) if tb > ta else fb
+        return pairs[-1][1]
 
 
 def _import_hf():
@@ -308,6 +331,10 @@ class LiveController:
         self.last_sequence = 0
         self.ticks = 0
         self._display = None
+        self.last_take = None     # (A, B, looped) of the last take keyed: its frames
+        # Whether the timeline plays (a screen's animation playback); tests without a window
+        # replace it, as scene.frame_set() then stands in for playback.
+        self.timeline_playing = timeline_playing
         self._worker_error = None
         self._worker = threading.Thread(target=self._build, name="hapticfluid-live-start", daemon=True)
         self._worker.start()
@@ -340,8 +367,29 @@ class LiveController:
     def session(self):
         return self.engine.session
 
+    def refresh_references(self):
+        """An undo (memfile) re-reads the file's data: the Python references to the scene, the probe
+        and the domain die (ReferenceError) though the objects are still there. Finds them again by
+        name, so an undo during the session (after a take, say) does not end it as if they were
+        deleted; one really deleted stays gone and ends the session at the next tick."""
+        try:
+            self.scene.name  # noqa: B018
+        except ReferenceError:
+            scene = bpy.data.scenes.get(self.scene_name)
+            if scene is None:
+                return
+            self.scene = scene
+        for attr, name in (("probe", self.probe_name), ("domain", self.domain_name)):
+            try:
+                getattr(self, attr).name  # noqa: B018
+            except ReferenceError:
+                obj = bpy.data.objects.get(name)
+                if obj is not None:
+                    setattr(self, attr, obj)
+
     def tick(self):
         """One main-thread update; returns the state ('starting', 'running' or 'stopped')."""
+        self.refresh_references()
         if self.state == "starting":
             if self._worker.is_alive():
                 return self.state
@@ -368,7 +416,8 @@ class LiveController:
             self.engine.device.push_pose(tuple(m.translation), orientation=probe_rotation(m))
             self._check_scale(m)
         else:
-            self._follow_device(latest)
+            if not self._plays_keys():  # the device moves the object (and the fluid's probe)
+                self._follow_device(latest)
             self._take_trace()
         self._update_drawer(latest)
         self._update_stats(latest)
@@ -429,30 +478,61 @@ class LiveController:
         m.translation = Vector(tuple(float(x) for x in self.session.probe_origin(latest["position"])))
         self.probe.matrix_world = m
 
+    def _plays_keys(self) -> bool:
+        """Device modes: while the timeline plays and Record is off, a probe with location keys
+        follows them (the object is drawn where the existing motion puts it, so the user sees
+        where to punch in); the fluid's probe still follows the grip, the only thing that can move
+        it (see ARCHITECTURE.md, Live session: Punch-in)."""
+        if self.recording is not None or not self.timeline_playing():
+            return False
+        data = self.probe.animation_data
+        if data is None or data.action is None:
+            return False
+        return object_fcurves(self.probe).find("location", index=0) is not None
+
     def _take_trace(self):
         """Device modes: the device's poses since the last tick (one per haptic period); while
         recording, those TRACE_SAMPLES_PER_KEY times per key interval become samples of the
         object's location (where the engine puts the probe for that pose, less the object's parent offset)
-        at their own times, so Record keys the hand's path, not the straight line between ticks.
-        Needs the controller's clock to be the trace's (time.monotonic, CLOCK_MONOTONIC)."""
+        at the frames they were performed at (played frames when frame-locked), so Record keys the
+        hand's path, not the straight line between ticks. Needs the controller's clock to be the
+        trace's (time.monotonic, CLOCK_MONOTONIC)."""
         trace = self.session.trace()
         r = self.recording
-        if r is None or self.clock is not time.monotonic or not len(trace["time"]):
+        if r is None or self.clock is not time.monotonic:
+            return
+        if r.frame_locked:
+            self._mark_frame(self.clock())  # after trace(): every pose it gave is older than this
+        if r.looped or not len(trace["time"]):
             return
         obj = self.probe
         world_now = obj.matrix_world.translation
         parent = tuple(world_now[i] - obj.location[i] for i in range(3))  # a parent's translation
         rotation = tuple(getattr(obj, r.rotation_path))  # Falcon modes keep the start rotation
         spacing = r.interval_s / TRACE_SAMPLES_PER_KEY
-        last_t = r.t0 + (r.samples[-1][0] - r.start_frame) / r.fps if r.samples else -math.inf
         origins = self.session.probe_origin(trace["position"])  # where the engine put the probe
         for t, w in zip(trace["time"], origins):
             t = float(t)
-            if t < r.t0 or t < last_t + spacing:
+            if t < r.trace_t + spacing:
                 continue
-            last_t = t
+            frame = r.frame_at(t)
+            if frame is None or (r.samples and frame <= r.samples[-1][0]):
+                continue
+            r.trace_t = t
             location = tuple(float(w[i]) - parent[i] for i in range(3))
-            r.samples.append((r.start_frame + (t - r.t0) * r.fps, location, rotation))
+            r.samples.append((frame, location, rotation))
+
+    def _mark_frame(self, t):
+        """Frame-locked recording: the frame played at clock time t (kept when it moved on). A
+        frame before the last one (playback looped at the end frame, or the user scrubbed back)
+        ends the take's samples: the keys cover the frames played once, in order."""
+        r = self.recording
+        frame = float(self.scene.frame_current_final)
+        last = r.clock_frames[-1][1] if r.clock_frames else -math.inf
+        if frame < last:
+            r.looped = True
+        elif frame > last:
+            r.clock_frames.append((t, frame))
 
     def _update_drawer(self, latest):
         snap = self.session.snapshot()
@@ -496,47 +576,80 @@ class LiveController:
 
     # -- recording ------------------------------------------------------------------------
     def start_recording(self):
+        """Record on. Frame-locked when the timeline plays (and always in Timeline mode): the take
+        starts at the frame playing (A) and its samples belong to the frames played. Mouse and
+        Falcon modes then punch in: the probe's location and rotation F-curves are muted until
+        Record-off so the performance, not the existing keys, moves the probe."""
         if self.state != "running":
             raise SessionError("Start the live session first: Record keys the motion performed during it")
-        if self.plan.mode == "TIMELINE":
-            raise SessionError("Record in Mouse or Falcon mode: in Timeline mode the probe plays its existing keys")
         scene = self.scene
         obj = self.probe
         path = {"QUATERNION": "rotation_quaternion", "AXIS_ANGLE": "rotation_axis_angle"}.get(
             obj.rotation_mode, "rotation_euler")
         now = self.clock()
-        self.recording = _Recording(obj_name=obj.name, rotation_path=path, start_frame=float(scene.frame_current),
-                                    fps=scene.render.fps / scene.render.fps_base,
-                                    interval_s=1.0 / self.live.record_rate, t0=now)
+        locked = self.plan.mode == "TIMELINE" or bool(self.timeline_playing())
+        r = _Recording(obj_name=obj.name, rotation_path=path, start_frame=float(scene.frame_current_final),
+                       fps=scene.render.fps / scene.render.fps_base, interval_s=1.0 / self.live.record_rate,
+                       t0=now, frame_locked=locked)
+        if locked:
+            r.clock_frames.append((now, r.start_frame))
+            if self.plan.mode != "TIMELINE":
+                r.muted = _mute_channels(obj, ("location", path))
+        self.recording = r
         self.live.is_recording = True
+        if self.plan.mode in DEVICE_MODES:  # the object played the keys until now: the grip's pose at A
+            self._follow_device(self.session.latest())
         self._sample(now)
 
     def _sample(self, now):
         r = self.recording
-        obj = self.probe
-        frame = r.start_frame + (now - r.t0) * r.fps
+        if r.frame_locked:
+            self._mark_frame(now)
+            if r.looped:
+                return
+            frame = float(self.scene.frame_current_final)
+        else:
+            frame = r.start_frame + (now - r.t0) * r.fps
         if r.samples and frame <= r.samples[-1][0]:
             return
+        obj = self.probe
         r.samples.append((frame, tuple(obj.location), tuple(getattr(obj, r.rotation_path))))
 
-    def stop_recording(self) -> int:
-        """Writes the motion performed as keys at the record rate (replacing keys in their frame
-        range); returns the number of poses keyed. Each key is the pose at its time on the path
-        performed: between two ticks' samples, location and Euler or axis-angle rotation linearly,
-        a quaternion normalized-linearly (live_session.resample), so keys come at the record rate
-        however often Blender redrew while recording."""
+    def stop_recording(self, before_write=None) -> int:
+        """Writes the motion performed as keys at the record rate (replacing the keys in their frame
+        range, every key outside it left as it was, bit for bit); returns the number of poses keyed.
+        Each key is the pose at its time on the path performed: between two samples, location and
+        Euler or axis-angle rotation linearly, a quaternion normalized-linearly (resample), so keys
+        come at the record rate however often Blender redrew while recording. Frame-locked, the
+        take ends with a key at B, the frame played at Record-off, from the pose performed there,
+        so the F-curves stay continuous into the keys after B. before_write() runs after muted
+        channels are restored and before any key changes (the Record operator pushes an undo step
+        there, so one undo restores the old keys)."""
         r, self.recording = self.recording, None
         self.live.is_recording = False
-        if r is None or not r.samples:
+        if r is None:
             return 0
         try:
             obj = self.probe
             obj.name  # noqa: B018 (raises ReferenceError if it was deleted)
         except ReferenceError:
             return 0
-        keys = resample(r.samples, r.interval_s * r.fps, quaternion=r.rotation_path == "rotation_quaternion")
+        if r.frame_locked and not r.looped:
+            if self.plan.mode in DEVICE_MODES and self.state == "running":
+                self._follow_device(self.session.latest())
+            self.recording = r
+            self._sample(self.clock())  # the pose at B, unless a tick sampled B already
+            self.recording = None
+        _restore_mutes(obj, r.muted)
+        if not r.samples or (r.frame_locked and len(r.samples) < 2):  # locked and no frame played: no take
+            return 0
+        keys = resample(r.samples, r.interval_s * r.fps, quaternion=r.rotation_path == "rotation_quaternion",
+                        end=r.frame_locked)
+        if before_write is not None:
+            before_write()
         write_keys(obj, r.rotation_path, keys)
         self.keys_written += len(keys)
+        self.last_take = (keys[0][0], keys[-1][0], r.looped)
         return len(keys)
 
     # -- ending ---------------------------------------------------------------------------
@@ -567,6 +680,36 @@ class LiveController:
             log.warning("hapticfluid live session ended: %s", self.report)
 
 
+def timeline_playing() -> bool:
+    """Whether Blender plays the animation (in any window)."""
+    wm = bpy.context.window_manager
+    return any(w.screen is not None and w.screen.is_animation_playing for w in (wm.windows if wm else ()))
+
+
+def _mute_channels(obj, paths) -> List[Tuple[str, int, bool]]:
+    """Mutes the object's F-curves of those paths (so playback leaves the channels to the
+    performance); returns (path, index, mute before) to restore."""
+    data = obj.animation_data
+    if data is None or data.action is None:
+        return []
+    muted = []
+    for fc in object_fcurves(obj):
+        if fc.data_path in paths:
+            muted.append((fc.data_path, fc.array_index, fc.mute))
+            fc.mute = True
+    return muted
+
+
+def _restore_mutes(obj, muted):
+    if not muted or obj.animation_data is None or obj.animation_data.action is None:
+        return
+    fcurves = object_fcurves(obj)
+    for path, index, before in muted:
+        fc = fcurves.find(path, index=index)
+        if fc is not None:
+            fc.mute = before
+
+
 def probe_rotation(matrix) -> Tuple[float, float, float, float]:
     """The rotation of a probe's matrix_world (rows or a mathutils Matrix) as a quaternion
     (w, x, y, z), by the engine's rule (HapticSession::probeRotation): Gram-Schmidt on the x, then
@@ -581,20 +724,24 @@ def probe_rotation(matrix) -> Tuple[float, float, float, float]:
     return (q.w, q.x, q.y, q.z)
 
 
-def resample(samples, frames_per_key, quaternion=False):
+def resample(samples, frames_per_key, quaternion=False, end=False):
     """(frame, location, rotation) samples at uneven frames -> the same path at frames
-    samples[0] + k * frames_per_key up to the last sample's frame: linear between the two samples
-    around each, a quaternion rotation (w, x, y, z) normalized-linearly on the shorter arc."""
+    samples[0] + k * frames_per_key up to the last sample's frame (end: and at the last sample's
+    own frame, when the grid misses it): linear between the two samples around each, a quaternion
+    rotation (w, x, y, z) normalized-linearly on the shorter arc."""
     if not samples:
         return []
     out = []
     first, last = samples[0][0], samples[-1][0]
-    i = 0
+    frames = []
     k = 0
-    while True:
-        frame = first + k * frames_per_key
-        if frame > last + 1e-9:
-            break
+    while first + k * frames_per_key <= last + 1e-9:
+        frames.append(first + k * frames_per_key)
+        k += 1
+    if end and last - frames[-1] > 1e-6:
+        frames.append(last)
+    i = 0
+    for frame in frames:
         while i + 1 < len(samples) - 1 and samples[i + 1][0] < frame:
             i += 1
         a = samples[i]
@@ -610,27 +757,67 @@ def resample(samples, frames_per_key, quaternion=False):
             norm = math.sqrt(sum(c * c for c in rotation)) or 1.0
             rotation = tuple(c / norm for c in rotation)
         out.append((frame, location, rotation))
-        k += 1
     return out
+
+
+# What a key is besides its point: kept, with co and handles, for every key outside a take.
+_KEY_FIELDS = ("handle_left_type", "handle_right_type", "interpolation", "easing", "back", "amplitude", "period",
+               "type")
+
+
+def key_state(point):
+    """A keyframe point as plain values: co, handle_left, handle_right, then _KEY_FIELDS."""
+    return (tuple(point.co), tuple(point.handle_left), tuple(point.handle_right)) + tuple(
+        getattr(point, name) for name in _KEY_FIELDS)
 
 
 def write_keys(obj, rotation_path, samples):
     """Keys location and rotation at each (frame, location, rotation) sample into the object's
-    action, first removing the keys of those channels within the samples' frame range."""
+    action, first removing the keys of those channels within the samples' frame range. Keys
+    outside the range keep their co, handles, handle types and interpolation bit for bit: Blender
+    recomputes every automatic handle of a curve when keys are added (fc.update()), which would
+    move the handles of the keys around the take, so theirs are put back as they were."""
     lo = min(s[0] for s in samples) - 1e-4
     hi = max(s[0] for s in samples) + 1e-4
-    for path in ("location", rotation_path):  # makes the action, its slot and the F-curves as Blender does
-        obj.keyframe_insert(path, frame=samples[0][0])
-    fcurves = object_fcurves(obj)
-    for path, slot in (("location", 1), (rotation_path, 2)):
+    channels = (("location", 1), (rotation_path, 2))
+    data = obj.animation_data
+    fcurves = object_fcurves(obj) if data is not None and data.action is not None else None
+    kept = {}
+    for path, slot in channels:
+        for index in range(len(samples[0][slot])):
+            fc = fcurves.find(path, index=index) if fcurves is not None else None
+            if fc is not None:
+                kept[(path, index)] = [key_state(p) for p in fc.keyframe_points if not lo <= p.co.x <= hi]
+            else:  # makes the action, its slot and the F-curves as Blender does (a key inside the range)
+                obj.keyframe_insert(path, frame=samples[0][0])
+                fcurves = object_fcurves(obj)
+    for path, slot in channels:
         for index in range(len(samples[0][slot])):
             fc = fcurves.find(path, index=index)
-            for k in reversed(range(len(fc.keyframe_points))):
-                if lo <= fc.keyframe_points[k].co.x <= hi:
-                    fc.keyframe_points.remove(fc.keyframe_points[k], fast=True)
+            points = fc.keyframe_points
+            for k in reversed(range(len(points))):
+                if lo <= points[k].co.x <= hi:
+                    points.remove(points[k], fast=True)
             for s in samples:
-                fc.keyframe_points.insert(s[0], s[slot][index], options={"FAST"})
+                points.insert(s[0], s[slot][index], options={"FAST"})
             fc.update()
+            outside = [p for p in points if not lo <= p.co.x <= hi]
+            before = kept.get((path, index), [])
+            if len(outside) != len(before):  # keys made by keyframe_insert above lie inside the range
+                raise RuntimeError(f"{path}[{index}]: {len(before)} keys outside frames {lo:.4g}..{hi:.4g} "
+                                   f"became {len(outside)}")
+            for p, state in zip(outside, before):
+                _put_back(p, state)
+
+
+def _put_back(point, state):
+    co, left, right = state[:3]
+    for name, value in zip(_KEY_FIELDS, state[3:]):
+        if getattr(point, name) != value:
+            setattr(point, name, value)
+    point.co = co
+    point.handle_left = left
+    point.handle_right = right
 
 
 def object_fcurves(obj):
