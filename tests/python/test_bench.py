@@ -224,3 +224,17 @@ def test_statistics_and_table_format():
                                  "bb       -", "* n1"]
     md = report.format_table({"title": "T", "columns": ["x"], "rows": [[2]], "notes": []}, markdown=True)
     assert "| x |" in md and "| 2 |" in md
+
+
+def test_checkpoint_section_measures_the_files_it_estimates():
+    """The checkpoint section writes real checkpoints: their size on disk is the add-on's
+    estimate (cache.checkpoint_bytes) within 2 KB, and each timing is a measured positive value."""
+    from hapticfluid.bench import checkpoint
+
+    section = checkpoint.run(quick=True, log=None)
+    report.check_section("checkpoint", section)
+    rows = _rows(section)
+    assert [r["grid"] for r in rows] == ["16^3", "24^3"]
+    for r in rows:
+        assert abs(r["MB on disk"] - r["MB estimated"]) <= 0.0021, r  # 2 KB, and the 3-decimal rounding
+        assert all(r[c] > 0 for c in ("state() ms", "write ms", "keep ms", "load ms")), r
