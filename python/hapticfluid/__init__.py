@@ -12,7 +12,12 @@ Example::
     print(report.force)   # newtons on the probe
 """
 
-from hapticfluid._core import (
+from hapticfluid import _core
+from hapticfluid._arguments import install as _name_bad_arguments
+
+_name_bad_arguments(_core)  # a wrong argument type is named, not pybind11's "incompatible function arguments"
+
+from hapticfluid._core import (  # noqa: E402  (after the wrapping: these are the wrapped functions)
     CELL_BOUNDARY,
     CELL_INSIDE,
     STEP_READBACK_BYTES,
