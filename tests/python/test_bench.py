@@ -238,3 +238,19 @@ def test_checkpoint_section_measures_the_files_it_estimates():
     for r in rows:
         assert abs(r["MB on disk"] - r["MB estimated"]) <= 0.0021, r  # 2 KB, and the 3-decimal rounding
         assert all(r[c] > 0 for c in ("state() ms", "write ms", "keep ms", "load ms")), r
+
+
+def test_show_prints_a_committed_result_with_its_commit(tmp_path):
+    """``bench --show --json FILE`` regenerates the docs' tables from a raw result, under the
+    machine line that names the commit it was measured on; a file that is no result is refused."""
+    from hapticfluid.bench import runner
+
+    path = tmp_path / "r.json"
+    machine = {"date_utc": "2026-12-02T00:00:00+00:00", "cpu_model": "X", "cpu_cores": 2, "git_commit": "abc1234"}
+    section = {"title": "T", "columns": ["grid", "ms"], "rows": [["64^3", 1.5]], "notes": ["n"]}
+    report.write_json_atomic(path, report.document({"engine": section}, False, machine))
+    text = runner.show(path, markdown=True)
+    assert "commit abc1234" in text.splitlines()[0] and "| 64^3 | 1.50 |" in text, text
+    (tmp_path / "bad.json").write_text("[]")
+    with pytest.raises(hf.InvalidArgumentError, match="not a benchmark results file"):
+        runner.show(tmp_path / "bad.json")

@@ -14,7 +14,7 @@ import importlib
 import os
 import time
 import traceback
-from typing import Dict, List, Sequence
+from typing import Dict, List, Optional, Sequence
 
 import hapticfluid as hf
 from hapticfluid.bench import report
@@ -71,6 +71,9 @@ def add_parser(sub) -> None:
     p.add_argument("--replot", action="store_true",
                    help="run nothing: draw --plot from the results already in --json")
     p.add_argument("--markdown", action="store_true", help="print the tables as Markdown")
+    p.add_argument("--show", action="store_true",
+                   help="run nothing: print the tables of the results already in --json (e.g. a committed "
+                        "docs/bench_results*.json), under the machine, date and commit they were measured on")
     p.set_defaults(func=cmd_bench)
 
 
@@ -93,9 +96,34 @@ def run_sections(names: Sequence[str], quick: bool, log=report.progress) -> Dict
     return results
 
 
+def show(path: "str | os.PathLike", markdown: bool = False, sections: Optional[Sequence[str]] = None) -> str:
+    """The tables of a results file, under the machine line (date, load, commit) they were
+    measured with: the figures the docs quote, regenerated from the raw result."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+    except (OSError, ValueError) as exc:
+        raise hf.InvalidArgumentError(f"--json {os.fspath(path)!r} cannot be read as a results file: {exc}") from None
+    if not isinstance(doc, dict) or not isinstance(doc.get("sections"), dict):
+        raise hf.InvalidArgumentError(f"--json {os.fspath(path)!r} is not a benchmark results file (no 'sections')")
+    machine = doc.get("machine") or {}
+    parts = [f"{report.describe_machine(machine)}{'  (quick run)' if doc.get('quick') else ''}"]
+    for name, result in doc["sections"].items():
+        if sections and name not in sections:
+            continue
+        parts.append(f"{name}: FAILED: {result['error']}" if "error" in result
+                     else report.format_table(result, markdown=markdown))
+    return "\n\n".join(parts)
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     from hapticfluid.bench import plot as _plot
 
+    if args.show:
+        print(show(args.json, markdown=args.markdown, sections=args.sections))
+        return 0
     if args.replot:
         if not args.plot:
             raise hf.InvalidArgumentError("--replot needs --plot PNG")
