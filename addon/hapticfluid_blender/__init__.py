@@ -20,7 +20,7 @@ bl_info = {
 }
 
 from . import bake_ops, cache_bar, cache_plan, farm_ops, legacy, live_ops, live_panel, live_props, panels, \
-    physics_panels, prefs, properties  # noqa: E402  (bl_info first)
+    physics_panels, prefs, properties, roles, source_mesh  # noqa: E402  (bl_info first)
 
 classes = (
     *properties.classes,
@@ -47,6 +47,8 @@ def register():
 
     for cls in classes:
         bpy.utils.register_class(cls)
+    # a role change: its checks first (they may take the role back), then the source's visibility
+    properties.ROLE_CHANGED_HOOKS[:] = [roles.check_new_role, source_mesh.sync_render_visibility]
     properties.attach()
     legacy.attach()
     live_props.attach()
@@ -81,5 +83,6 @@ def unregister():
     live_props.detach()
     legacy.detach()
     properties.detach()
+    properties.ROLE_CHANGED_HOOKS.clear()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

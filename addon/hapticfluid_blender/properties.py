@@ -6,7 +6,7 @@ settings, its cache and status; ``probe_settings``; ``source_settings``). Read t
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from . import source_mesh, volume
+from . import volume
 
 
 ROLE_ITEMS = (
@@ -127,11 +127,15 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
                                      description="The domain's hide_render before the bake")
 
 
-def _role_changed(self, context):
-    from . import roles
+# What a change of an object's role runs, in order, as (object, new role): the role's checks
+# (roles.check_new_role) and the smoke source's render visibility (source_mesh). Filled by the
+# add-on's register(), so this module, which those import, imports neither of them.
+ROLE_CHANGED_HOOKS = []
 
-    roles.check_new_role(self.id_data, self.role)
-    source_mesh.sync_render_visibility()  # a smoke source is hidden from renders while it is one
+
+def _role_changed(self, context):
+    for hook in ROLE_CHANGED_HOOKS:
+        hook(self.id_data, self.role)
 
 
 class HapticFluidObjectSettings(bpy.types.PropertyGroup):

@@ -10,6 +10,8 @@ the role goes (sync_render_visibility).
 
 import bpy
 
+from . import roles
+
 # Custom property on an object hidden from renders because it is a smoke source: its
 # hide_render from before, restored when it stops being one.
 HIDDEN_KEY = "hapticfluid_source_hide_render"
@@ -98,11 +100,10 @@ def source_dict(settings):
     return {"centre": list(src.matrix_world.translation), "radius": radius, **values(settings)}
 
 
-def sync_render_visibility(_settings=None, _context=None):
+def sync_render_visibility(_obj=None, _role=None):
     """Hide every scene's smoke source from renders and give any object that is no longer one
-    its own hide_render back (an update callback of the Source role, and safe to call any time)."""
-    from . import roles
-
+    its own hide_render back (run when a role changes: properties.ROLE_CHANGED_HOOKS; safe to
+    call any time)."""
     sources = {obj.name for obj in bpy.data.objects if roles.role_of(obj) == "SOURCE"}
     for obj in bpy.data.objects:
         if obj.name in sources:

@@ -31,7 +31,7 @@ def quick_run(tmp_path_factory):
     path = out / "bench.json"
     proc = _bench("--quick", "--sections", "engine,readback,mantaflow", "--json", str(path),
                   "--plot", str(out / "plot.png"))
-    from hapticfluid.bench import mantaflow
+    from hapticfluid.bench import mantaflow_loop as mantaflow
     if proc.returncode != 0 and mantaflow.EMBEDDED_PYTHON_ABORT in proc.stdout + proc.stderr:
         # This Blender's Mantaflow cannot bake at all (Debian 13's Blender 4.3 on Python 3.13): the
         # bench said so; the other sections are checked without it, the Mantaflow test skips.
@@ -125,7 +125,7 @@ def test_mantaflow_and_engine_ran_the_same_frames(quick_run):
     all_rows = _rows(quick_run[0]["sections"]["mantaflow"])
     assert {r["comparison"] for r in all_rows} == {"step loop", "bake command"}
     rows = [r for r in all_rows if r["comparison"] == "step loop"]
-    from hapticfluid.bench import engine, mantaflow
+    from hapticfluid.bench import engine, mantaflow_loop as mantaflow
 
     per_round = 1 + len(engine.SOLVERS)
     n_rounds = mantaflow.QUICK["rounds"]

@@ -33,7 +33,7 @@ from typing import Dict, List, Optional
 
 import hapticfluid as hf
 from hapticfluid.bake import cache as _cache
-from hapticfluid.bench import mantaflow, report
+from hapticfluid.bench import mantaflow_loop as mantaflow, report
 from hapticfluid.bench.scene import SEED_DOMAIN, BenchScene
 
 FPS = 24

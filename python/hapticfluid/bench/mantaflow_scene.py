@@ -1,7 +1,7 @@
 """Blender-side half of the ``mantaflow`` benchmark section: builds the benchmark scene as a
 Mantaflow gas simulation, bakes it and writes what it measured as JSON.
 
-Run by :mod:`hapticfluid.bench.mantaflow` (not imported by the package)::
+Run by :mod:`hapticfluid.bench.mantaflow_loop` (not imported by the package)::
 
     blender --background --factory-startup --python-exit-code 1 \\
         --python mantaflow_scene.py -- PARAMS.json RESULT.json
