@@ -128,6 +128,21 @@ def key_locations(obj, keys):
         obj.keyframe_insert("location", frame=frame)
 
 
+def move_key(obj, frame, delta, indices=(0, 2)):
+    """What a drag of a key in the Graph Editor does: the location F-curves ``indices`` of
+    ``obj``'s action get their key at ``frame`` (and its handles) moved by ``delta`` (m)."""
+    for fc in obj.animation_data.action.fcurves:
+        if fc.data_path != "location" or fc.array_index not in indices:
+            continue
+        for k in fc.keyframe_points:
+            if k.co[0] == frame:
+                k.co[1] += delta
+                k.handle_left[1] += delta
+                k.handle_right[1] += delta
+        fc.update()
+    obj.animation_data.action.update_tag()
+
+
 def settings(scene=None):
     """The scene's roles and settings as the add-on reads them (roles.settings_of): ``domain``,
     ``probe``, ``source`` are the objects holding the roles (assigning moves a role), the other

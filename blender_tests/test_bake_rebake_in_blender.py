@@ -10,7 +10,7 @@ import tempfile
 
 import bpy
 
-from support import bake_scene, check, finish
+from support import bake_scene, check, finish, move_key
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import cache_bar, cache_plan, physics_panels, roles  # noqa: E402
@@ -51,14 +51,7 @@ def main():
           f"after the bake every frame is up to date: {entry.text!r} {entry.problem!r}")
     check(cache_bar.runs(scene) == [(1, 24, "baked")], f"the bar is blue over 1-24: {cache_bar.runs(scene)}")
 
-    # Move the key at frame 20 (x and z): the linear segments 10-20 and 20-24 change.
-    for fc in probe.animation_data.action.fcurves:
-        for k in fc.keyframe_points:
-            if k.co[0] == 20 and fc.array_index in (0, 2):
-                k.co[1] += 0.05
-                k.handle_left[1] += 0.05
-                k.handle_right[1] += 0.05
-        fc.update()
+    move_key(probe, 20, 0.05)  # x and z: the linear segments 10-20 and 20-24 change
     cache_plan._pending.discard(scene.name)
     bpy.context.view_layer.update()
     check(scene.name in cache_plan._pending, "editing the probe's keys marks the plan for a refresh")

@@ -12,7 +12,8 @@ import tempfile
 import bpy
 
 from support import (area, check, clear_objects, close_splash, cube, drive, finish, ico_sphere, key_locations,
-                     out_dir, png_rgb, redraw_all, region, remove_on_exit, screenshot, set_roles, uv_sphere)
+                     move_key, out_dir, png_rgb, redraw_all, region, remove_on_exit, screenshot, set_roles,
+                     uv_sphere)
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import cache_bar, cache_plan, roles  # noqa: E402
@@ -63,16 +64,13 @@ def check_bar(name, spans):
         check(n > 50 and share > 0.9, f"{name}: frames {first}-{last} are {what} ({100 * share:.0f} % of {n} pixels)")
 
 
-def move_key_20(probe):
-    """What a drag of the key in the Graph Editor does to the F-curves: x and z of key 20 move."""
-    for fc in probe.animation_data.action.fcurves:
-        for k in fc.keyframe_points:
-            if k.co[0] == 20 and fc.array_index in (0, 2):
-                k.co[1] += 0.05
-                k.handle_left[1] += 0.05
-                k.handle_right[1] += 0.05
-        fc.update()
-    probe.animation_data.action.update_tag()
+def settled():
+    """False (after a redraw) for this phase's first few ticks: the window draws before a shot."""
+    state["waits"] += 1
+    if state["waits"] < 5:
+        redraw_all()
+        return False
+    return True
 
 
 def step():
@@ -89,12 +87,10 @@ def step():
             bpy.ops.action.view_all()
         state.update(phase="baked", waits=0)
     elif phase == "baked":
-        state["waits"] += 1
-        if state["waits"] < 5:
-            redraw_all()
+        if not settled():
             return 0.2
         check_bar("timeline_baked.png", [(1, 24, BLUE, "blue")])
-        move_key_20(s.probe)
+        move_key(s.probe, 20, 0.05)  # x and z: the linear segments 10-20 and 20-24 change
         state.update(phase="edited", waits=0)
     elif phase == "edited":  # the depsgraph handler and the timer make the plan again
         entry = cache_plan.get(scene)
@@ -106,9 +102,7 @@ def step():
               f"the plan: {entry.text!r}")
         state.update(phase="outdated", waits=0)
     elif phase == "outdated":
-        state["waits"] += 1
-        if state["waits"] < 5:
-            redraw_all()
+        if not settled():
             return 0.2
         check_bar("timeline_partial_invalidation.png",
                   [(1, 10, BLUE, "blue (kept)"), (11, 24, RED, "red (to re-bake)")])
@@ -116,9 +110,7 @@ def step():
               f"Resume re-baked 11-24: {s.status}")
         state.update(phase="rebaked", waits=0)
     elif phase == "rebaked":
-        state["waits"] += 1
-        if state["waits"] < 5:
-            redraw_all()
+        if not settled():
             return 0.2
         check(cache_plan.get(scene).kind == "complete", "after Resume every frame is up to date")
         check_bar("timeline_rebaked.png", [(1, 24, BLUE, "blue")])
