@@ -5,11 +5,17 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+#include <boost/uuid/name_generator_sha1.hpp>
+#include <boost/uuid/uuid_io.hpp>
+#include <fstream>
+#include <iterator>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
@@ -205,6 +211,49 @@ void syncPath(const std::string& path, bool folder) {
   if (rc != 0 && !folder) throw VdbError("cannot flush '" + path + "' to disk: " + errnoText(err));
 }
 
+// OpenVDB's header (io::Archive::writeHeader, file format 222 and later): the magic number
+// (int64), the file format version and the library's major and minor versions (uint32 each), a
+// grid-offsets flag (char), then a UUID as 36 characters, drawn at random for every write.
+constexpr std::streamoff kUuidOffset = 8 + 4 + 4 + 4 + 1;
+constexpr std::size_t kUuidChars = 36;
+
+bool looksLikeUuid(const std::string& s) {
+  if (s.size() != kUuidChars) return false;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
+    if (dash ? s[i] != '-' : !std::isxdigit(static_cast<unsigned char>(s[i]))) return false;
+  }
+  return true;
+}
+
+// The file's random UUID replaced by one derived from its content (a name-based UUID, SHA-1 of
+// every byte but the UUID's own), so the same frame baked twice (a resumed bake, a farm chunk)
+// is the same file to the byte. A header of another layout is left as it was.
+void deriveFileUuid(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw VdbError("cannot read '" + path + "' back to set its UUID");
+  in.close();
+  const auto at = static_cast<std::size_t>(kUuidOffset);
+  if (bytes.size() < at + kUuidChars) return;
+  std::int64_t magic = 0;
+  std::uint32_t format = 0;
+  std::memcpy(&magic, bytes.data(), sizeof magic);
+  std::memcpy(&format, bytes.data() + 8, sizeof format);
+  if (magic != static_cast<std::int64_t>(openvdb::OPENVDB_MAGIC) || format < 222 ||
+      !looksLikeUuid(bytes.substr(at, kUuidChars))) {
+    return;
+  }
+  bytes.replace(at, kUuidChars, kUuidChars, '0');
+  boost::uuids::name_generator_sha1 name(boost::uuids::ns::oid());
+  const std::string uuid = boost::uuids::to_string(name(bytes.data(), bytes.size()));
+  std::fstream out(path, std::ios::binary | std::ios::in | std::ios::out);
+  out.seekp(kUuidOffset);
+  out.write(uuid.data(), static_cast<std::streamsize>(uuid.size()));
+  out.close();
+  if (!out) throw VdbError("cannot write the UUID into '" + path + "'");
+}
+
 }  // namespace
 
 void writeVdbFrame(const std::string& path, const VdbFrame& frame, const VdbWriteOptions& options) {
@@ -237,6 +286,7 @@ void writeVdbFrame(const std::string& path, const VdbFrame& frame, const VdbWrit
     file.setCompression(compressionFlags(options.compression));
     file.write(grids, file_meta);
     file.close();
+    deriveFileUuid(tmp);
     syncPath(tmp, false);
   } catch (const openvdb::Exception& e) {
     std::remove(tmp.c_str());

@@ -49,6 +49,24 @@ def plume():
 
 # ---------------------------------------------------------------------------- writer
 
+def test_the_same_grids_make_the_same_file_byte_for_byte(tmp_path):
+    """OpenVDB draws a random UUID into every file's header; the writer replaces it with one
+    derived from the file's content, so a frame baked again (resume, a farm chunk) is the same
+    file, and other grids get another UUID. The file still reads back."""
+    rng = np.random.default_rng(3)
+    d = rng.random((8, 8, 8)).astype(np.float32)
+    paths = [tmp_path / f"{i}.vdb" for i in range(3)]
+    hf.write_vdb(str(paths[0]), d, 0.1)
+    hf.write_vdb(str(paths[1]), d, 0.1)
+    hf.write_vdb(str(paths[2]), d * 2, 0.1)
+    a, b, c = (p.read_bytes() for p in paths)
+    uuid = slice(21, 57)  # after the magic, three version numbers and the grid-offsets flag
+    assert a == b and a[uuid] != c[uuid]
+    assert a[uuid].decode().count("-") == 4 and a[uuid][14:15] == b"5"  # a name-based (SHA-1) UUID
+    _, back = read_grid(paths[0], "density", (8, 8, 8))
+    np.testing.assert_array_equal(back, d)
+
+
 def test_vdb_round_trip_float_and_half(plume, tmp_path):
     d = plume.density()
     u, v, w = plume.velocity()

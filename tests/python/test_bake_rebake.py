@@ -54,8 +54,8 @@ def scene_json(cache, end=END, new_from=None, every=10, **fluid):
 
 
 def grid_digests(cache, frames):
-    """SHA-256 of every grid's voxels per frame (density, velocity, pressure; the files
-    themselves differ: OpenVDB gives each file a new UUID)."""
+    """SHA-256 of every grid's voxels per frame (density, velocity, pressure), and of the file:
+    the writer derives the header's UUID from the content, so equal frames are equal files."""
     out = {}
     for f in frames:
         h = hashlib.sha256()
@@ -65,7 +65,7 @@ def grid_digests(cache, frames):
             grid.copyToArray(values, ijk=(0, 0, 0))
             h.update(name.encode())
             h.update(values.tobytes())
-        out[f] = h.hexdigest()
+        out[f] = (h.hexdigest(), hashlib.sha256(frame_path(cache, f).read_bytes()).hexdigest())
     return out
 
 
