@@ -24,6 +24,7 @@ void VirtualCoupling::place(const glm::vec3& hand_m, const glm::vec3& hand_m_s, 
   x_ = glm::dvec3(hand_m) + (k_ > 0.0 ? glm::dvec3(external_n) / k_ : glm::dvec3(0.0));
   v_ = glm::dvec3(hand_m_s);
   a_ = glm::dvec3(0.0);
+  mass_kg_ = glm::dvec3(-1.0);
   placed_ = true;
 }
 
@@ -43,11 +44,14 @@ glm::vec3 VirtualCoupling::step(const glm::vec3& hand_m, const glm::vec3& hand_m
   if (!placed_) {
     x_ = xh;
     v_ = a_ = glm::dvec3(0.0);
+    mass_kg_ = glm::dvec3(-1.0);
     placed_ = true;
   }
   glm::dvec3 force(0.0);
   for (int i = 0; i < 3; ++i) {
     const double m = mass_kg[i], d = drag_n_s_m[i];
+    if (m > mass_kg_[i] && mass_kg_[i] >= 0.0) v_[i] *= mass_kg_[i] / m;  // momentum kept: no energy added
+    mass_kg_[i] = m;
     // m (v' - v) / dt = f_ext - d v' + k (xh - x - dt v') + b (vh - v')
     const double denom = m / dt_s + d + b_ + k_ * dt_s;
     const double v_new = (m * v_[i] / dt_s + external_n[i] + k_ * (xh[i] - x_[i]) + b_ * vh[i]) / denom;

@@ -45,7 +45,9 @@ class VirtualCoupling {
 
   // One haptic period of dt_s: the hand's position (m) and velocity (m/s); the proxy's mass (kg,
   // >= 0), drag (N s/m, >= 0) and steady force (N). Returns the force on the hand (N). The first
-  // call after reset() puts the proxy at the hand, at rest.
+  // call after reset() puts the proxy at the hand, at rest. A mass that changes (the local model
+  // identifies it from the steps) never adds kinetic energy: a larger mass keeps the proxy's
+  // momentum (its energy falls by the ratio of the masses), a smaller one keeps its velocity.
   glm::vec3 step(const glm::vec3& hand_m, const glm::vec3& hand_m_s, const glm::vec3& mass_kg,
                  const glm::vec3& drag_n_s_m, const glm::vec3& external_n, double dt_s);
   void reset() { placed_ = false; }
@@ -69,6 +71,7 @@ class VirtualCoupling {
   double k_, b_;
   bool placed_ = false;
   glm::dvec3 x_{0.0}, v_{0.0}, a_{0.0};
+  glm::dvec3 mass_kg_{-1.0};  // the mass of the last step (< 0: none yet)
 };
 
 }  // namespace hf::haptics

@@ -37,6 +37,18 @@ SCENE = {"fluid_density": 1.2, "gravity": (0.0, 0.0, -9.81), "open_top": True, "
          "pressure_solver": "jacobi", "pressure_tolerance": 0.0}  # the add-on's defaults (properties.py)
 
 
+PASSIVE_LIMIT = "passive limit"  # force_gain of live_scene_run: the largest given gain Start accepts
+
+
+def passive_limit(sim, device, session_args) -> float:
+    """The largest Force Gain (Derive Gain off) a session with these settings accepts without
+    allow_unsafe_gain: the gain the engine derives for Amplified feel with the rendering as
+    shipped, virtual coupling and passivity controller on (haptic_session.cpp)."""
+    args = dict(session_args, force_gain=None, feel="amplified", allow_unsafe_gain=False, coupling=True,
+                passivity=True)
+    return float(hf.HapticSession(sim, device, **args).stats()["force_gain"])
+
+
 def live_scene_run(seconds: float, resolution: int = 32, gesture: str = "sweep", fluid_density: float = 1.2,
                    hand_stiffness: float = 300.0, hand_path=None, gravity=None, source: bool = True,
                    **session_args) -> Dict[str, object]:
@@ -48,7 +60,9 @@ def live_scene_run(seconds: float, resolution: int = 32, gesture: str = "sweep",
     if gravity is not None:
         scene["gravity"] = tuple(gravity)
     hand = hand_gestures.falcon_args(gesture) if hand_path is None else {"hand_path": hand_path, "hand_loop": False}
-    falcon = hf.open_simulated_falcon(max_force=MAX_FORCE_N, hand_stiffness=hand_stiffness, **hand)
+    # the add-on opens the device with its Max Force too
+    falcon = hf.open_simulated_falcon(max_force=session_args.get("max_force", MAX_FORCE_N),
+                                      hand_stiffness=hand_stiffness, **hand)
     try:
         info = falcon.info()
         scale = float(min(1.0 / (info.workspace_max[i] - info.workspace_min[i]) for i in range(3)))
@@ -59,6 +73,8 @@ def live_scene_run(seconds: float, resolution: int = 32, gesture: str = "sweep",
             sim.set_probe((0.28, 0.5, 0.55), 0.08)
             args = dict(workspace_scale=scale, filter="lowpass", max_force=MAX_FORCE_N, probe_radius=None)
             args.update(session_args)
+            if args.get("force_gain") == PASSIVE_LIMIT:  # the add-on's Force Gain at the most Start accepts
+                args["force_gain"] = passive_limit(sim, falcon, args)
             session = hf.HapticSession(sim, falcon, trace=True, trace_seconds=seconds + 5.0, **args)
             chunks = []
             with session:
