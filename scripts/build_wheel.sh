@@ -75,6 +75,10 @@ if command -v ccache >/dev/null 2>&1; then
   launcher=(-Ccmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$HF_ROOT}"  # hits across clones in other folders
 fi
+# scikit-build-core asks 'cmake --version' under a timeout; a Python launcher of cmake (pip's,
+# first on PATH here) started at nice 19 on a busy machine once missed it ("Accessing CMake timed
+# out" and then "Could not find CMake"): Debian's binary answers at once.
+if [ -z "${CMAKE_EXECUTABLE:-}" ] && [ -x /usr/bin/cmake ]; then export CMAKE_EXECUTABLE=/usr/bin/cmake; fi
 rm -rf "$WORK/raw"
 CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-2}" \
   nice -n 19 "$VENV/bin/python" -m pip wheel --no-build-isolation --no-deps -q -w "$WORK/raw" \
