@@ -102,8 +102,8 @@ def _watched(scene):
 def on_depsgraph_update(scene, depsgraph):
     """depsgraph_update_post: an edit of the domain, probe, source or any Action outdates the plan;
     a new frame (playback, scrubbing) moves animated objects but changes nothing baked."""
-    if _refreshing or scene is None or scene.name in _pending:
-        return
+    if _refreshing or scene is None or scene.name in _pending or scene.name not in _plans:
+        return  # (no plan yet: one is made after a bake or on load; nothing to outdate before)
     frame, _frames[scene.name] = _frames.get(scene.name), scene.frame_current
     if frame is not None and frame != scene.frame_current:
         return
