@@ -10,6 +10,10 @@
 // the local model (fluid_model.h: added mass, drag, steady part); the steady part is low-passed
 // and mapped; a proxy carrying the model's mass and drag (scaled by gain x |scale|) is coupled to
 // the hand (virtual_coupling.h) -> passivity controller -> safety as above.
+// Haptic playback: with a played pose in TickInput::guide, the guide's spring-damper
+// (playback_guide.h) is added after the passivity controller and before safety (clamp, slew): it
+// moves the hand on purpose, so the controller, which keeps the fluid's rendering passive, does not
+// count its work (the observer sees the held force less the guide's part).
 #include <cstdint>
 
 #include "haptics/device.h"
@@ -20,6 +24,7 @@
 #include "haptics/grip_motion.h"
 #include "haptics/low_pass_filter.h"
 #include "haptics/passivity_controller.h"
+#include "haptics/playback_guide.h"
 #include "haptics/virtual_coupling.h"
 #include "haptics/workspace_map.h"
 
@@ -44,6 +49,7 @@ struct PipelineSettings {
   PassivitySettings passivity;
   SafetySettings safety;
   CouplingSettings coupling;
+  GuideSettings guide;  // haptic playback (playback_guide.h); its gains resolved by the loop
   void validate() const;
 };
 
@@ -55,6 +61,7 @@ struct TickInput {
   bool new_frame = false;         // force is a frame not seen before
   ForceFrame force;
   bool enabled = true;            // false: paused, failed or stopping -> zero
+  GuideTarget guide;              // the played pose (device frame); inactive: no guide
 };
 
 struct TickOutput {
@@ -71,6 +78,13 @@ struct TickOutput {
   bool coupled = false;               // rendered through the virtual coupling
   glm::vec3 proxy_m{0.0f};            // the coupling's proxy, device frame, m (coupled only)
   glm::vec3 drag_n_s_m{0.0f};         // the local model's drag, fluid N s/m (<= 0; coupled only)
+  // Haptic playback (playback_guide.h): the guide's force (device N, in passive_n and so in
+  // commanded_n; added after the passivity controller, which balances the fluid's rendering only),
+  // its weight (0 off .. 1 engaged) and the played pose now (device frame).
+  glm::vec3 guide_n{0.0f};
+  float guide_weight = 0.0f;
+  glm::vec3 guide_target_m{0.0f};
+  glm::vec3 guide_target_m_s{0.0f};
 };
 
 class ForcePipeline {
@@ -84,6 +98,7 @@ class ForcePipeline {
   const PassivityController& passivity() const { return passivity_; }
   const FluidModel& model() const { return model_; }
   const VirtualCoupling& coupling() const { return coupling_; }
+  const PlaybackGuide& guide() const { return guide_; }
 
  private:
   PipelineSettings s_;
@@ -94,6 +109,8 @@ class ForcePipeline {
   GripMotion grip_;  // the velocity the passivity controller acts on (grip_motion.h)
   PassivityController passivity_;
   ForceSafety safety_;
+  PlaybackGuide guide_;
+  glm::vec3 guide_held_{0.0f};  // the guide's part of the force the device held since the last tick
 };
 
 }  // namespace hf::haptics
