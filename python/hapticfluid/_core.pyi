@@ -400,4 +400,5 @@ def open_simulated_falcon(
     unplug_after: Optional[int] = None,  # packets
     hand_path: Optional[Sequence[Tuple[float, float, float, float]]] = None,  # (t s, x, y, z m) after homing
     hand_loop: bool = False,
+    hand_stiffness_homed: Optional[float] = None,  # N/m once homed (a hand resting on the grip)
 ) -> FalconDevice: ...
