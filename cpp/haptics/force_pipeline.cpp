@@ -76,6 +76,17 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   }
   const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
   const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
+  // Haptic playback: while the guide is engaged (weight w > 0) the fluid's probe follows the played
+  // pose, not the hand, so the fluid is not an impedance the hand moves (a proxy whose mass and drag
+  // the hand drags would fight the guide): the coupling's proxy is held placed at the hand (nothing
+  // stored for the hand-over back) and the hand gets the rendering's steady part on the played probe
+  // (the flow's push, buoyancy: low-passed, mapped), bounded to kPlayedForceShare of the guide's
+  // force so the guide keeps leading, blended in by w.
+  const GuideTick guide = guide_.step(in.guide, in.state.position_m, grip_velocity, in.now_s, in.dt_s);
+  const float w = guide.weight;
+  out.guide_weight = w;
+  out.guide_target_m = guide.target_m;
+  out.guide_target_m_s = guide.target_m_s;
   out.coupled = s_.coupling.active();
   bool coupled_step = false;  // the coupling's spring rendered this period's force
   if (out.coupled) {
@@ -90,7 +101,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     const bool ramping = rampFactor(safety_.rampS(), s_.safety.ramp_s) < 1.0;
     if (allFinite(in.state.position_m) && allFinite(grip_velocity) && allFinite(smoothed)) {
       const glm::vec3 steady = s_.map.forceToDevice(smoothed);
-      if (ramping) {  // the steady force alone, the proxy placed (VirtualCoupling::place)
+      if (ramping || w > 0.0f) {  // the steady force alone, the proxy placed (VirtualCoupling::place)
         coupling_.place(in.state.position_m, grip_velocity, steady);
         out.filtered_n = steady;
       } else {
@@ -104,12 +115,19 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   } else {
     out.filtered_n = s_.map.forceToDevice(smoothed);
   }
+  if (w > 0.0f && allFinite(out.filtered_n)) {
+    const glm::vec3 played = clampMagnitude(out.filtered_n, kPlayedForceShare * s_.guide.max_force_n);
+    out.filtered_n += w * (played - out.filtered_n);
+  }
   // The observer sees the force the device held since the last reading: safety's last output.
   // A (re)start begins with no stored energy and no debt: it is reset while the device is not
   // homed, and while the output is off (paused, stopping, failed) with its force back at zero.
   // The controller acts on the grip's motion from the positions read (grip_motion.h), not on
   // the device's filtered velocity, which lags.
-  if (output_off) {
+  // While the guide is engaged the controller rests (reset): the hand moves because the guide moves
+  // it and the played force does not answer the hand's motion, so there is no rendering for it to
+  // keep passive; it starts afresh, with nothing stored, when the guide has let go.
+  if (output_off || w > 0.0f) {
     passivity_.reset();
     out.passive_n = out.filtered_n;
   } else {
@@ -125,10 +143,6 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   // The guide: after the controller (it moves the hand on purpose), before safety's clamp and slew.
   // The played pose leads the probe whether or not force can be commanded (weight), but the guide
   // pushes only a homed device whose output is on.
-  const GuideTick guide = guide_.step(in.guide, in.state.position_m, grip_velocity, in.now_s, in.dt_s);
-  out.guide_weight = guide.weight;
-  out.guide_target_m = guide.target_m;
-  out.guide_target_m_s = guide.target_m_s;
   if (!output_off && allFinite(guide.force_n) && allFinite(out.passive_n)) {
     out.guide_n = guide.force_n;
     out.passive_n += guide.force_n;

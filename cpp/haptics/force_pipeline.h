@@ -13,7 +13,11 @@
 // Haptic playback: with a played pose in TickInput::guide, the guide's spring-damper
 // (playback_guide.h) is added after the passivity controller and before safety (clamp, slew): it
 // moves the hand on purpose, so the controller, which keeps the fluid's rendering passive, does not
-// count its work (the observer sees the held force less the guide's part).
+// count its work (the observer sees the held force less the guide's part). While the guide is
+// engaged the fluid's probe moves along the played pose, not with the hand: the hand gets the
+// rendering's steady part on the played probe (at most kPlayedForceShare of the guide's force)
+// blended in by the guide's weight, the coupling's proxy is held at the hand and the passivity
+// controller rests (reset).
 #include <cstdint>
 
 #include "haptics/device.h"
@@ -41,6 +45,15 @@ inline constexpr double kSteadyBandwidthShare = 0.2;
 // the hand through the coupling (simulated Falcon, air strokes at the derived gain: 1.0-2.3 mJ into
 // the hand, almost all at rest; 0.01-0.18 mJ with 15 mm/s; 0.13-0.45 mJ with no controller).
 inline constexpr float kCoupledDeadbandM_s = 0.015f;
+
+// While the playback guide is engaged, the fluid's force the hand gets (the rendering's steady part
+// on the played probe) is at most this share of the guide's force bound: the guide keeps leading,
+// and a relaxed hand ends at most share x guide_max_force / guide_stiffness off the played pose for
+// it, which is the jump at the hand-over (Record). At the amplified gain the fluid's force on a
+// probe moved along a path is several newtons (air, 0.08 m sphere, gain 62: 0.3 N x 62); a share of
+// 0.25 (0.5 N at Max Force 4 N) held a relaxed grip 0.67 mm (device) = 8 mm (world, scale 12.5)
+// off the keys, 0.1 (0.2 N) about 0.3 mm = 3-4 mm.
+inline constexpr float kPlayedForceShare = 0.1f;
 
 struct PipelineSettings {
   WorkspaceMap map;
