@@ -18,7 +18,8 @@ and the modal operator's timer do, with the controller told that the timeline pl
    Keys outside 20-30 unchanged to the bit, a key at every frame 20-30 on the path the grip
    performed and on the Circle gesture's circle (not on the sweep's line), a key at 30 (B), the
    F-curves unmuted; one undo (the session still running) restores the recorded 1-48 keys and
-   the probe follows them again.
+   the probe follows them again. Feel Playback is off (the scripted hand ignores the playback;
+   test_live_feel_playback.py has it on).
 3. Punch-in in Mouse mode: keys 1-48, Record at 10 and 20, the object dragged between frame
    changes: the keys 11-20 hold the dragged poses, the keys outside 10-20 unchanged to the bit.
 4. Re-bake after a punch-in: the Sweep 1-48 baked (16^3, with a smoke source), a punch-in 20-30,
@@ -222,6 +223,10 @@ def punch_in_with_the_simulated_falcon():
     bpy.ops.ed.undo_push(message="sweep recorded")
     live = scene.hapticfluid_live
     live.hand_gesture = "CIRCLE"
+    # The scripted hand circles whatever plays: Feel Playback would pull it towards the sweep until
+    # A, so the take would start on the sweep (as it should for a user who feels the playback:
+    # test_live_feel_playback.py). Off here, the take is the gesture's alone.
+    live.feel_playback = False
     run = start(scene, warm_s=1.5)  # homing, then the circle starts 1 s after it
     c = run.controller
     fcurves = live_session.object_fcurves(probe)

@@ -9,7 +9,7 @@ sphere probe, the add-on registered from this source tree, and the live session 
 The hapticfluid package must be importable (scripts/demo.sh puts build/python on PYTHONPATH, which
 Blender reads only with --python-use-system-env).
 Devices: SIMULATED_FALCON (default: the Falcon driver on a simulated Falcon whose scripted hand
-sweeps the probe through the plume; --gesture rest, sweep or circle: hapticfluid.hand_gestures),
+sweeps the probe through the plume; --gesture rest, sweep, circle or relaxed: hapticfluid.hand_gestures),
 MOUSE (grab the probe with G), TIMELINE (the probe's keyed sweep plays), FALCON (a real one).
 Stop with Esc or right-click in the viewport, or Stop in the sidebar. --screenshot PATH saves the
 window to PATH after --seconds of running and quits (the README's picture, under xvfb-run).

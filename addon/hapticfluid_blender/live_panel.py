@@ -160,6 +160,8 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         col.prop(live, "max_force", text="Max Force")
         col.prop(live, "bandwidth_ratio", text="Filter")
         col.prop(live, "prediction")
+        if live.device in ("FALCON", "SIMULATED_FALCON"):
+            col.prop(live, "feel_playback")
         col = layout.column()
         col.prop(live, "record_rate", text="Key Rate")
         col.prop(live, "density_scale", text="Density")

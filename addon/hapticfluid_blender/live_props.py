@@ -106,6 +106,11 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     hand_gesture: EnumProperty(name="Hand Gesture", items=_gesture_items(), default="REST",
                                description="What the simulated hand does with the Simulated Falcon's grip after "
                                            "homing (the probe follows it)")
+    feel_playback: BoolProperty(name="Feel Playback", default=True,
+                                description="Falcon modes: while the timeline plays the probe's keys and Record is "
+                                            "off, the fluid's probe follows the keys and the device guides the grip "
+                                            "along them (a spring the hand can resist), so the hand feels the "
+                                            "existing motion; Record hands the probe back to the hand")
     firmware_path: StringProperty(name="Falcon Firmware", subtype="FILE_PATH", default="",
                                   description="Novint's firmware file (nvent_firmware.bin), uploaded when the Falcon "
                                               "runs none (after power-on); empty: it must already run")

@@ -60,6 +60,7 @@ class LivePlan:
     firmware: Optional[str] = None
     show_temperature: bool = False
     hand_gesture: str = "rest"         # the simulated Falcon's hand (hapticfluid.hand_gestures)
+    feel_playback: bool = True         # Falcon modes: guide the grip along the keys played (set_guide)
 
 
 @dataclass
@@ -167,7 +168,8 @@ def read_plan(scene) -> LivePlan:
         source=blender_scene.source_dict(bake), probe_shape=shape,
         probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
         auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
-        firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower())
+        firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower(),
+        feel_playback=live.feel_playback)
 
 
 def _box_text(lo, hi) -> str:
@@ -332,6 +334,8 @@ class LiveController:
         self.ticks = 0
         self._display = None
         self.last_take = None     # (A, B, looped) of the last take keyed: its frames
+        self._guiding = False     # the engine has a played pose (Feel Playback)
+        self._played_clock = None  # (clock, frame) at the last played pose: the playback's pace
         # Whether the timeline plays (a screen's animation playback); tests without a window
         # replace it, as scene.frame_set() then stands in for playback.
         self.timeline_playing = timeline_playing
@@ -416,7 +420,10 @@ class LiveController:
             self.engine.device.push_pose(tuple(m.translation), orientation=probe_rotation(m))
             self._check_scale(m)
         else:
-            if not self._plays_keys():  # the device moves the object (and the fluid's probe)
+            if self._plays_keys():  # the keys move the object (and, guided, the fluid's probe)
+                self._guide_along_keys(now)
+            else:  # the device moves the object (and the fluid's probe)
+                self._release_guide()
                 self._follow_device(latest)
             self._take_trace()
         self._update_drawer(latest)
@@ -478,11 +485,59 @@ class LiveController:
         m.translation = Vector(tuple(float(x) for x in self.session.probe_origin(latest["position"])))
         self.probe.matrix_world = m
 
+    def _guide_along_keys(self, now):
+        """Haptic playback (Feel Playback on): the pose the keys play now, with its velocity, goes to
+        the engine each tick (HapticSession.set_guide): the fluid's probe follows the keys, and the
+        device pulls the grip along them so the hand feels the existing motion and the fluid's force
+        on it. The velocity is the keys' slope at this frame times the frames played per second of
+        wall time (measured when the frame moves on, smoothed: playback may drop or repeat frames);
+        between frame changes the pose is carried along that slope, at most one frame ahead, so
+        ticks faster than the frames do not pull the target back to the frame shown."""
+        if not self.plan.feel_playback:
+            return
+        obj = self.probe
+        frame = float(self.scene.frame_current_final)
+        fps = self.scene.render.fps / self.scene.render.fps_base
+        last = self._played_clock  # (clock, frame, frames per second) when the frame last moved on
+        if last is None or frame < last[1]:  # (re)started, or playback looped / scrubbed back
+            last = (now, frame, fps)
+        elif frame > last[1]:
+            measured = (frame - last[1]) / max(now - last[0], 1e-3)
+            last = (now, frame, min(4.0 * fps, max(0.25 * fps, 0.5 * (last[2] + measured))))
+        self._played_clock = last
+        rate = last[2]
+        ahead = min(1.0, rate * (now - last[0]))  # frames since the frame moved on
+        curves = object_fcurves(obj)
+        slope = []
+        for i in range(3):
+            fc = curves.find("location", index=i)
+            slope.append(0.0 if fc is None or fc.mute else fc.evaluate(frame + 0.5) - fc.evaluate(frame - 0.5))
+        if obj.parent is not None:  # local location -> world: the parent's turn and scale
+            from mathutils import Vector
+
+            slope = list((obj.parent.matrix_world.to_3x3() @ obj.matrix_parent_inverse.to_3x3()) @ Vector(slope))
+        position = tuple(float(c) + ahead * float(d) for c, d in zip(obj.matrix_world.translation, slope))
+        velocity = tuple(float(c) * rate for c in slope)
+        try:
+            self.session.set_guide(position, velocity)
+            self._guiding = True
+        except _import_hf().InvalidArgumentError as exc:  # a key far off the scale: said, not fatal
+            self._release_guide()
+            self.live.status = f"Feel Playback paused: {exc}"
+
+    def _release_guide(self):
+        """Lets go of the played pose (at Record, when playback stops): the guide fades out over its ramp
+        and the fluid's probe goes back to the grip, which the guide kept near the keys."""
+        self._played_clock = None
+        if self._guiding:
+            self._guiding = False
+            self.session.release_guide()
+
     def _plays_keys(self) -> bool:
         """Device modes: while the timeline plays and Record is off, a probe with location keys
         follows them (the object is drawn where the existing motion puts it, so the user sees
-        where to punch in); the fluid's probe still follows the grip, the only thing that can move
-        it (see ARCHITECTURE.md, Live session: Punch-in)."""
+        where to punch in); with Feel Playback the fluid's probe follows them too and the device
+        guides the grip along them (_guide_along_keys; ARCHITECTURE.md, Live session: Punch-in)."""
         if self.recording is not None or not self.timeline_playing():
             return False
         data = self.probe.animation_data
@@ -598,6 +653,7 @@ class LiveController:
         self.recording = r
         self.live.is_recording = True
         if self.plan.mode in DEVICE_MODES:  # the object played the keys until now: the grip's pose at A
+            self._release_guide()  # the probe goes back to the grip, which the guide kept near the keys
             self._follow_device(self.session.latest())
         self._sample(now)
 

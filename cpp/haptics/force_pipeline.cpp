@@ -28,6 +28,7 @@ void PipelineSettings::validate() const {
   passivity.validate();
   safety.validate();
   coupling.validate();
+  guide.validate();
 }
 
 ForcePipeline::ForcePipeline(const PipelineSettings& s)
@@ -35,7 +36,8 @@ ForcePipeline::ForcePipeline(const PipelineSettings& s)
       model_(s.coupling.added_mass_kg, maxModelDrag(s)),
       coupling_(s.coupling.stiffness_n_m, s.coupling.damping_n_s_m),
       passivity_(passivityFor(s), s.safety.slew_rate_n_s),
-      safety_(s.safety) {}
+      safety_(s.safety),
+      guide_(s.guide) {}
 
 TickOutput ForcePipeline::tick(const TickInput& in) {
   TickOutput out;
@@ -74,6 +76,17 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   }
   const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
   const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
+  // Haptic playback: while the guide is engaged (weight w > 0) the fluid's probe follows the played
+  // pose, not the hand, so the fluid is not an impedance the hand moves (a proxy whose mass and drag
+  // the hand drags would fight the guide): the coupling's proxy is held placed at the hand (nothing
+  // stored for the hand-over back) and the hand gets the rendering's steady part on the played probe
+  // (the flow's push, buoyancy: low-passed, mapped), bounded to kPlayedForceShare of the guide's
+  // force so the guide keeps leading, blended in by w.
+  const GuideTick guide = guide_.step(in.guide, in.state.position_m, grip_velocity, in.now_s, in.dt_s);
+  const float w = guide.weight;
+  out.guide_weight = w;
+  out.guide_target_m = guide.target_m;
+  out.guide_target_m_s = guide.target_m_s;
   out.coupled = s_.coupling.active();
   bool coupled_step = false;  // the coupling's spring rendered this period's force
   if (out.coupled) {
@@ -88,7 +101,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     const bool ramping = rampFactor(safety_.rampS(), s_.safety.ramp_s) < 1.0;
     if (allFinite(in.state.position_m) && allFinite(grip_velocity) && allFinite(smoothed)) {
       const glm::vec3 steady = s_.map.forceToDevice(smoothed);
-      if (ramping) {  // the steady force alone, the proxy placed (VirtualCoupling::place)
+      if (ramping || w > 0.0f) {  // the steady force alone, the proxy placed (VirtualCoupling::place)
         coupling_.place(in.state.position_m, grip_velocity, steady);
         out.filtered_n = steady;
       } else {
@@ -102,12 +115,19 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   } else {
     out.filtered_n = s_.map.forceToDevice(smoothed);
   }
+  if (w > 0.0f && allFinite(out.filtered_n)) {
+    const glm::vec3 played = clampMagnitude(out.filtered_n, kPlayedForceShare * s_.guide.max_force_n);
+    out.filtered_n += w * (played - out.filtered_n);
+  }
   // The observer sees the force the device held since the last reading: safety's last output.
   // A (re)start begins with no stored energy and no debt: it is reset while the device is not
   // homed, and while the output is off (paused, stopping, failed) with its force back at zero.
   // The controller acts on the grip's motion from the positions read (grip_motion.h), not on
   // the device's filtered velocity, which lags.
-  if (output_off) {
+  // While the guide is engaged the controller rests (reset): the hand moves because the guide moves
+  // it and the played force does not answer the hand's motion, so there is no rendering for it to
+  // keep passive; it starts afresh, with nothing stored, when the guide has let go.
+  if (output_off || w > 0.0f) {
     passivity_.reset();
     out.passive_n = out.filtered_n;
   } else {
@@ -116,10 +136,17 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     // force on untouched.
     const glm::vec3 deliverable = clampMagnitude(out.filtered_n, s_.safety.max_force_n);
     const glm::vec3 damped =
-        passivity_.apply(deliverable, in.state.position_m, grip_velocity, safety_.last(), in.dt_s);
+        passivity_.apply(deliverable, in.state.position_m, grip_velocity, safety_.last() - guide_held_, in.dt_s);
     out.passive_n = passivity_.acted() ? damped : out.filtered_n;
   }
   out.damping_n_s_m = passivity_.state().alpha_n_s_m;
+  // The guide: after the controller (it moves the hand on purpose), before safety's clamp and slew.
+  // The played pose leads the probe whether or not force can be commanded (weight), but the guide
+  // pushes only a homed device whose output is on.
+  if (!output_off && allFinite(guide.force_n) && allFinite(out.passive_n)) {
+    out.guide_n = guide.force_n;
+    out.passive_n += guide.force_n;
+  }
 
   SafetyInput safe;
   safe.force_n = out.passive_n;
@@ -129,9 +156,21 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  // What of the held force is the guide's (safety may have scaled the sum down): the observer's
+  // next period leaves it out.
+  {
+    const float total = glm::length(out.passive_n), held = glm::length(out.commanded_n);
+    guide_held_ = total > 0.0f && held < total ? out.guide_n * (held / total) : out.guide_n;
+    if (!allFinite(guide_held_)) guide_held_ = glm::vec3(0.0f);
+  }
   // The proxy feels what the hand got: where the controller or safety cut the force, the spring slips.
-  if (out.coupled && coupled_step && allFinite(out.commanded_n) && out.commanded_n != out.filtered_n) {
-    coupling_.yieldTo(in.state.position_m, grip_velocity, out.commanded_n);
+  // With the guide on, what the fluid's rendering delivered is the command less the guide's part.
+  const bool guided = out.guide_n != glm::vec3(0.0f);
+  const glm::vec3 fluid_delivered = guided ? out.commanded_n - guide_held_ : out.commanded_n;
+  const bool cut = guided ? glm::length(fluid_delivered - out.filtered_n) > 1e-5f * (1.0f + glm::length(out.filtered_n))
+                          : out.commanded_n != out.filtered_n;
+  if (out.coupled && coupled_step && allFinite(fluid_delivered) && cut) {
+    coupling_.yieldTo(in.state.position_m, grip_velocity, fluid_delivered);
   }
   out.stale_after_s = safety_.staleAfter();
   if (!safe.homed || !safe.enabled) filter_.reset();
@@ -146,6 +185,8 @@ void ForcePipeline::reset() {
   grip_.reset();
   passivity_.reset();
   safety_.reset();
+  guide_.reset();
+  guide_held_ = glm::vec3(0.0f);
 }
 
 }  // namespace hf::haptics

@@ -10,6 +10,14 @@
 // the local model (fluid_model.h: added mass, drag, steady part); the steady part is low-passed
 // and mapped; a proxy carrying the model's mass and drag (scaled by gain x |scale|) is coupled to
 // the hand (virtual_coupling.h) -> passivity controller -> safety as above.
+// Haptic playback: with a played pose in TickInput::guide, the guide's spring-damper
+// (playback_guide.h) is added after the passivity controller and before safety (clamp, slew): it
+// moves the hand on purpose, so the controller, which keeps the fluid's rendering passive, does not
+// count its work (the observer sees the held force less the guide's part). While the guide is
+// engaged the fluid's probe moves along the played pose, not with the hand: the hand gets the
+// rendering's steady part on the played probe (at most kPlayedForceShare of the guide's force)
+// blended in by the guide's weight, the coupling's proxy is held at the hand and the passivity
+// controller rests (reset).
 #include <cstdint>
 
 #include "haptics/device.h"
@@ -20,6 +28,7 @@
 #include "haptics/grip_motion.h"
 #include "haptics/low_pass_filter.h"
 #include "haptics/passivity_controller.h"
+#include "haptics/playback_guide.h"
 #include "haptics/virtual_coupling.h"
 #include "haptics/workspace_map.h"
 
@@ -37,6 +46,15 @@ inline constexpr double kSteadyBandwidthShare = 0.2;
 // the hand, almost all at rest; 0.01-0.18 mJ with 15 mm/s; 0.13-0.45 mJ with no controller).
 inline constexpr float kCoupledDeadbandM_s = 0.015f;
 
+// While the playback guide is engaged, the fluid's force the hand gets (the rendering's steady part
+// on the played probe) is at most this share of the guide's force bound: the guide keeps leading,
+// and a relaxed hand ends at most share x guide_max_force / guide_stiffness off the played pose for
+// it, which is the jump at the hand-over (Record). At the amplified gain the fluid's force on a
+// probe moved along a path is several newtons (air, 0.08 m sphere, gain 62: 0.3 N x 62); a share of
+// 0.25 (0.5 N at Max Force 4 N) held a relaxed grip 0.67 mm (device) = 8 mm (world, scale 12.5)
+// off the keys, 0.1 (0.2 N) about 0.3 mm = 3-4 mm.
+inline constexpr float kPlayedForceShare = 0.1f;
+
 struct PipelineSettings {
   WorkspaceMap map;
   LowPassSettings filter;
@@ -44,6 +62,7 @@ struct PipelineSettings {
   PassivitySettings passivity;
   SafetySettings safety;
   CouplingSettings coupling;
+  GuideSettings guide;  // haptic playback (playback_guide.h); its gains resolved by the loop
   void validate() const;
 };
 
@@ -55,6 +74,7 @@ struct TickInput {
   bool new_frame = false;         // force is a frame not seen before
   ForceFrame force;
   bool enabled = true;            // false: paused, failed or stopping -> zero
+  GuideTarget guide;              // the played pose (device frame); inactive: no guide
 };
 
 struct TickOutput {
@@ -71,6 +91,13 @@ struct TickOutput {
   bool coupled = false;               // rendered through the virtual coupling
   glm::vec3 proxy_m{0.0f};            // the coupling's proxy, device frame, m (coupled only)
   glm::vec3 drag_n_s_m{0.0f};         // the local model's drag, fluid N s/m (<= 0; coupled only)
+  // Haptic playback (playback_guide.h): the guide's force (device N, in passive_n and so in
+  // commanded_n; added after the passivity controller, which balances the fluid's rendering only),
+  // its weight (0 off .. 1 engaged) and the played pose now (device frame).
+  glm::vec3 guide_n{0.0f};
+  float guide_weight = 0.0f;
+  glm::vec3 guide_target_m{0.0f};
+  glm::vec3 guide_target_m_s{0.0f};
 };
 
 class ForcePipeline {
@@ -84,6 +111,7 @@ class ForcePipeline {
   const PassivityController& passivity() const { return passivity_; }
   const FluidModel& model() const { return model_; }
   const VirtualCoupling& coupling() const { return coupling_; }
+  const PlaybackGuide& guide() const { return guide_; }
 
  private:
   PipelineSettings s_;
@@ -94,6 +122,8 @@ class ForcePipeline {
   GripMotion grip_;  // the velocity the passivity controller acts on (grip_motion.h)
   PassivityController passivity_;
   ForceSafety safety_;
+  PlaybackGuide guide_;
+  glm::vec3 guide_held_{0.0f};  // the guide's part of the force the device held since the last tick
 };
 
 }  // namespace hf::haptics

@@ -51,6 +51,29 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
     throw InvalidArgument("coupling_damping " + std::to_string(c.damping_n_s_m) + " N s/m is above the maximum stable damping of '" +
                           device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most that");
   }
+  // The playback guide's spring and damper: shares of the device's limits unless given; the hand
+  // touches the guide and the coupling together (in parallel), so their sums stay inside the limits.
+  GuideSettings& g = s.pipeline.guide;
+  if (g.stiffness_n_m == 0.0f) g.stiffness_n_m = kGuideStiffnessShare * device_stiffness;
+  if (g.damping_n_s_m == 0.0f) g.damping_n_s_m = kGuideDampingShare * device_damping;
+  if (g.max_force_n == 0.0f) g.max_force_n = kGuideForceShare * s.pipeline.safety.max_force_n;
+  const float coupled_k = c.active() ? c.stiffness_n_m : 0.0f, coupled_b = c.active() ? c.damping_n_s_m : 0.0f;
+  if (device_stiffness > 0.0f && g.stiffness_n_m + coupled_k > device_stiffness) {
+    throw InvalidArgument("guide_stiffness " + std::to_string(g.stiffness_n_m) + " N/m with the coupling's " +
+                          std::to_string(coupled_k) + " N/m is above the maximum stiffness of '" + device.info().name +
+                          "' (" + std::to_string(device_stiffness) + " N/m); give at most " +
+                          std::to_string(device_stiffness - coupled_k));
+  }
+  if (device_damping > 0.0f && g.damping_n_s_m + coupled_b > device_damping) {
+    throw InvalidArgument("guide_damping " + std::to_string(g.damping_n_s_m) + " N s/m with the coupling's " +
+                          std::to_string(coupled_b) + " N s/m is above the maximum stable damping of '" +
+                          device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most " +
+                          std::to_string(device_damping - coupled_b));
+  }
+  if (g.max_force_n > s.pipeline.safety.max_force_n) {
+    throw InvalidArgument("guide_max_force " + std::to_string(g.max_force_n) + " N is above max_force (" +
+                          std::to_string(s.pipeline.safety.max_force_n) + " N); give at most that");
+  }
   return s;
 }
 
@@ -76,7 +99,9 @@ HapticLoop::HapticLoop(DevicePtr device, Mailbox<PoseFrame>& poses, const Mailbo
       forces_(forces),
       s_((settings.validate(), checkedAgainst(settings, *device_))),
       pipeline_(s_.pipeline),
-      trace_(s_.trace_capacity) {}
+      trace_(s_.trace_capacity),
+      reach_lo_m_(device_->info().workspace_min_m),
+      reach_hi_m_(device_->info().workspace_max_m) {}
 
 HapticLoop::~HapticLoop() { stop(); }
 
@@ -105,6 +130,17 @@ void HapticLoop::stop() {
 }
 
 void HapticLoop::setEnabled(bool on) { enabled_.store(on, std::memory_order_release); }
+
+void HapticLoop::setGuide(const glm::vec3& position_m, const glm::vec3& velocity_m_s) {
+  GuideTarget t;
+  t.active = true;
+  t.position_m = position_m;
+  t.velocity_m_s = velocity_m_s;
+  t.time_s = monotonicNowS();
+  guide_.write(t);
+}
+
+void HapticLoop::releaseGuide() { guide_.write(GuideTarget{}); }
 
 std::string HapticLoop::error() const { return failed() ? error_ : std::string(); }
 
@@ -160,19 +196,17 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   const DeviceState state = device_->read();
   latest_state_.write(state);
   const WorkspaceMap& map = s_.pipeline.map;
-  PoseFrame pose;
-  pose.position_m = map.positionToDomain(state.position_m);
-  pose.velocity_m_s = map.velocityToDomain(state.velocity_m_s);
-  pose.time_s = now_s;
-  pose.homed = state.homed;
-  pose.has_orientation = state.has_orientation;
-  if (state.has_orientation) {
-    pose.orientation = map.orientationToDomain(state.orientation);
-    pose.angular_velocity_rad_s = map.angularVelocityToDomain(state.angular_velocity_rad_s);
-  }
-  poses_.write(pose);
 
   TickInput in;
+  // The played pose, if the host set one: into the device frame, inside the device's reach.
+  GuideTarget host;
+  if (guide_.tryRead(host)) played_ = host;  // a torn read keeps the last one
+  if (played_.active) {
+    last_played_ = played_;
+    in.guide = played_;
+    in.guide.position_m = glm::clamp((played_.position_m - map.offset_m) / map.scale, reach_lo_m_, reach_hi_m_);
+    in.guide.velocity_m_s = played_.velocity_m_s / map.scale;
+  }
   std::uint64_t version = 0;
   ForceFrame frame;
   if (forces_.tryRead(frame, &version)) {
@@ -192,6 +226,31 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   in.force = force_;
   in.enabled = may_enable && enabled_.load(std::memory_order_acquire);
   const TickOutput out = pipeline_.tick(in);
+
+  // The probe's pose for the simulation: the grip's, or with the guide engaged (weight w) the
+  // played pose, blended by w so the probe is handed over between them without a step.
+  PoseFrame pose;
+  pose.position_m = map.positionToDomain(state.position_m);
+  pose.velocity_m_s = map.velocityToDomain(state.velocity_m_s);
+  if (out.guide_weight > 0.0f) {
+    const float w = out.guide_weight;
+    // The played pose itself as the host gave it, carried forward as the guide carries it (not the
+    // device target, which is kept inside the device's reach); after a release, the last one.
+    const double ahead_s = std::clamp(now_s - last_played_.time_s, 0.0, s_.pipeline.guide.stale_s);
+    const glm::vec3 played_m = last_played_.position_m + static_cast<float>(ahead_s) * last_played_.velocity_m_s;
+    const glm::vec3 played_m_s = map.velocityToDomain(out.guide_target_m_s);
+    pose.position_m += w * (played_m - pose.position_m);
+    pose.velocity_m_s += w * (played_m_s - pose.velocity_m_s);
+  }
+  pose.time_s = now_s;
+  pose.homed = state.homed;
+  pose.has_orientation = state.has_orientation;
+  if (state.has_orientation) {
+    pose.orientation = map.orientationToDomain(state.orientation);
+    pose.angular_velocity_rad_s = map.angularVelocityToDomain(state.angular_velocity_rad_s);
+  }
+  poses_.write(pose);
+
   device_->writeForce(out.commanded_n);
 
   non_finite_.store(pipeline_.safety().nonFiniteCount(), std::memory_order_relaxed);
@@ -204,6 +263,7 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
     t.sim_force_n = out.sim_force_n;
     t.filtered_n = out.filtered_n;
     t.commanded_n = out.commanded_n;
+    t.guide_n = out.guide_n;
     trace_.push(t);
   }
 }

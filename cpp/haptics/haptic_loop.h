@@ -1,7 +1,9 @@
 #pragma once
 // HapticLoop: the 1 kHz thread. Each period (absolute deadlines, SCHED_FIFO where permitted):
-//   device.read() -> publish the pose (domain frame) to `poses` -> take the latest simulation
-//   force from `forces` -> ForcePipeline (predict, filter, map, safety) -> device.writeForce().
+//   device.read() -> take the latest simulation force from `forces` (and the played pose from
+//   the host, if any) -> ForcePipeline (predict, filter, map, guide, safety) -> publish the probe's
+//   pose (domain frame: the grip's, or the played pose while the guide is engaged) to `poses`
+//   -> device.writeForce().
 // It takes no lock and never waits for the simulation, the GPU or Python: both mailboxes are
 // lock-free, statistics and the trace are lock-free too. A device error (read or writeForce
 // throws) ends the loop: it stops commanding force (one last zero is attempted) and error()
@@ -39,6 +41,7 @@ struct TraceSample {                   // one haptic period
   glm::vec3 sim_force_n{0.0f};         // fluid N
   glm::vec3 filtered_n{0.0f};          // device N, before safety
   glm::vec3 commanded_n{0.0f};         // device N
+  glm::vec3 guide_n{0.0f};             // the playback guide's part of it, device N
 };
 
 struct LoopStats {
@@ -75,6 +78,12 @@ class HapticLoop {
   // last zero. From any thread; concurrent calls take turns.
   void stop();
   void setEnabled(bool on);     // false: force slews down to zero; true: ramp in again
+  // Haptic playback (playback_guide.h): the pose the host plays (domain frame, m and m/s), stamped
+  // now; the loop carries it forward at its velocity, pulls the grip towards it and hands the
+  // probe to it. releaseGuide(): let go (the guide fades out over its ramp). Any host thread; a
+  // lock-free Mailbox write, never waiting on the loop.
+  void setGuide(const glm::vec3& position_m, const glm::vec3& velocity_m_s);
+  void releaseGuide();
   bool running() const { return running_.load(std::memory_order_acquire); }
   bool failed() const { return failed_.load(std::memory_order_acquire); }
   std::string error() const;    // "" unless failed()
@@ -105,6 +114,7 @@ class HapticLoop {
   std::atomic<bool> sched_known_{false};
 
   // Haptic-thread state.
+  GuideTarget played_{}, last_played_{};  // the host's played pose (domain frame); the last active one
   ForceFrame force_{};
   bool have_force_ = false;
   std::uint64_t force_version_ = 0;
@@ -118,7 +128,9 @@ class HapticLoop {
   Mailbox<DeviceState> latest_state_;
   std::atomic<std::uint64_t> non_finite_{0};
   Mailbox<PassivityState> passivity_;
+  Mailbox<GuideTarget> guide_;  // host -> haptic thread (domain frame)
   TraceRing<TraceSample> trace_;
+  glm::vec3 reach_lo_m_, reach_hi_m_;  // the device's workspace (the guide's target stays inside)
 };
 
 }  // namespace hf::haptics

@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -121,7 +122,8 @@ void addFalcon(py::module_& m) {
       "open_simulated_falcon",
       [](std::optional<py::bytes> firmware_bytes, bool home, double homing_timeout, float max_force,
          double hand_mass, double hand_stiffness, double hand_damping, std::optional<long> unplug_after,
-         std::optional<std::vector<std::array<double, 4>>> hand_path, bool hand_loop) -> DevicePtr {
+         std::optional<std::vector<std::array<double, 4>>> hand_path, bool hand_loop,
+         std::optional<double> hand_stiffness_homed) -> DevicePtr {
         haptics::falcon::SimulatedFalconOptions sim;
         if (hand_path) {
           std::vector<haptics::falcon::HandWaypoint> waypoints;
@@ -138,6 +140,12 @@ void addFalcon(py::module_& m) {
         sim.handMass_kg = hand_mass;
         sim.handStiffness_n_m = hand_stiffness;
         sim.handDamping_n_s_m = hand_damping;
+        if (hand_stiffness_homed) {
+          if (!std::isfinite(*hand_stiffness_homed) || *hand_stiffness_homed < 0.0) {
+            throw InvalidArgument("hand_stiffness_homed must be a finite number of N/m >= 0, or None");
+          }
+          sim.handStiffnessHomed_n_m = *hand_stiffness_homed;
+        }
         if (unplug_after) {
           if (*unplug_after < 1) throw InvalidArgument("unplug_after must be at least 1 packet, or None");
           sim.faults.unplugAtPacket = *unplug_after;
@@ -149,7 +157,7 @@ void addFalcon(py::module_& m) {
       py::arg("firmware_bytes") = py::none(), py::arg("home") = true, py::arg("homing_timeout") = 10.0,
       py::arg("max_force") = 8.0f, py::arg("hand_mass") = 0.15, py::arg("hand_stiffness") = 300.0,
       py::arg("hand_damping") = 12.0, py::arg("unplug_after") = py::none(), py::arg("hand_path") = py::none(),
-      py::arg("hand_loop") = false,
+      py::arg("hand_loop") = false, py::arg("hand_stiffness_homed") = py::none(),
       "The whole Falcon driver on a simulated Falcon (no hardware): a FalconDevice.\n"
       "firmware_bytes: None: the firmware is already running; bytes: the simulated DSP waits in its\n"
       "  bootloader and the driver uploads these bytes, echo-checked, as for a real Falcon.\n"
@@ -164,7 +172,9 @@ void addFalcon(py::module_& m) {
       "  (t, x, y, z): times in s from the end of the homing gesture (0.6 s), increasing, and where the\n"
       "  hand pulls the grip (m, device frame, within about 0.04 m of the workspace centre), linearly\n"
       "  between them; hand_loop: start over at the first waypoint after the last (else hold it).\n"
-      "  hapticfluid.hand_gestures has ready-made ones.");
+      "  hapticfluid.hand_gestures has ready-made ones.\n"
+      "hand_stiffness_homed: the hand's stiffness (N/m) once the Falcon is homed (None: hand_stiffness\n"
+      "  throughout): a user who homes it, then rests the hand lightly on the grip.");
 }
 
 }  // namespace hf::python

@@ -73,6 +73,12 @@ py::dict statsDict(const session::HapticSessionStats& s) {
   d["hand_force"] = vec3Array(s.hand_force_n);
   d["probe_force"] = vec3Array(s.probe_force_n);
   d["model_drag"] = vec3Array(s.drag_n_s_m);
+  d["guide_weight"] = s.guide_weight;
+  d["guide_force"] = vec3Array(s.guide_force_n);
+  d["guide_target"] = vec3Array(s.guide_target_m);
+  d["guide_stiffness"] = s.guide.stiffness_n_m;
+  d["guide_damping"] = s.guide.damping_n_s_m;
+  d["guide_max_force"] = s.guide.max_force_n;
   const haptics::PassivityState& p = s.haptic.passivity;
   d["passivity_energy"] = p.energy_j;
   d["passivity_delivered"] = p.delivered_j;
@@ -310,7 +316,9 @@ void addSessionReadings(py::class_<HapticSession>& c) {
         "by the damper), passivity_alpha (N s/m, the latest damping), passivity_active_ticks,\n"
         "passivity_turn_ticks (of those, periods that eased a force against the motion before the\n"
         "hand turns), passivity_resets, passivity_max_damping (N s/m, its bound). Latency: device read -> the\n"
-        "first haptic period that uses the force computed from that pose.");
+        "first haptic period that uses the force computed from that pose. Haptic playback (set_guide):\n"
+        "guide_weight (0 off .. 1 engaged), guide_force (device N), guide_target (the played pose now, world m,\n"
+        "inside the device's reach), guide_stiffness (N/m), guide_damping (N s/m), guide_max_force (N) in use.");
   c.def_property_readonly(
       "latest_force", [](const HapticSession& s) { return vec3Array(s.latest().commanded_n); },
       "The force commanded to the device in the latest haptic period (N, device frame).");
@@ -328,6 +336,8 @@ void addSessionReadings(py::class_<HapticSession>& c) {
         d["cutoff_hz"] = o.cutoff_hz;
         d["force_age"] = o.force_age_s;
         d["stale_after"] = o.stale_after_s;
+        d["guide_force"] = vec3Array(o.guide_n);
+        d["guide_weight"] = o.guide_weight;
         const DeviceState state = s.latestState();
         d["position"] = vec3Array(state.position_m);
         d["homed"] = state.homed;
@@ -336,7 +346,8 @@ void addSessionReadings(py::class_<HapticSession>& c) {
       },
       "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, passive_force\n"
       "(after the passivity controller), commanded_force (device N), damping (N s/m), cutoff_hz,\n"
-      "force_age (s), stale_after (s: the age at which that force starts fading), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
+      "force_age (s), stale_after (s: the age at which that force starts fading), guide_force (device N, the\n"
+      "playback guide's part of commanded_force) and guide_weight (0 off .. 1 engaged), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
       "latest reading.");
   c.def(
       "trace",
@@ -458,6 +469,23 @@ void addHaptics(py::module_& m) {
         "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
         "Any thread may call it; concurrent calls take turns.");
+  c.def(
+      "set_guide",
+      [](HapticSession& s, const py::object& position, const py::object& velocity) {
+        const glm::vec3 p = toVec3(castArg<Vec3>(position, "position"));
+        const glm::vec3 v = toVec3(castArg<Vec3>(velocity, "velocity"));
+        py::gil_scoped_release release;
+        s.setGuide(p, v);
+      },
+      py::arg("position"), py::arg("velocity") = py::make_tuple(0.0, 0.0, 0.0),
+      "Haptic playback: the pose the timeline plays (position: world m; velocity: m/s). The fluid's\n"
+      "probe takes it instead of the grip's, and a spring-damper guide (guide_stiffness, guide_damping,\n"
+      "at most guide_max_force) pulls the grip along it at 1 kHz, so the hand feels the played motion and\n"
+      "the fluid's force on it; the hand can resist. Call at every host tick: the haptic thread carries\n"
+      "it forward at its velocity, and lets go of one not renewed within guide_stale. Engaging and letting\n"
+      "go fade over guide_ramp. InvalidArgumentError names position or velocity. Never waits.");
+  c.def("release_guide", &HapticSession::releaseGuide, py::call_guard<py::gil_scoped_release>(),
+        "Let go of the played pose: the guide fades out over guide_ramp and the probe goes back to the grip.");
   addSessionReadings(c);
   c.def("__enter__", [start](const py::object& self) {
     if (self.cast<HapticSession&>().state() == session::SessionState::Idle) start(self);

@@ -185,6 +185,26 @@ depend on the device (max_force, passivity_max_damping) are checked when the ses
       .field<float>("coupling_damping", [](const S& s) { return s.loop.pipeline.coupling.damping_n_s_m; },
                     [](S& s, float v) { s.loop.pipeline.coupling.damping_n_s_m = v; },
                     "The coupling's damper (N s/m); 0: half the device's max_damping.")
+      .field<float>("guide_stiffness", [](const S& s) { return s.loop.pipeline.guide.stiffness_n_m; },
+                    [](S& s, float v) { s.loop.pipeline.guide.stiffness_n_m = v; },
+                    "Haptic playback (HapticSession.set_guide): the guide's spring pulling the grip to the played\n"
+                    "pose (N/m); 0: a quarter of the device's max_stiffness. With the coupling's, at most the device's.")
+      .field<float>("guide_damping", [](const S& s) { return s.loop.pipeline.guide.damping_n_s_m; },
+                    [](S& s, float v) { s.loop.pipeline.guide.damping_n_s_m = v; },
+                    "The guide's damper on the grip's velocity against the played one (N s/m); 0: a quarter of the\n"
+                    "device's max_damping. With the coupling's, at most the device's.")
+      .field<float>("guide_max_force", [](const S& s) { return s.loop.pipeline.guide.max_force_n; },
+                    [](S& s, float v) { s.loop.pipeline.guide.max_force_n = v; },
+                    "The guide's force bound (N), at most max_force; 0: half of max_force (the hand can resist it\n"
+                    "and the fluid's force keeps room).")
+      .field<double>("guide_ramp", [](const S& s) { return s.loop.pipeline.guide.ramp_s; },
+                     [](S& s, double v) { s.loop.pipeline.guide.ramp_s = v; },
+                     "The guide fades in and out over this long (s, 0.01 .. 5), and the fluid's probe is handed\n"
+                     "over between the grip and the played pose over the same time.")
+      .field<double>("guide_stale", [](const S& s) { return s.loop.pipeline.guide.stale_s; },
+                     [](S& s, double v) { s.loop.pipeline.guide.stale_s = v; },
+                     "A played pose not renewed within this long (s, 0.05 .. 10) is let go; until then it is\n"
+                     "carried forward at its velocity.")
       .field<std::optional<float>>("probe_radius", [](const S& s) { return s.probe_radius_m; },
                                    [](S& s, const std::optional<float>& r) { s.probe_radius_m = r; },
                                    "The probe becomes a sphere of this radius (m, >= one cell); None: keep the simulation's\n"

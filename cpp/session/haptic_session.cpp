@@ -277,6 +277,18 @@ obstacle::RigidPose HapticSession::poseFor(const haptics::PoseFrame& pose) const
   return p;
 }
 
+void HapticSession::setGuide(const glm::vec3& position_m, const glm::vec3& velocity_m_s) {
+  if (!allFinite(position_m)) {
+    throw InvalidArgument("set_guide: position must be finite world metres, got " + vecText(position_m));
+  }
+  if (!allFinite(velocity_m_s) || glm::length(glm::dvec3(velocity_m_s)) > fluid::kMaxProbeSpeed) {
+    throw InvalidArgument("set_guide: velocity must be finite m/s with a speed of at most " +
+                          std::to_string(fluid::kMaxProbeSpeed) + " m/s (the simulation's probe limit), got " +
+                          vecText(velocity_m_s));
+  }
+  loop_.setGuide(position_m, velocity_m_s);
+}
+
 void HapticSession::start() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (state_.load() != SessionState::Idle || sim_thread_.joinable()) {
@@ -502,6 +514,10 @@ HapticSessionStats HapticSession::stats() const {
   st.hand_force_n = latest.commanded_n;
   st.probe_force_n = latest.sim_force_n;
   st.drag_n_s_m = latest.drag_n_s_m;
+  st.guide_weight = latest.guide_weight;
+  st.guide_force_n = latest.guide_n;
+  st.guide_target_m = s_.loop.pipeline.map.positionToDomain(latest.guide_target_m);
+  st.guide = loop_.settings().pipeline.guide;
   st.error = error();
   return st;
 }

@@ -111,6 +111,12 @@ struct HapticSessionStats {
   glm::vec3 probe_force_n{0.0f};   // the latest force of the fluid on the probe (fluid N)
   glm::vec3 drag_n_s_m{0.0f};      // the local model's drag (fluid N s/m, <= 0)
   std::string force_gain_reason;   // how it was chosen
+  // Haptic playback (setGuide): the guide's weight (0 off .. 1 engaged), its force on the hand
+  // (device N), the played pose now (domain m) and the gains in use (resolved from the device).
+  float guide_weight = 0.0f;
+  glm::vec3 guide_force_n{0.0f};
+  glm::vec3 guide_target_m{0.0f};
+  haptics::GuideSettings guide;
   std::string error;               // "" or the first error
 };
 
@@ -151,6 +157,17 @@ class HapticSession {
   // the probe can go, before the simulation keeps it one cell from every wall.
   std::pair<glm::vec3, glm::vec3> workspaceBox() const;
   const haptics::DevicePtr& device() const { return device_; }
+
+  // Haptic playback: the pose the host plays (the keys the timeline plays; domain frame, world m,
+  // and its velocity in m/s). The fluid's probe takes it instead of the grip's, and a guide
+  // (haptics/playback_guide.h) pulls the grip along it at the haptic rate so the hand feels the
+  // played motion (with the fluid's force on the played probe). Call it at each host tick; a pose
+  // not renewed within guide_stale lets go. The grip and the probe are handed over within
+  // guide_ramp (no step). Throws InvalidArgument naming position or velocity (not finite; a speed
+  // above the simulation's probe limit). Never waits: a lock-free write the haptic thread reads.
+  void setGuide(const glm::vec3& position_m, const glm::vec3& velocity_m_s);
+  // Lets go of the played pose: the guide fades out over guide_ramp, the probe goes back to the grip.
+  void releaseGuide() { loop_.releaseGuide(); }
 
   // The probe pose for a published device pose (the one place the probe is placed): the probe's
   // transform at the start with its translation at the mapped device position, kept inside the

@@ -161,6 +161,11 @@ class HapticSessionSettings:
     coupling: bool  # render at 1 kHz through a virtual coupling (False: the low-passed step force)
     coupling_stiffness: float  # N/m; 0 = a quarter of the device's max_stiffness
     coupling_damping: float  # N s/m; 0 = half the device's max_damping
+    guide_stiffness: float  # N/m, haptic playback (set_guide); 0 = a quarter of the device's max_stiffness
+    guide_damping: float  # N s/m; 0 = a quarter of the device's max_damping
+    guide_max_force: float  # N; 0 = half of max_force
+    guide_ramp: float  # s, fade in and out (0.01 .. 5)
+    guide_stale: float  # s, a played pose not renewed within it is let go (0.05 .. 10)
     @staticmethod
     def fields() -> List[str]: ...
     def to_dict(self) -> Dict[str, object]: ...
@@ -350,6 +355,8 @@ class HapticSession:
     def pause(self) -> None: ...
     def resume(self) -> None: ...
     def stop(self, timeout: float = 10.0) -> None: ...  # s
+    def set_guide(self, position: Sequence[float], velocity: Sequence[float] = (0.0, 0.0, 0.0)) -> None: ...  # world m, m/s
+    def release_guide(self) -> None: ...
     @property
     def state(self) -> str: ...
     @property
@@ -393,4 +400,5 @@ def open_simulated_falcon(
     unplug_after: Optional[int] = None,  # packets
     hand_path: Optional[Sequence[Tuple[float, float, float, float]]] = None,  # (t s, x, y, z m) after homing
     hand_loop: bool = False,
+    hand_stiffness_homed: Optional[float] = None,  # N/m once homed (a hand resting on the grip)
 ) -> FalconDevice: ...

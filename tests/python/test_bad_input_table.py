@@ -310,6 +310,8 @@ SESSION_BAD = [
     ("probe_radius", {k: v for k, v in BAD_POSITIVE_FLOAT.items() if k != "none"}),
     ("filter", {k: v for k, v in BAD_STRING_CHOICE.items()}),
     ("workspace_offset", {k: v for k, v in BAD_VEC3.items() if k != "none"}),
+    ("guide_stiffness", BAD_NONNEG_FLOAT), ("guide_damping", BAD_NONNEG_FLOAT), ("guide_max_force", BAD_NONNEG_FLOAT),
+    ("guide_ramp", BAD_POSITIVE_FLOAT), ("guide_stale", BAD_POSITIVE_FLOAT),
 ]
 
 
@@ -319,6 +321,15 @@ def test_haptic_session_kwargs(small_sim, name, kind, value):
     dev = hf.null_device()
     extra = {"trace": True} if name == "trace_seconds" else {}  # trace_seconds counts only with a trace
     _expect(lambda: hf.HapticSession(small_sim, dev, **extra, **{name: value}), name)
+
+
+@pytest.mark.parametrize("name,kind,value", [pytest.param(n, k, v, id=f"{n}-{k}") for n in ("position", "velocity")
+                                             for k, v in dict(BAD_VEC3, huge=(HUGE, 0.0, 0.0)).items()
+                                             if not (n == "position" and k == "huge")])
+def test_haptic_session_set_guide(small_sim, name, kind, value):
+    session = hf.HapticSession(small_sim, hf.null_device())
+    args = {"position": (0.5, 0.5, 0.5), "velocity": (0.0, 0.0, 0.0), name: value}
+    _expect(lambda: session.set_guide(**args), name)
 
 
 def test_haptic_session_simulation_and_device(small_sim):

@@ -150,6 +150,22 @@ def test_simulated_hand_follows_a_scripted_path():
         np.testing.assert_allclose(p[-1], (0.02, 0.0, 0.0), atol=5e-4)
 
 
+def test_relaxed_hand_homes_then_rests_lightly_on_the_grip():
+    # 300 N/m while homing (the grip reaches the pull-out), 5 N/m once homed: a 0.5 N push moves it
+    # 10 cm's worth against the hand, so it goes as far as the workspace lets it within 0.5 s.
+    with hf.open_simulated_falcon(**hapticfluid.hand_gestures.falcon_args("relaxed")) as dev:
+        assert dev.read().homed
+        for _ in range(500):
+            dev.write_force((0.5, 0.0, 0.0))
+            x = dev.read().position[0]
+        assert x > 0.02, x
+    with hf.open_simulated_falcon() as dev:  # the default hand: 300 N/m throughout
+        for _ in range(500):
+            dev.write_force((0.5, 0.0, 0.0))
+            x = dev.read().position[0]
+        assert x < 0.002, x
+
+
 def test_simulated_hand_loops_a_gesture():
     args = hapticfluid.hand_gestures.falcon_args("sweep")
     assert args["hand_loop"] and len(args["hand_path"]) == 3
@@ -158,6 +174,8 @@ def test_simulated_hand_loops_a_gesture():
         late = x[5000:]  # two sweeps after the first one: still sweeping (looped, not held)
         assert late.max() > 0.02 and late.min() < -0.02, (late.min(), late.max())
     assert hapticfluid.hand_gestures.falcon_args("rest") == {"hand_path": None, "hand_loop": False}
+    relaxed = hapticfluid.hand_gestures.falcon_args("relaxed")
+    assert relaxed["hand_path"] is None and relaxed["hand_stiffness_homed"] == 5.0
     with pytest.raises(ValueError, match="gesture must be one of rest, sweep, circle"):
         hapticfluid.hand_gestures.waypoints("wave")
 

@@ -211,7 +211,9 @@ void SimulatedFalconTransport::bootloaderBytes(const std::uint8_t* data, std::si
 void SimulatedFalconTransport::stepHand(const glm::dvec3& motor_force_n) {
   const double dt = opt_.packetDt_s;
   const glm::dvec3 target = opt_.handPath(s_.time_s);
-  const glm::dvec3 hand = opt_.handStiffness_n_m * (target - s_.position_m) - opt_.handDamping_n_s_m * s_.velocity_m_s;
+  const bool relaxed = opt_.handStiffnessHomed_n_m >= 0.0 && s_.homed == 0x7;
+  const double stiffness = relaxed ? opt_.handStiffnessHomed_n_m : opt_.handStiffness_n_m;
+  const glm::dvec3 hand = stiffness * (target - s_.position_m) - opt_.handDamping_n_s_m * s_.velocity_m_s;
   s_.velocity_m_s += dt * (motor_force_n + hand) / opt_.handMass_kg;
   const glm::dvec3 next = s_.position_m + dt * s_.velocity_m_s;
   if (kin_.inverse(next))

@@ -41,6 +41,9 @@ struct SimulatedFalconOptions {
   double handMass_kg = 0.15;
   double handStiffness_n_m = 300.0;
   double handDamping_n_s_m = 12.0;
+  // The hand's stiffness once all three axes are homed (N/m); < 0: handStiffness_n_m throughout. A
+  // user who homes the Falcon and then rests the hand lightly on the grip (the playback guide's tests).
+  double handStiffnessHomed_n_m = -1.0;
   // Where the hand pulls the grip (device frame, m) at simulated time t (s). Empty: homingGesture.
   std::function<glm::dvec3(double)> handPath;
   std::function<std::uint32_t(double)> buttons;  // grip buttons pressed at time t (button:: bits)
