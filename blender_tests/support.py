@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What every Blender test script here shares: the add-on on sys.path, checks that report and
 fail the same way, the scene the tests build (a domain cube, a probe, a smoke source and their
 roles), and, for the windowed tests, the window's areas, redraws, screenshots and a timer that

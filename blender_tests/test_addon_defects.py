@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: the add-on's
 defects of issue 16 stay fixed. A refused bake replaces the status line; mirrored and
 90-degree-turned domains bake their world box, other turns and a rotation applied to the mesh

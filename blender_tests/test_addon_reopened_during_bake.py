@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: a .blend saved
 while a bake was running (is_baking set) and opened again has its Bake/Resume/Free buttons
 usable, with a status saying the bake was interrupted."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: roles per object
 (issue 16 item 1). The Set Role operator gives roles, refuses a second Domain naming the object
 that has it and a non-mesh Domain; the property itself takes a refused role back; a removed role

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: the add-on bakes an
 animated probe through a smoke plume (Bake operator, synchronous in background mode), the
 frames load as a Volume sequence with the right grids and bounds, Cycles renders the smoke,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: re-bake from a
 change in Blender. A probe keyed at frames 1, 10, 20 and 24 (linear) is baked with a checkpoint
 every 5 frames; moving its key at frame 20 outdates frames 11 on (the segment from 10), the panel

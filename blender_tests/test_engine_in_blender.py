@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: the engine module
 loads in Blender's Python, makes its own EGL context beside Blender's, and steps a simulation
 whose probe follows a Blender object. Any failure raises, so Blender exits 1."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: Write Farm Job
 exports the scene and writes the OpenJD and Flamenco job files with every path relative to the
 shared root; the exported scene bakes; no shared root, or a cache outside it, is refused with a

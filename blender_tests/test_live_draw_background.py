@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: the live viewport
 drawing (live_draw) never touches gpu in background mode (add/remove are no-ops, twice is fine,
 the setters store and validate without raising), bad values raise ValueError naming the

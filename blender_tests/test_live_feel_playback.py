@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: Feel Playback, the
 engine side of a punch-in (issue 31 item 3: "the timeline plays the existing motion, the probe
 follows it and the hand feels it through the device, until the user presses Record at A").

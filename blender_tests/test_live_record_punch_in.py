@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: Record in Timeline
 mode and punch-in recording (issue 28 item 3, issue 31 item 3).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: the live session.
 
 Modal operators get no events in --background, so this drives the controller and the operator

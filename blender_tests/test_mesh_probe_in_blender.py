@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: a Blender object's
 own mesh (vertices + loop triangles) and matrix_world become a mesh probe, as the add-on and the
 bake driver will pass them; its buoyancy is rho g V of the scaled, turned cube, its pose follows

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs inside `blender --background --factory-startup --python-exit-code 1`: a mesh smoke source.
 An animated cube is the source: the scene export carries its evaluated mesh in object space and
 its matrix_world at every frame; the bake puts the smoke where the cube was (and nowhere else);

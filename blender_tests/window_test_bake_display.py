@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run (--enable-event-simulate): a bake invoked from the UI
 makes its Volume object at the first finished frame, in the active collection, and extends it
 as frames land; disabling the add-on in the middle of the bake cancels and joins the worker

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run (--enable-event-simulate): the Bake operator invoked
 from the UI runs modal, its timer keeps the UI live and updates the progress props while the
 worker bakes, a simulated Esc cancels with the complete frames kept, and Resume finishes the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run (--enable-event-simulate): disabling the add-on while a
 live session runs modal (Start invoked from the 3D view) ends the session and its threads;
 enabling it again and invoking Start (or Bake) at once is refused ("Try again in a moment") until

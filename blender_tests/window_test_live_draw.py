@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run: the live viewport drawing (live_draw.LiveDrawer)
 draws a synthetic smoke plume inside the domain box, the force arrow at the probe and the
 workspace box. Screenshots of the window before and after set_density/set_force are compared in

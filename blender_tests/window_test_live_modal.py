@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run (--enable-event-simulate): the live session's Start
 operator invoked from the 3D view runs modal on the simulated Falcon, its event timer ticks the
 controller (stats and snapshots arrive, the UI stays live), Record keys the probe, a simulated Esc

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A benchmark-like window test (xvfb-run, 1280x800): does the live session keep the viewport's
 pace? One Blender run measures, side by side on the same machine and window, a sphere probe
 dragged along a circle (0.2 m across, a timer moving it as a drag would) in the same scene:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run: the live demo's scene (1 m domain, source at its floor,
 sphere probe on the simulated Falcon, its hand sweeping the probe through the plume) runs from the
 3D view's Start operator at 32^3, 48^3 and 64^3, one session after another, and prints what an

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a windowed Blender under xvfb-run (--enable-event-simulate): Record in Timeline mode with
 Blender's own playback (the headless test, test_live_record_punch_in.py, plays frames itself).
 

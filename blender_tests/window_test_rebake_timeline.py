@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a Blender window under xvfb-run: the Timeline shows which baked frames a change has
 invalidated. A probe keyed at frames 1, 10, 20 and 24 (linear) is baked with a checkpoint every
 5 frames; its key at 20 is moved as a user would (the F-curve edited, no refresh called): the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Turns every shader file (*.comp, *.glsl) in SHADER_DIR into a C++ table {file name, source text} written to OUTPUT,
 # so the installed module needs no source tree. Run with `cmake -P` at build time.
 file(GLOB INPUTS ${SHADER_DIR}/*.comp ${SHADER_DIR}/*.glsl)

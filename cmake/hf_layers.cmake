@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # One library target per engine layer (cpp/<layer>/CMakeLists.txt), and the include views that
 # make the layering a build rule rather than a convention.
 #

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Wheel-only build rules, included from the top CMakeLists.txt. They act only when
 # scikit-build-core drives the build (pyproject.toml; it sets SKBUILD), and install into the
 # component `hf_wheel`, the only one pyproject.toml puts into the wheel, so the wheel holds

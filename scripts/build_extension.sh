@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the Blender 4.2+ extension zip into dist/: the add-on's code, its blender_manifest.toml
 # and two hapticfluid wheels (native module and its libraries inside) under wheels/: cp311 for
 # Blender 4.2 to 5.0, cp313 for Blender 5.1 to 5.3 (and Debian 13's 4.3). Blender unpacks only

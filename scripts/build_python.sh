@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Prints the path of a CPython 3.11 or 3.13 (the two Pythons that Blender 4.2 to 5.3 embed) with
 # venv and ensurepip, building it once from Debian's source package when this system has none.
 #

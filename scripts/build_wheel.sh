@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the `hapticfluid` wheel (native module inside, its libraries vendored) into dist/.
 #
 #   bash scripts/build_wheel.sh [--python 3.11|3.13] [--out DIR] [--work DIR]

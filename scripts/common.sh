@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sourced by the README's commands: installs what is missing, then builds.
 # Debian packages, the same names on Debian 12 (bookworm) and 13 (trixie); Python is Debian's
 # /usr/bin/python3 (3.11 on 12, 3.13 on 13), the interpreter Debian's Blender (3.4 on 12, 4.3 on

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Checks the README's commands on a fresh Debian 13 (trixie) in a chroot, from a Debian host.
 #
 #   sudo bash scripts/debian13_check.sh [--root DIR] [--ref REF] [--logs DIR] [--mirror URL]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # README command 1: install what is missing, build, run the headless demo, then bake the demo
 # scene (examples/bake_demo.json) to an OpenVDB cache and render its last frame with Cycles.
 # Extra arguments go to `python3 -m hapticfluid demo` (see --help). Outputs: out/demo/

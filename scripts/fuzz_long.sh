@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The long fuzz run (not run by CI): >= 10 M inputs for each target.
 #   falcon_packet  libFuzzer + ASan + UBSan (build/tests/fuzz/fuzz_falcon_packet, from ctest's build),
 #                  corpus tests/fuzz/corpus/falcon_packet (new inputs go to build/tests/fuzz/corpus)

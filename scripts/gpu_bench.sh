@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The GPU benchmark (issue 20, goal 5), one command for the day a GPU machine is lent:
 #   scripts/gpu_bench.sh [OUT_DIR]          (default out/bench/gpu)
 # Runs the engine (64^3, 100x100x70, 128^3, 256^3 with Jacobi-40, multigrid-4 and the warm-started

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Opens the live demo in a windowed Blender: a 1 m smoke domain with a source at its floor and a
 sphere probe, the add-on registered from this source tree, and the live session started in the
 3D view (smoke drawn in the viewport, force arrow at the probe, stats in the sidebar).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sourced by build_wheel.sh, build_extension.sh and tests/package/*.sh.
 # hf_python VERSION: prints a CPython VERSION (3.11: Blender 4.2 to 5.0; 3.13: Blender 5.1 to 5.3
 # and Debian 13's 4.3) with venv and ensurepip: the system's, else one built once from Debian's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Render one frame of a hapticfluid bake with Cycles on the CPU (used by scripts/demo.sh):
 
     blender --background --factory-startup --python-use-system-env --python scripts/render_bake.py -- CACHE FRAME OUT.png \

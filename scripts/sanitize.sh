@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sanitizer builds (not run by CI: too slow for every run).
 #   build-asan/: ASan + UBSan build of every C++ test binary (hf_<layer>_tests) and of the Python
 #                module; runs every gtest binary, then pytest (tests/python, not the benchmarks)

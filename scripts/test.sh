@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # README command 2: install what is missing, build, run every test tier through ctest
 # (GoogleTest for cpp/, pytest for the package, blender_tests/ in headless Blender).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The README test command's last lines: passed, failed and skipped per tier, so a tier that was
 skipped, or never registered (a missing tool), shows instead of hiding in a green total.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "advect": semi-Lagrangian transport through the velocity field, with a second-order
 // (midpoint) back-trace. Also the forward and backward passes of MacCormack (u_dt_over_h < 0
 // for the backward one).

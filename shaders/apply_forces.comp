@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "apply_forces": adds dt times the body acceleration, averaged from the two cells that
 // share each face, to one velocity component (per-texel read-modify-write).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;

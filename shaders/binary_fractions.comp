@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "binary_fractions": face fractions (common.glsl) of a voxelized body: a face is open (1)
 // when no cell beside it is solid, else covered (0). Used for bodies without cut cells (the
 // mesh probe) and for no body, so every stage reads one face-fraction image.

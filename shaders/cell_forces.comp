@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "cell_forces": body accelerations at cell centres (m/s^2): Boussinesq buoyancy of hot
 // smoke and, when enabled, vorticity confinement (Fedkiw, Stam & Jensen 2001).
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "classify": from the solid mask, writes the seed's four cell classes (by cell centre)
 // and, for the pressure stages, each cell's neighbour mask (see common.glsl) from the face
 // fractions: cells are linked across a face with an open part, and a cell with no open face

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared by every stage; prepended after the #version line and the stage's #defines.
 // Grid units: cell (i,j,k) spans [i,i+1]x[j,j+1]x[k,k+1]; its centre is at (i,j,k)+0.5.
 // Staggered (MAC) velocity: u lives on x-faces, (nx+1,ny,nz) texels at offset (0,.5,.5);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "dispatch_floor" (benchmark only, gl/dispatch_floor.h): what a per-cell dispatch costs
 // this device before a stage does any work. One invocation per cell of u_res, in the cell
 // stages' workgroup shape. Without STORE the body stores nothing (its condition is never true,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "divergence": right-hand side of the pressure equation in pascals,
 // rhs = (rho h^2 / dt) div(u) = (rho h / dt) * (sum of outgoing face fluxes), 0 in cells without
 // a pressure unknown. A face's flux is its open fraction w times the fluid velocity plus the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "emit_coverage" (emitter/mesh_emitter.h): the mesh smoke source emits into the cells of
 // its box by their coverage c (0..1): Hold raises smoke and heat to at least c x the values, Rate
 // adds c x the values x dt (fluid/fluid_params.h SourceEmission). Cells with no open face (inside

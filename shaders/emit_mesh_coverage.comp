@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "emit_mesh_coverage" (emitter/mesh_emitter.h): one invocation per cell column sums the
 // smoke source's crossings bottom-up. The winding number of sub-column s along z is the sum of
 // the crossings below, so its integral over cell k is (crossings in cells below k) + (the signed

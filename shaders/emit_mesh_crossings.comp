@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "emit_mesh_crossings" (emitter/mesh_emitter.h): each triangle of the smoke source visits
 // the sub-columns whose line (x, y) = ((m + 1/2) / S, (n + 1/2) / S) passes through it, S =
 // u_samples sub-columns per cell along x and y. At the hit height z it adds, in the cell (m / S,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "enforce_boundaries": on one velocity component, closed domain walls get zero normal
 // velocity (the +z wall stays free when the top is open), and every fully covered face (open
 // fraction 0) gets the solid's velocity (the average over the solid cells on its two sides; at

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "force_faces": the first level of the force, torque and centroid reductions. Over a box
 // of cells, every MAC face with a covered part (open fraction w < 1, cut cells) adds the pressure
 // force on that part of the body, F_f = -(1 - w) h^2 (P_hi - P_lo) e_axis (N): the body's

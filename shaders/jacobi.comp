@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "jacobi": one Jacobi sweep of sum_nb w (p_nb - p) = rhs over the cells with a pressure
 // unknown (Pa), w the open fraction of the face to that neighbour (cut cells). Solid neighbours
 // and closed walls are Neumann (left out of the sum); the open top is a Dirichlet ghost at 0 Pa

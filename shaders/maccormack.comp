@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "maccormack": the correction of MacCormack advection,
 // phi_new = phi_fwd + (phi - phi_back) / 2, clamped to the range of the eight texels of phi
 // around the back-traced point so the scheme stays stable (Selle et al. 2008). The back-trace

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mesh_fractions": the open fraction of every MAC face (common.glsl's face-fraction image)
 // of a mesh probe with cut cells, from its fine voxelization (voxelize_mesh_winding: the winding
 // number at the centres of u_fine^3 fine cells per cell over the probe's cell box). A face's

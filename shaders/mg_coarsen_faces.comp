@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_coarsen_faces": the face fractions (common.glsl) of a coarse multigrid level from the
 // next finer one: a coarse face's open fraction is the sum of the open fractions of the (up to
 // four) fine faces it is made of, over four. With piecewise-constant transfer this is the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_coarsen_mask": the neighbour mask (bits of common.glsl) of a coarse multigrid level
 // from the next finer one. A coarse cell is fluid if any of its fine children is; it is linked
 // to its coarse neighbour across side d if a fluid child on that side is linked across it (so

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_coarsest": the V-cycle's coarsest-level solve in one dispatch, the same arithmetic as
 // 4 x u_pairs dispatches of mg_smooth.comp (u_pairs symmetric pairs: red->black u_pairs times,
 // the first from x = 0, then black->red u_pairs times), so the result is the same to the bit.

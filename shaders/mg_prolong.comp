@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_prolong": x_fine += x_coarse of the parent cell (piecewise-constant interpolation)
 // on fluid cells; per-texel update of the fine level. Dispatched over the fine grid.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_residual": out = b - A x on one multigrid level (A as in mg_smooth.comp); 0 in
 // solid cells.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_residual_restrict": mg_residual and mg_restrict in one pass. Per coarse cell, the
 // fine residual b - A x of each fluid child (A as in mg_smooth.comp, the same arithmetic as
 // mg_residual.comp) summed and scaled as mg_restrict.comp does: b_c = u_scale * sum. The fine

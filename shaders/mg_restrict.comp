@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_restrict": coarse right-hand side b_c = u_scale * (sum of the fine residuals of the
 // fluid children), the transpose of mg_prolong's piecewise-constant interpolation (so the
 // V-cycle is symmetric and can precondition CG). A coarse cell has the 2x2x2 fine children

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "mg_smooth": one colour of a red-black Gauss-Seidel sweep of A x = b on one multigrid
 // level, where A x = n x - sum of the linked neighbours' w x (w the face's open fraction, n = the
 // sum of the linked faces' and the open top's fractions; the mask bits and face fractions of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_apply": q = A s (the operator of pcg_init.comp) and, per row, s.q into
 // partials[]. 0 in solid cells.
 // One invocation per row of cells along x (j, k), summing into partials[j + ny k]: llvmpipe

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_direction": the next search direction s = z + beta s, beta = (r.z)_new / (r.z)_old
 // from the reduction results (beta = 0 on the first iteration); per-texel update, 0 in solids.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_dot": per row, the dot product a.b over fluid cells into partials[].
 // One invocation per row of cells along x (j, k), summing into partials[j + ny k]: llvmpipe
 // runs workgroup barriers slowly, and a row loop needs none (see PressureMultigrid).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_init": the starting residual of the preconditioned conjugate gradient solve,
 // r = b - A p with b = -rhs (A p = sum over linked neighbours of w (p - p_nb), w the face's open
 // fraction (cut cells), plus w p at the open

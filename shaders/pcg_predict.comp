@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_predict": the solve's starting guess is the previous pressure scaled by the alpha
 // that minimises the starting residual, ||b - alpha A p||: alpha = <b, A p> / <A p, A p>. Then
 // ||b - alpha A p||^2 = ||b||^2 - <b, A p>^2 / ||A p||^2 <= ||b||^2, so the start is never worse

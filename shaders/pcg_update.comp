@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_update": alpha = (r.z) / (s.q) from the reduction results, then p += alpha s and
 // r -= alpha q on fluid cells (per-texel updates), and per row (sum of the new r, fluid cells,
 // r.r) into partials[] (x / y is the mean that a closed box removes).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pressure_shift": in a closed box the pressure is defined up to a constant, and float
 // rounding makes that constant drift from step to step; this subtracts the mean over fluid cells
 // (summed by pressure_sum + reduce into results[u_slot]) so it stays at 0. The same removes the

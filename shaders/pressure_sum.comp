@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pressure_sum": per row of cells along x (j, k), the sum of a cell-centred scalar (the
 // pressure, or the rhs for the compatibility condition of a closed box) over its fluid cells and
 // their count (x, y of partials[j + ny k]), the first level of the mean that pressure_shift

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "project": subtracts (dt/rho) grad p from one velocity component on faces with an open
 // part (both cells beside them then hold a pressure unknown), and on the open top (ghost pressure
 // 0). The stored velocity is the face's fluid part; the covered part carries the solid's velocity

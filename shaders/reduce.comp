@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "reduce": one workgroup sums u_count vec4 partials, from partials[u_first], into results[u_slot]
 // (the second level of the parallel reductions of force and residual).
 layout(local_size_x = REDUCE_SIZE) in;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "residual": per row of cells along x (j, k), the sums of r^2 and rhs^2 of the pressure
 // equation (r = rhs - sum_nb w (p_nb - p), w the face's open fraction) over its fluid cells, written to partials[j + ny k]
 // for reduce.comp. A row loop instead of a workgroup tree: llvmpipe runs barriers slowly

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "scalar_correct": gives smoke and heat back the total that advection lost or gained.
 // For each field, the target total is decay * (total before - outflow through an open top)
 // (results[0], scalar_total) and the advected total, rise and fall room are results[1] (smoke)

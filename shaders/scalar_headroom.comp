@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "scalar_headroom": per row of cells along x (j, k), for smoke (partials[row]) and heat
 // (partials[rows + row]) after advection: the total (x), the room to rise (y: sum over fluid
 // cells of the local max minus the value) and to fall (z: the value minus the local min), where

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "scalar_total": per row of cells along x (j, k), the totals of smoke and heat before
 // advection (x, y of partials[j + ny k]) and, with an open top, the amount of each that the
 // velocity carries out through the top faces in this step (z, w; negative where it flows in):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "sources": the sphere smoke emitter. Cells whose centre lies in the emitter sphere are
 // raised to at least the emitter's density and temperature (Hold), or get them added per second
 // (Rate, fluid/fluid_params.h SourceEmission); per-texel read-modify-write only.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "sphere_fractions": the open fraction of every MAC face (common.glsl's face-fraction
 // image) from the probe sphere's geometry. The sphere's indicator is smoothed along its normal
 // into a linear ramp one cell wide (covered 1 at distance u_ramp_radius - 0.5 from the centre, 0

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "vorticity": curl of the cell-centred velocity (1/s) by central differences;
 // w holds its magnitude for the confinement stage.
 layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;

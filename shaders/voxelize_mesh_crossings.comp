@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "voxelize_mesh_crossings": each triangle adds its signed crossing to every cell column
 // (i, j) whose centre line (x, y) = (i + 0.5, j + 0.5) passes through it: +1 where the +z ray
 // enters the body (outward normal pointing down), -1 where it leaves, added atomically at the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "voxelize_mesh_fill": one invocation per cell column sums the signed crossings bottom-up.
 // A cell is solid where the sum (the mesh's winding number around its centre) is nonzero. The
 // rigid velocity v + w x (x - origin) is written at every cell centre (m/s), solid or not: cut

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "voxelize_mesh_transform": the mesh's local vertices (m) -> grid units with the pose's
 // matrix (local -> world -> grid). Done once per vertex, so every triangle sharing a vertex
 // sees bit-identical coordinates (the exact column tests of the next stage rely on it).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "voxelize_mesh_winding": the fine voxelization of a mesh probe's cut cells. One
 // invocation per column of the fine grid (the probe's cell box at u_fine samples per cell and
 // axis, voxelize_mesh_crossings run on it) sums the signed crossings bottom-up in place: each

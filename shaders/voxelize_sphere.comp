@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "voxelize_sphere": marks the cells whose centre lies in the probe sphere as solid and
 // stores the rigid velocity v + w x r of the body at every cell centre (m/s; cut faces outside
 // the body's cells take their covered part's velocity from it).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """hapticfluid for Blender: touch the smoke live (3D View > Sidebar > hapticfluid) and bake a
 probe's animation into an OpenVDB smoke cache.
 

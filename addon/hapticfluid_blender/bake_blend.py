@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bake a .blend from the command line, without the UI:
 
     blender --background scene.blend --python-exit-code 1 --python addon/hapticfluid_blender/bake_blend.py \

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bake, Resume and Free operators.
 
 Bake/Resume read the Blender scene on the main thread (probe matrix per frame included), then

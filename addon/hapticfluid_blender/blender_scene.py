@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Blender scene -> hapticfluid.bake scene, on the main thread (the only place bpy is read).
 
 The probe's matrix_world is sampled at every frame from start - 1 to end (frame_set on each),

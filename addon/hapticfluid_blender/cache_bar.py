@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The baked range on the Timeline, as Mantaflow's cache bar: a bar along the bottom of the
 Timeline's frame area, blue over the frames that hold what the scene bakes now, red over baked
 frames a change has invalidated (the re-bake plan, cache_plan.py: "keys changed from frame 80"

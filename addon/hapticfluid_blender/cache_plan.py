@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Which baked frames still hold what the scene would bake now: the package's re-bake plan
 (``hapticfluid.bake.rebake_plan``) for the Blender scene, kept per scene for the panel and the
 Timeline's cache bar.

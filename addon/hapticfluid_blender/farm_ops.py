@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Write Farm Job: the current scene's bake as a farm job (OpenJD and/or Flamenco), on shared storage.
 
 The operator exports the scene as a hapticfluid scene .json into the job folder (the bake task

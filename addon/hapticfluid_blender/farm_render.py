@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The render task of a farm job, run inside Blender: render a chunk of baked frames in one session.
 
     blender --background --factory-startup --python-use-system-env --python-exit-code 1 \

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Files saved before roles: the scene-level settings (``scene.hapticfluid_bake``: domain, probe
 and source pointers with every setting on the scene) stay registered, hidden, so such a file
 still loads, and ``migrate`` moves them onto the objects once: each pointed-to object gets its

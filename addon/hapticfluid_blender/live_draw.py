@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Live viewport drawing: the smoke raymarched inside the domain box, the force arrow at the
 probe with its magnitude in newtons, and the haptic device's workspace as a wire box.
 

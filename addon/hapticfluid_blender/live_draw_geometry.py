@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Pure geometry and colour of the live viewport drawing (no gpu, no bpy: tested headless):
 the domain box, the force arrow mesh, its colour and label, the light's optical depth and the
 smoke texture's texel layout. Positions in metres, forces in newtons."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The gpu side of the live viewport drawing: GLSL, shader builders, capability probes, the
 smoke texture upload and gpu.state save/restore. Only called from draw callbacks in a windowed
 Blender (never in --background: GPUTexture raises there and renderer_get() crashes)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Start, Stop and Record operators of the live session, and the ways a session ends.
 
 Start (invoked from the UI) is modal: an event timer on Blender's main thread calls

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The live session's panel (3D View > Sidebar > hapticfluid).
 
 Laid out to read whole at the sidebar's default width (about 200 px of text in Blender 3.4 to

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The live session's settings and read-only stats, stored on the scene as ``scene.hapticfluid_live``.
 
 The domain, probe and smoke source are the objects holding those roles (Physics tab, read through

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The live session's controller: a plain class, no drawing and no operator, testable headless.
 
 ``LiveController(scene)`` reads everything it needs from bpy on the main thread (``read_plan``),

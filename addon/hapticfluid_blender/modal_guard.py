@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Blender 4.3's crash after disabling the add-on under a running modal operator, and the guard
 that every modal operator of the add-on (Bake, Resume, the live session's Start) goes through.
 

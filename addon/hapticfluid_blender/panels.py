@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bake's panels: the domain's bake controls (shared by the Physics tab and the Scene tab),
 and the Scene tab's summary (which objects hold which role, the bake buttons, the farm job). The
 role's settings are in the Physics tab (physics_panels.py)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The Physics tab (Properties > Physics), as Mantaflow's Fluid: a ``hapticfluid`` button among the
 physics buttons gives the active object a role (a menu: Domain, Probe, Smoke Source; X removes
 it), and the ``hapticfluid`` panel shows the role as buttons and its settings in sub-panels with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's preferences: say at once when the hapticfluid package is not importable
 (enabling the add-on works without it; Bake would be the first to fail)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The roles and their settings, stored on the objects: ``object.hapticfluid.role`` (Domain,
 Probe, Smoke Source) and one settings group per role (``domain_settings`` holds the bake's
 settings, its cache and status; ``probe_settings``; ``source_settings``). Read them through

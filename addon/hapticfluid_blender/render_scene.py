@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The scene a baked cache is rendered in, shared by the farm's render task (farm_render.py) and
 the demo's render (scripts/render_bake.py): the baked frames as a Volume with the add-on's smoke
 material, a camera framing the domain from the front, a warm key light from the side (its

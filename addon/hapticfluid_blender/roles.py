@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Which object holds which hapticfluid role in a scene, and the scene's settings read through
 the roles: the one place every reader (bake, live session, farm job, panels, bake_blend.py)
 asks. A scene has at most one object per role (Domain, Probe, Smoke Source): the Set Role

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The smoke source object -> the bake scene's "source" (main thread only: reads bpy).
 
 A mesh object emits from its volume (Mantaflow's flow object with Flow Source: Mesh): its

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Text for panels: long messages wrapped to the region's width (Blender's labels do not wrap).
 Imports nothing of the add-on, so any panel or preference may use it."""
 

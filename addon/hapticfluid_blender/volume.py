@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The Volume object that shows a baked frame sequence, with a smoke material for Cycles and EEVEE
 and display settings for Solid mode."""
 

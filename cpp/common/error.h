@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The engine's exception types. Every failure that crosses the API is one of these or a subclass
 // defined by its layer (obstacle::MeshNotClosed, falcon::UsbUnplugged, io::VdbError, ...); the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Finite-value tests shared by the layers that check host input and GPU results.
 #include <cmath>

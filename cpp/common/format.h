@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Numbers in error messages: shortest round-trip-ish form ("1e-40", "0.5"), never "0.000000".
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The engine's messages for Python's `logging`: warnings raised on any engine thread (the 1 kHz
 // haptic thread, the simulation thread that owns the GL context, the host) are queued here and

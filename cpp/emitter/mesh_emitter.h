@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A MeshSource on the GPU: each step its coverage of every cell (0..1, the fraction of the cell
 // inside the posed mesh), then the emission into smoke and heat, in four stages:

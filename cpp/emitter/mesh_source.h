@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A smoke source shaped by a closed triangle mesh (Mantaflow's mesh flow object): the mesh in
 // its local frame, its pose (the object's matrix_world, set per step so it can be animated) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "fluid/fluid_fields.h"
 
 namespace hf::fluid {

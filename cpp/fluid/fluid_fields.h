@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Every GPU field of the simulation. Velocity is staggered (MAC): vel[0] on x-faces
 // (nx+1,ny,nz), vel[1] on y-faces, vel[2] on z-faces; the rest are cell-centred.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Solver settings, SI units. Changing them between steps is allowed.
 #include <glm/glm.hpp>

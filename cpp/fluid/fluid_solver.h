@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The smoke solver on the GPU, one method per stage (GPU Gems 3 ch. 30 order):
 //   advect(); applySources(); applyForces(); enforceBoundaries(); computeDivergence();

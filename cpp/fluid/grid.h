@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The simulation grid: cubic cells over an axis-aligned box in world space (metres, z up).
 #include <cstddef>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Checks of the grid a simulation is made on, and of a time step on it (beside the settings
 // checks of fluid/validate.h, whose ranges they use); each throws hf::InvalidArgument saying

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The hydrostatic part of the pressure, rho g . (x - reference), which the solver leaves out
 // (it solves the dynamic part only) and the force stage and pressure read-back add analytically.

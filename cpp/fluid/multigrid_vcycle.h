@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A geometric multigrid V-cycle for A x = b, A x = n x - sum of the linked neighbours' x (the
 // pressure operator with the sign that makes it positive semidefinite; n counts the linked

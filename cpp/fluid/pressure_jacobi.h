@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Jacobi iteration, ping-ponging the pressure textures: FluidParams::pressure_iterations sweeps,
 // or with a pressure_tolerance, sweeps until the relative residual (measured every

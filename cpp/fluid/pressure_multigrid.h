@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Conjugate gradient preconditioned by a multigrid V-cycle (MGPCG, as in McAdams, Sifakis and
 // Teran, "A parallel multigrid Poisson solver for fluids simulation on large grids", SCA 2010),

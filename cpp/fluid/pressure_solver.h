@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The interface every pressure solver shares (PressureJacobi, PressureMultigrid): solve
 // sum_nb (p_nb - p) = rhs over the fluid cells into fields.pressure.cur(), warm-started from

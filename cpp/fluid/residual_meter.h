@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The pressure equation's relative residual ||rhs - A p|| / ||rhs|| over the fluid cells
 // (residual.comp + a two-level reduction). accumulate() adds its sums to a caller's reducer (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Reductions by rows: a stage runs one invocation per row of cells along x, loops over the row
 // and writes the row's vec4 sum to partials[j + ny * k]; GroupReducer sums those. It needs no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Keeps advection from creating or destroying smoke and heat. Semi-Lagrangian and MacCormack
 // transport are not conservative (a hot puff in a closed box lost 9% in 0.9 s); this measures

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Checks of user-supplied settings; each throws hf::InvalidArgument saying what to change.
 // The ranges keep every derived quantity (rho h / dt, rho g L, face forces) a normal float;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Force and torque of the fluid on the body, reduced on the GPU: every exposed face between a
 // boundary cell and a surrounding cell adds F_f = (dynamic pressure of the surrounding cell +

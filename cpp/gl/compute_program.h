@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One compiled and linked GLSL compute program (RAII), built from an embedded shaders/ file
 // with common.glsl prepended. Compile and link errors throw hf::GlError quoting the log with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Which EGL device the context is made on, and how much GPU memory counts as free: the
 // decisions, as pure functions over descriptions, apart from the EGL/GL calls that feed them

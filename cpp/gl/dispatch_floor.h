@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The cost floor of a per-cell dispatch on the current GL device (benchmarks only): how much a
 // step's invocation count alone costs before any stage does work. On llvmpipe a launched

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The one place that creates and frees the headless EGL + OpenGL 4.5 core context.
 #include <cstddef>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Turns the GL error flag into an exception naming the stage that raised it, the GL debug
 // mode, and the counts of dispatches and GPU-to-CPU syncs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A thread that owns one EGL/GL context and runs GL work posted to it. GL contexts are
 // bound to one thread, so every GL call of a simulation goes through its worker.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The second level of every parallel reduction: a first-level stage writes one vec4 per
 // workgroup into partials(); reduce() sums `count` of them on the GPU into a result slot, and

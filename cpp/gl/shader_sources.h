@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The GLSL sources of shaders/, embedded at build time (cmake/embed_shaders.cmake).
 #include <string>

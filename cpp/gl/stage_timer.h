@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // GPU time per named stage from GL timestamp queries (RAII query pool). Queries are only
 // recorded during a step and read after the step's own read-back, so they add no stall.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One shader storage buffer (RAII).
 #include <cstddef>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One immutable-storage 3D texture (RAII). Float textures sample with trilinear filtering and
 // clamp-to-edge; integer ones are fetched exactly.

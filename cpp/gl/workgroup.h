@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Workgroup shape of every per-cell stage and the #defines that carry it. 256 invocations (a
 // power of two: reductions need one), long in x: with imageLoad/imageStore on llvmpipe, 64x2x2

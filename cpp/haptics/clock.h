@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The one clock of the haptics layer: CLOCK_MONOTONIC in seconds. It is the clock of
 // std::chrono::steady_clock and of Python's time.monotonic(), so times pushed from Python

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The one interface every haptic device implements (Novint Falcon over libusb, the simulated
 // Falcon, scripted trajectory, host-driven, null). Positions and velocities are in the device's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Argument checks shared by the virtual devices (messages say what to change).
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // DeviceClaim: exclusive use of a Device for a scope. A second haptic loop on the same device,
 // or a host's write_force() while a session drives it, would command force past the running

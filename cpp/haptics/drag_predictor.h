@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // DragPredictor: inter-frame force prediction (beyond the seed). Between two simulation frames
 // the probe keeps moving at 1 kHz; a local drag model F ~ F0 + B (v - v0) updates the force from

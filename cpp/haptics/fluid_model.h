@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // FluidModel: the local model of the fluid's force on the probe (the intermediate representation
 // of Adachi et al. 1995 and Mark et al. 1996), identified from every simulation step and evaluated

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // ForcePipeline: one haptic period's force computation, free of threads and clocks so it can be
 // tested sample by sample:

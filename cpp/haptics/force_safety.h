@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The safety stage between the filtered force and the device, as small units (each tested alone)
 // and ForceSafety, which chains them once per haptic period:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the haptic thread and the simulation thread hand each other through Mailboxes.
 // Both are in the fluid domain's frame (m, m/s, fluid N); times are monotonicNowS().

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // GripMotion: the grip's velocity as the passivity controller needs it, from the positions the
 // loop reads: the mean velocity over the last kGripVelocitySpan periods, (x_n - x_{n-k}) / (t_n -

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // HapticLoop: the 1 kHz thread. Each period (absolute deadlines, SCHED_FIFO where permitted):
 //   device.read() -> take the latest simulation force from `forces` (and the played pose from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // HostDevice: the handle's pose is pushed by the host (a Blender object, the mouse, a script),
 // typically once per frame at 24-60 Hz. The velocity is the finite difference of the two latest

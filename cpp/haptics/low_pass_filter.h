@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The seed's force smoother (Yang et al. 2008, after Baxter and Lin 2004): a discrete first-order
 // low-pass run at the haptic rate on the force the GPU delivers at its own, lower frame rate.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Mailbox<T>: the latest value of T, handed between threads without locks (a sequence lock).
 // Writers (any number) take turns through one compare-and-swap on the sequence counter, so a

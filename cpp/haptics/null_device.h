@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // NullDevice: "no device". Its handle rests at the workspace origin, it is homed (there is
 // nothing to home) and it accepts and discards forces, so a session runs without hardware.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // PassivityController: a time-domain passivity observer and controller (Hannaford and Ryu 2002)
 // on the haptic loop, one call per period, free of threads and clocks (tested sample by sample).

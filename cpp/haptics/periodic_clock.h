@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // PeriodicClock: wakes a thread every period on absolute deadlines (clock_nanosleep with
 // TIMER_ABSTIME on CLOCK_MONOTONIC), so the rate does not drift with the work done per period.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // PlaybackGuide: haptic playback of an existing motion (the keys the timeline plays), at the
 // haptic rate. A spring-damper pulls the grip towards the played pose, with the played velocity

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // RateEstimator: a smoothed event rate (Hz) from event times (s): an exponential average of
 // the intervals, so one slow frame moves it a little and a lasting change moves it fully.

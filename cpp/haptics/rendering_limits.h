@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The force gain a device can render for a fluid probe: the default of HapticSession.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // SampleWindow: the latest N samples of a measurement (periods, latencies), written by one
 // thread without locks and copied out by another for percentiles. Slots are relaxed atomics:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // ScriptedDevice: a handle that follows timed waypoints (device frame, m), linearly interpolated,
 // with the segment's slope as its velocity. Time starts at the first read(). At the end it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // TraceRing<T>: a single-producer single-consumer queue of fixed capacity (the haptic thread
 // pushes one record per period, the host drains them). push() never blocks: when the ring is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // VirtualCoupling: a proxy carrying the fluid's local model (fluid_model.h), integrated at the
 // haptic rate and coupled to the hand by a spring-damper (Colgate, Stanley and Brown 1995; Adams

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // WorkspaceMap: the device's workspace onto the fluid domain, and the fluid's force back.
 //   domain position = offset + scale * device position     (per axis; a negative scale flips it)

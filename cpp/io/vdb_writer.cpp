@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The only file that includes OpenVDB: see vdb_writer.h for what a frame file holds.
 #include "io/vdb_writer.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Writes one simulation frame as an OpenVDB file (the cache format Blender, Houdini and
 // Mantaflow read). This layer knows dense arrays, grids and files only, never the solver: the

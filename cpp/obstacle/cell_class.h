@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The seed paper's four cell classes (values shared with shaders/common.glsl).
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Turns the solid mask into the seed's four cell classes and the pressure stages' neighbour
 // mask (one GPU pass over the grid, or over the region of it a step asks for).

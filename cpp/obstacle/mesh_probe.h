@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A rigid closed triangle mesh voxelized on the GPU every step by ray parity along z
 // (see triangle_mesh.h for the rule), in three stages:

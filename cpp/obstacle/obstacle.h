@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A solid body in the grid. Each step it writes which cells it covers (R8UI solid mask) and the
 // rigid velocity at their centres (RGBA32F, m/s); the fluid reads those without knowing the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A TriangleMesh on the GPU for the ray-parity stages that obstacle::MeshProbe and
 // emitter::MeshEmitter share: its local vertices and triangles (uploaded once per mesh), the

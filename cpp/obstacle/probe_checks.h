@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Checks of a probe's pose and motion in a grid; each throws hf::InvalidArgument saying what to
 // change. The body must keep at least one whole fluid cell between itself and every wall, so the

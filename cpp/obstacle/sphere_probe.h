@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The seed's probe: a rigid sphere, voxelized on the GPU by cell centre.
 #include "fluid/grid.h"

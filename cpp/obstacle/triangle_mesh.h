@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A closed triangle mesh in its object's local frame (m) and its rigid pose in the world, with
 // the host-side checks that every mesh and pose pass before the GPU sees them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Which GL device the engine would use, without making a simulation.
 #include <pybind11/stl.h>
 

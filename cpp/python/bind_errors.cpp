@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Engine exceptions -> Python, one class each, so callers decide by type, never by message text:
 //   hf::Error                     -> HapticFluidError (a RuntimeError)
 //   hf::InvalidArgument           -> InvalidArgumentError (also a ValueError)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core Falcon: list_falcons, open_falcon, open_simulated_falcon, FalconDevice.
 // Argument conversion, docstrings and GIL release only.
 #include <pybind11/stl.h>

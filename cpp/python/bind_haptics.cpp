@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core haptics: Device (+ DeviceInfo, DeviceState), the virtual devices' factories
 // and HapticSession. Argument conversion, docstrings and GIL release only.
 #include <pybind11/numpy.h>

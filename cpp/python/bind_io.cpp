@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core.write_vdb and vdb_info: argument conversion, docstrings, GIL release.
 #include <pybind11/stl.h>
 

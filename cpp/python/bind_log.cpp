@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core log: delivers the engine's queued messages (common/log_sink.h) to Python's
 // logging, on the calling (host) thread with the GIL held. No logic beyond the hand-over.
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core settings as data: the enums (Advection, PressureSolver, SourceEmission,
 // ForceFilter), FluidSettings (session::SimulationConfig: grid, fluid, GL device) and
 // HapticSessionSettings (session::HapticSessionSettings). Names, units and conversions only: the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core.Simulation and StepReport: argument conversion, docstrings, GIL release.
 #include <pybind11/stl.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Shared declarations of the binding files: each area adds itself to the module.
 #include <pybind11/pybind11.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Conversions between engine types and Python objects (numpy arrays, tuples, dicts).
 #include <pybind11/numpy.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // numpy arrays -> the engine's mesh and pose types (shape and dtype checks only; the engine
 // validates the values).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // numpy conversion that keeps MemoryError. pybind11's array::ensure() and array_t::ensure()
 // return a null array on *any* failure and clear the Python error, so a copy that could not be

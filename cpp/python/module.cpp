@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hapticfluid._core: the private native module. Only calls the binding areas in order.
 #include "python/bindings.h"
 

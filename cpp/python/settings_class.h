@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Settings objects as Python classes: one typed property per setting over an engine settings
 // struct, so a setting's name, default (the struct's member initialiser) and check (the struct's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // FieldSnapshot: the fields a HapticSession's simulation thread read back right after one of
 // its steps, published whole (immutable once made) so the host can draw the newest one without

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // HapticSession: a Simulation touched through a haptic Device. Three threads:
 //   haptic thread (haptics::HapticLoop, 1 kHz): device -> pose mailbox; force mailbox ->

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The engine behind one narrow object. A Simulation owns a thread with its own headless GL
 // context (gl::GlWorker); every method posts its GPU work there and waits, so callers never

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // SimulationClaim: exclusive driving of a Simulation by one HapticSession. Two sessions on one
 // simulation would both move its probe every step (it jumps between their poses) and both read

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One simulation step on the GL thread, as a list of named stages: voxelize, classify, advect,
 // emit, forces, divergence, pressure, residual (when asked for), project, force. Each stage ends with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Touchable GPU fluids: a 3D smoke/fluid simulation on the GPU with a probe you can feel.
 
 The native engine lives in the private module ``hapticfluid._core``; this package re-exports

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid ...``: the command line (see :mod:`hapticfluid.cli`)."""
 
 import sys

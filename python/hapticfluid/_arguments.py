@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Name the argument a call got wrong.
 
 pybind11 answers a call whose arguments match none of a function's signatures with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """One place that turns a scene description into engine objects, for the bake, the Blender add-on's
 live session, the demo and the command lines alike:
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Command line of hapticfluid: ``python3 -m hapticfluid <command> ...``.
 
 Each subcommand is a pair of functions: ``_add_<name>(subparsers)`` declares its arguments and

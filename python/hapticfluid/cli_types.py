@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """argparse argument types shared by the command-line tools: each turns one word into a
 checked value or raises ``argparse.ArgumentTypeError`` with what was expected, so a bad
 argument is reported by argparse with the option's name and nothing runs."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The built-in demo scene: a rising smoke plume that a spherical probe sweeps through.
 
 A hot smoke source sits near the bottom centre of the box; heat buoyancy lifts the smoke into a

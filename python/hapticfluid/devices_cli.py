@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid devices``: the Novint Falcons plugged in, their state, and the
 virtual device kinds this build offers.
 

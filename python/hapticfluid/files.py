@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writing files so that a crash never leaves a half-written one.
 
 Every output of the package (demo CSV and PNG, bake manifest and checkpoint, benchmark JSON and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Ready-made paths for the simulated Falcon's hand (``open_simulated_falcon(hand_path=...)``):
 demos and tests move the probe with them, no hardware needed.
 

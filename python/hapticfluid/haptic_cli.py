@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid haptic``: a HapticSession run headless.
 
 A simulation is touched through a device (by default a scripted handle sweeping a built-in path

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Closed triangle meshes for mesh probes, tests and benchmarks (local frame, metres).
 
 Each function returns ``(vertices, triangles)``: float32 (N, 3) and int32 (M, 3), triangles

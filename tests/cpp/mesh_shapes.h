@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Closed triangle meshes for the mesh-probe tests (not a test itself: the CMake glob takes only
 // *.cpp): box, tetrahedron, icosphere, and a CPU point-in-mesh reference (generalised winding

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Semi-Lagrangian advection (advect.comp) against a CPU reference on a small odd grid with a
 // random velocity field: the midpoint back-trace with clamp-to-edge trilinear lookups, for the
 // three velocity components and for smoke and heat carried together (their decay and the

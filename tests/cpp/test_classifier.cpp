@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // SphereProbe::voxelize + Classifier::classify against a CPU reference of the rules, cell by
 // cell: solid mask, rigid velocity, the four cell classes and the neighbour mask.
 #include <gtest/gtest.h>

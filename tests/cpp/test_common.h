@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Helpers shared by the GoogleTest files of every layer, GL or not (test_util.h adds the GL
 // fixture; the haptics tests, which link no GL, include only this).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ComputeProgram: compile/link errors reported as "<file>:<line>", annotateLog on the log
 // formats of Mesa and NVIDIA, the embedded shader table, uniforms and dispatch coverage.
 #include <GL/gl.h>

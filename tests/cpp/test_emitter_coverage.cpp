@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // MeshEmitter's coverage (the fraction of each cell inside the posed source mesh) against a CPU
 // reference that samples the generalised winding number on the same sub-columns at many heights;
 // a box's exact coverage; smooth change of the covered volume as a box moves (no flicker); the

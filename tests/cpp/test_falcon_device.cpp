@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The whole Falcon driver (FTDI setup, firmware upload, homing, packets, kinematics) against the
 // simulated Falcon, and the libusb enumeration path on this machine.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Firmware upload through the simulated Falcon's bootloader, and the firmware file checks.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // FtdiSerial over a scripted transport: the exact control requests, status bytes stripped from
 // every IN packet, buffered reads, and reads that time out.
 #include <gtest/gtest.h>

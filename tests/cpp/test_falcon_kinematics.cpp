@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Falcon kinematics: inverse then forward over the workspace, Jacobian against finite
 // differences, virtual work, encoder scale, command scaling and clamping.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Falcon frame codec: known bytes, round trips, malformed frames, stream resynchronisation.
 #include <gtest/gtest.h>
 

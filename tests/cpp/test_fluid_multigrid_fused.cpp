@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The V-cycle's fused stages (issue 20) against the separate stages they replace, on odd grids
 // with a solid block, an open top and cut-cell face fractions: the coarsest solve in one
 // dispatch (mg_coarsest) against 4 x kCoarsestSweeps mg_smooth dispatches, the residual and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GlWorker / EglContext: a context on the worker's thread, what it reports, and how device
 // requests (argument or HAPTICFLUID_EGL_DEVICE) are honoured or rejected.
 #include <EGL/egl.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The EGL device choice and the free-memory figure as pure functions over device descriptions
 // (gl/device_choice.h), and the "hardware" request failing clearly on a machine without a GPU.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // What ComputeProgram::dispatch does after the dispatch: the barrier bits its program's writes
 // need (not GL_ALL_BARRIER_BITS), the dispatch and sync counters, and GL error checks only in
 // the debug mode (HAPTICFLUID_GL_DEBUG=1), which then names the stage.

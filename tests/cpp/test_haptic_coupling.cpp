@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Force at the haptic rate (issue 27): the local model identified from simulation steps
 // (FluidModel), the proxy coupled to the hand (VirtualCoupling), and the pipeline that renders
 // the model at 1 kHz between steps.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Virtual devices (scripted, host-driven, null) and the workspace map.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The seed's low-pass (bandwidth following the simulation rate) and the drag predictor.
 #include <gtest/gtest.h>
 

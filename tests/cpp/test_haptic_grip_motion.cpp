@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GripMotion: the velocity the passivity controller acts on, from the positions the loop reads.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Haptic playback (issue 31 item 3): the guide that pulls the grip along the played motion
 // (PlaybackGuide), rendered through the ForcePipeline at 1 kHz against a simulated hand, and the
 // HapticLoop that hands the fluid's probe to the played pose. The hand here is the simulated

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The engine's log queue (common/log_sink.h) as the haptic and simulation threads use it: bounded,
 // drops counted, never lost or duplicated under concurrent emitters, drained oldest first.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The 1 kHz HapticLoop on its thread, with stand-ins for the simulation. Timing is
 // never asserted tightly (a loaded 2-core machine): structure and generous bounds only.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lock-free hand-offs between threads: Mailbox (seqlock), TraceRing (SPSC), SampleWindow.
 #include <gtest/gtest.h>
 

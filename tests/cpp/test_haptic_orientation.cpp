@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Orientation through the haptics layer: the workspace map's mirror of a rotation and of an
 // angular velocity, and the host device's spin estimate from pushed quaternions.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The passivity observer and controller sample by sample, its place in the force pipeline, and
 // the default force gain from a device's rendering limits.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The safety stage, unit by unit and through the force pipeline, with injected faults.
 #include <gtest/gtest.h>
 

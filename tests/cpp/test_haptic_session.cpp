@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // HapticSession over a small simulation: both threads, the probe following the device, and a
 // device that goes away. Timing is never asserted tightly (structure and generous bounds).
 #include <gtest/gtest.h>

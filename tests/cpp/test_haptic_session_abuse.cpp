@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // HapticSession against what a user or a device can throw at it: probe speeds at and beyond
 // the simulation's limit, pose streams with jumps, far poses and floods, and a second session
 // on the same Simulation. Timing is never asserted (generous waits only).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // HapticSession's field snapshots (the simulation thread reads the fields back after its step;
 // the host takes the newest without the GPU) and the settings the session derives for the loop.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // MeshProbe::voxelize against a CPU point-in-mesh reference (generalised winding number) on
 // every cell of a small grid, for a box, a tetrahedron and an icosphere under translation,
 // rotation and non-uniform scale; the exact tie rule on columns through edges and vertices;

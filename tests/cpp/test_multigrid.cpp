@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The multigrid pressure solver: its transfer stages against CPU references on tiny grids of
 // odd sizes, the level sizes of resolutions that are not powers of two, and the whole solve
 // (conjugate gradient preconditioned by the V-cycle) reaching a relative residual of 1e-6,

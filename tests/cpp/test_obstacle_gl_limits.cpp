@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // In the obstacle test binary: it needs the mesh probe (the highest layer it includes).
 // GL limits the engine relies on that no error would show on llvmpipe: image units per program
 // (GL guarantees 8) and the shader storage block size (GL guarantees 128 MiB).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Cut cells of mesh probes (MeshProbe::writeFaceFractions): every face's open fraction is the
 // fluid share of the fine cells in its control volume (the cell-sized box centred on the face).
 // Known answers: an axis-aligned box whose sides lie between fine cell centres gives exactly the

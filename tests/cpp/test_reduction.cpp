@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The two-level GPU reductions: GroupReducer sums partials exactly for counts that are not
 // multiples of its 256-wide workgroup, and ForceReducer's surface sum gives the known
 // answers of closed voxel surfaces (zero net force of a uniform pressure, -rho g V of a

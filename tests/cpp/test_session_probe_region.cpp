@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // StepPipeline's probe region: a step that redoes only the cells the probe's move can change
 // leaves every field the same to the bit as a step that redoes the whole grid, through moves,
 // jumps, radius changes, the walls, cut cells and the open top switched, the probe removed and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // hf::session::Simulation end to end: every rejected setting throws hf::InvalidArgument naming
 // what is wrong, and the solver's known answers: Archimedes for a sphere at rest, the sign,
 // symmetry, linearity and added mass of the impulsive start of a moving sphere, the relative

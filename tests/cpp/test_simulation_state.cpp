@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Simulation checkpoint: saveState/restoreState continue bit-identically; bad states are refused
 // before anything changes.
 #include <gtest/gtest.h>

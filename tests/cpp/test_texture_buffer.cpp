@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Texture3D and StorageBuffer: exact round trips for every texel format, the x-fastest layout
 // the shaders see, zero-initialisation and clear(), and the errors for misuse.
 #include <GL/gl.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ForceReducer's torque and centroid: a voxel box in a hydrostatic field feels no torque about
 // its centroid (Archimedes acts at the centre of buoyancy) and (centroid - c) x F about any
 // other point c; a non-linear dynamic pressure field gives the face-by-face sum computed on the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The GL fixture shared by the GoogleTest files of the GL layers (not a test itself: the CMake
 // globs take only *.cpp), and the GL-free helpers of test_common.h.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The farm's bake task on a .blend: `python3 -m hapticfluid.farm bake` runs the add-on's
 bake_blend.py in Blender with the job's cache folder (not the .blend's own): a first chunk
 (`--until 2`), the rest continuing from its checkpoint (frames 1-2 not rewritten), and a re-queued

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A small stand-in for Flamenco Manager's job compiler runtime, for tests: it implements the
 // job-compiler API documented for Flamenco 3.5-3.7 (flamenco.blender.org/usage/job-types/) that a
 // job type script calls - the globals author.Task(name, type) and author.Command(type, params),

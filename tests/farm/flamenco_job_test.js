@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Flamenco job type run by node against flamenco_harness.js (Flamenco 3.5-3.7 job-compiler
 // API): the task graph and commands for a job written by `python3 -m hapticfluid.farm write`,
 // chunking of split frame ranges, and refusals. Usage: node flamenco_job_test.js JOB_TYPE.js PYTHON

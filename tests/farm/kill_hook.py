@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A farm worker that dies in the middle of writing a frame, for tests/farm/openjd_chain_test.py.
 
 Used as the job's Python (through a two-line shell wrapper the test writes):

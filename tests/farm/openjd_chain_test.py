@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A chained bake run with openjd-cli, a worker killed in the middle of a chunk, and the job
 completing with every frame identical to a single-task bake (issue 31, item 4).
 

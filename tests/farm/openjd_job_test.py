@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The OpenJD job end to end with openjd-cli: `openjd check` on the shipped template, then
 `openjd run` of the whole job (bake, then the render chunks) on a tiny scene in a temporary
 shared root, then the bake step again as a re-queued task (it must resume and write nothing).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: the Falcon's frame decoders and scanner on arbitrary bytes. Besides "no
 // crash, no sanitizer report", it checks what a decoder promises: anything decoded re-encodes to
 // the same values, and the scanner only ever hands out frames that decode.

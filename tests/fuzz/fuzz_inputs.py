@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Fuzz harnesses for the Python-facing inputs: the scene JSON, the pose CSV and the mesh checks.
 
 No atheris: a seeded random mutator over the seed corpus in tests/fuzz/corpus/<target>/ (byte

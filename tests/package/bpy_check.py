@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a Python that has Blender as a module (`bpy` from PyPI), never in the build tree.
 
     python bpy_check.py ORDER EXTENSION_ZIP WORK_DIR

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sourced by the package tests that run bpy: bpy_python_or_skip VERSION sets BPY_PY to the python
 # of a venv with bpy VERSION (bpy_venv.sh, installed once and cached); exits 77 (ctest SKIP) where
 # bpy cannot exist here and 1 where it should install and does not, the reason printed either way.

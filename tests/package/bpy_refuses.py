@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a Python that has bpy older than the manifest's blender_version_min (bpy 4.2.0, which
 would unpack the wrong wheel): Blender must refuse to install the extension zip, naming the
 version it needs, so no artist gets an add-on whose engine does not import.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Prints the python of a venv that has bpy BPY_VERSION (Blender as a Python module, from PyPI),
 # installing it once into ${HF_BPY_CACHE:-~/.cache/hapticfluid}/bpy-<version> (~0.4 GB; later
 # runs reuse it). The venv's CPython is the one that release's wheels are built for (3.11 for

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ctest package_versions: the project's one version, project(VERSION) in CMakeLists.txt, is the
 version that pyproject.toml's regex reads for the wheel, hapticfluid.__version__, the add-on's
 bl_info and blender_manifest.toml. Reads the files (no build needed).

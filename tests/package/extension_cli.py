@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Blender's `extension` command line (validate, server-generate, ...) from a Python that has bpy.
 
     python extension_cli.py validate EXTENSION_ZIP

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs in a Python that has Blender as a module (`bpy` from PyPI): the static extension repository
 that scripts/build_extension.sh writes, used as an artist uses it.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The extension zip in a Blender binary (not the bpy module): Blender's own validator, then
 # bpy_check.py run inside `blender --background --factory-startup` (bpy first: install, roles,
 # bake, Volume, live session on the simulated Falcon, Record, disable), user folders in a new

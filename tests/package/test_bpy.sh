@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest package_bpy_<version>: Blender as a Python module (bpy from PyPI) with the extension zip
 # that package_build put in PACKAGE_DIR/dist: Blender's validator accepts the zip, then
 # bpy_check.py runs twice in fresh processes (bpy imported first, then hapticfluid first):

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest package_bpy_refuses_<version>: a bpy older than the manifest's blender_version_min refuses
 # the extension zip and names the version it needs (bpy_refuses.py).
 #   bash test_bpy_refuses.sh BPY_VERSION PACKAGE_DIR

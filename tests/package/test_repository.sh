@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest package_repository_<bpy version>: the static extension repository. scripts/build_extension.sh
 # packs the wheels that package_build made into a zip and writes the repository (the zip and
 # index.json from Blender's own server-generate, run from this bpy), then repo_check.py adds the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest package_wheel_install_<tag>: the TAG wheel (cp311 or cp313) that package_build put in
 # PACKAGE_DIR/dist goes into a new virtual environment of that CPython (numpy from PyPI), then a process whose environment hides the build
 # tree (env -i, python -I, run from an empty folder) imports it, steps a 16^3 simulation,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Run by test_wheel_install.sh with `python -I` in an empty environment: the installed wheel
 imports from the venv, steps a 16^3 simulation, writes a VDB, and uses its vendored libraries."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Shared helpers of the pytest tier. Tests import the public package, never _core."""
 
 import contextlib

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The Python API: shapes, units, settings, errors and the GIL."""
 
 import math

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Every public function and method of the native module, every typed argument, a value of the
 wrong type: the TypeError names the argument and what it must be, never pybind11's generic
 "incompatible function arguments" (hapticfluid._arguments). The table is built from the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bad-input table: every public entry point gets every bad value of its argument's type.
 
 Each row is (entry point, argument name, a call that passes the bad value there). Each bad value

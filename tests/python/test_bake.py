@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bake: OpenVDB round trip, state checkpoint, trajectory, resume after SIGKILL, cache errors."""
 
 import json

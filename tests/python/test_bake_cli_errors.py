@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bake CLI turns every bad scene file, path and manifest into one clear error line (exit 2
 for the scene, 1 for the cache), never a traceback; write_vdb refuses a path with a NUL."""
 

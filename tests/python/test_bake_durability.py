@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Crash safety and resume bookkeeping of the bake cache (review fixes)."""
 
 import os

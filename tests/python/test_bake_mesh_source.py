@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bake with a mesh smoke source moved by keys (scene source.shape = "mesh"): the smoke lands
 along the source's path and nowhere else, each frame adds rate x volume x frame time, and a
 path that leaves the domain or an open mesh is refused before any frame is written."""

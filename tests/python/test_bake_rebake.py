@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Re-bake from any frame: checkpoints kept every K frames, a manifest that records what each
 frame consumed, and a resume that re-bakes only from the first frame whose inputs changed,
 starting at the latest kept checkpoint before it. Each case is compared bit for bit with a

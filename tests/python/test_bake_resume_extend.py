@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Resume extends a finished bake when the end frame is raised (the checkpoint matches the
 settings up to its own frame), and a change of settings is named and re-baked."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Ctrl-C on the bake CLI (issue 19): the first SIGINT stops after the substep, a second one stops
 at once; either way the process exits 130 with a message, never by the signal (-2) and never with
 a traceback, wherever the signals land: in a native step, while a frame (.vdb) or the checkpoint

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Resume checks the frames: a deleted or truncated frame file is found and rebaked (it used to
 stay missing while resume said "finished"), and `bake --verify` reports it without baking."""
 

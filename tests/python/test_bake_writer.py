@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bake's writer thread (bake/writer.py): frames written in order beside the stepping, a
 bounded queue, and a failed write surfacing as the bake's error naming the frame, with the
 cache left resumable to the same bits."""

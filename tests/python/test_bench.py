@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The benchmark command (python3 -m hapticfluid bench): structure of its tables and JSON.
 
 No timing thresholds: timings depend on the machine and its load. The checks are the shape of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The dispatch-floor measurement counts what it launches exactly, refuses bad arguments by name,
 and the ``floor`` benchmark section returns a well-formed table (its figures are not checked:
 speed lives in benchmarks, not tests)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The haptic benchmark section runs in quick mode and returns a well-formed table."""
 
 import json

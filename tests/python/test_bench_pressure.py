@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The pressure benchmark section runs (quick: small grids) and returns a well-formed,
 JSON-serialisable table whose rows say what each solver did (iterations, residuals); its
 times are not checked: speed lives in benchmarks, not tests."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The voxelize benchmark section runs and returns a well-formed, JSON-serialisable table
 (on a tiny grid here; its figures are not checked: speed lives in benchmarks, not tests)."""
 

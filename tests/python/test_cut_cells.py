@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Known answers of cut cells (Simulation.cut_cells: the sphere probe's ramp fractions, the mesh
 probe's fine control-volume fractions)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The demo scene (hapticfluid.demo) and the command line (python3 -m hapticfluid)."""
 
 import csv

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Warnings raised in C++ reach Python's `logging` on a logger per engine layer (issue 19): the
 engine's threads queue them (never taking the GIL) and the bindings deliver them on the host's
 thread after the calls that may have queued something, or when hf.flush_log() is called."""

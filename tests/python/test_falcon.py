@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The Falcon driver from Python: enumeration, the simulated Falcon through the whole driver,
 argument errors, and the `devices` command."""
 

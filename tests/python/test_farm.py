@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """hapticfluid.farm: the job writer (paths relative to the shared root, names the job files
 declare), frame chunks, the chained bake's OpenJD template, the bake task's command lines and the
 shipped job files."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Two farm workers handed the same bake task (shared storage): the cache's lock lets one bake
 and refuses the other with a message naming the cache, and the first still completes."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The short fuzz run of the Python-facing inputs (tests/fuzz/fuzz_inputs.py): the seed corpus and
 a few thousand seeded mutations each of the scene JSON, the pose CSV and the mesh checks must be
 accepted or refused with the documented error, never anything else. The long run (>= 10 M inputs

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Devices and sessions at the edges: a looped script whose time lands on its last waypoint,
 non-finite times, waypoints too close for a velocity, and one session per Simulation."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid haptic``: short headless runs write the trace CSV and its plot."""
 
 import csv

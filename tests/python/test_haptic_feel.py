@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What a hand feels of the fluid (issue 27): in the live demo's default scene (air, smoke source,
 r = 0.08 m sphere, 32^3, the simulated Falcon's workspace fitted to the domain, every setting at its
 default) with the hand doing the ``sweep`` gesture, the force on the hand is one a hand perceives

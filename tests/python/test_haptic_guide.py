@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Haptic playback from Python (HapticSession.set_guide / release_guide) on the simulated Falcon:
 the fluid's probe takes the played pose, the device leads a relaxed hand to it, a release hands
 the probe back to the grip. Timing is never asserted tightly (a loaded 2-core machine)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The passivity controller and the default force gain on a real HapticSession with the
 simulated Falcon (issue 18, item 4): without the controller the loop drives the hand into a
 limit cycle; with it the device delivers no net energy to the hand and the hand comes to rest.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Passive with a moving hand (issue 27, item 3): quick strokes of the simulated Falcon's hand
 (3-5 cm in 0.25-0.4 s, random directions, a dead stop, then rest) in the live demo's geometry
 (1 m domain, r = 0.08 m sphere, workspace fitted: scale 12.5) at 32^3, in air and in water, at

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Haptic devices and HapticSession from Python. Timing is never asserted tightly (a loaded
 2-core machine runs these): structure and generous bounds only."""
 

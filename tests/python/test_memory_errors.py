@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A numpy copy the bindings cannot allocate is a MemoryError, never a crash.
 
 pybind11's ensure() returned a null array on MemoryError and write_vdb used it: the issue's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Mesh probes and probe poses through the public API: round trips, copies, and a clear error
 (InvalidArgumentError saying what to change) for every kind of bad input, which changes nothing."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Mesh input limits are checked before the arrays are copied (review fix)."""
 
 import tracemalloc

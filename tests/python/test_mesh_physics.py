@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Known answers for mesh probes: Archimedes for a sphere mesh and a rotated box, no sideways
 force or torque on a symmetric body moving along an axis, a resisting torque on a paddle
 turning in still water (sized for llvmpipe on 2 cores)."""

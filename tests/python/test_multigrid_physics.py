@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Known answers of the multigrid pressure solver (pressure_solver='multigrid'), sized for
 llvmpipe on 2 cores: the discrete divergence after a converged solve, the added mass of a
 sphere started from rest against potential flow, and its convergence with resolution."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The chooser of OpenVDB's Python module: `pyopenvdb` (OpenVDB <= 10) or `openvdb` (11+)."""
 
 import sys

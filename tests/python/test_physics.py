@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Known answers of the solver (sized for llvmpipe on 2 cores)."""
 
 import numpy as np

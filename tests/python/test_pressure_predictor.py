@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The multigrid solve's predictor (issue 20): the previous pressure scaled by the alpha that
 minimises the starting residual, alpha = <b, A p> / <A p, A p>. Known answers: a warm start that
 is the solution times k starts at the solution's own residual (alpha = 1 / k), where the plain

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The pressure solve keeps its promise (issue 18 item 2): a warm start never starts worse than a
 cold one, tolerance mode reaches its tolerance or says it did not. Grids the other physics
 tests do not use (28^3, 20^3)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Property-based tests (hypothesis) of the mesh checks in set_mesh_probe: any closed, consistently
 oriented mesh that fits loads; any other input raises InvalidArgumentError (a ValueError) with a
 message, never anything else; a refused mesh leaves the previous probe in place."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Property-based tests (hypothesis) of the scene parser: any input either loads or raises the
 documented error, InvalidArgumentError (a ValueError), never anything else (no KeyError,
 TypeError, AttributeError, RecursionError, OverflowError...)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A host device that carries an orientation turns a HapticSession's mesh probe: the probe the
 session places (rotation from the pushed quaternion, scale from the start, angular velocity from
 successive pushes) is the probe a bake-like set_probe_pose of the same matrix gives, cell for cell

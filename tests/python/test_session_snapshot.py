@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """HapticSession field snapshots (drawn by the Blender add-on while a session runs) and the
 defaults the engine exports for the add-on."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The stale-force threshold follows the simulation's measured rate: a slow simulation's force
 reaches the hand between its frames (the stalled case fades: tests/cpp/test_haptic_loop.cpp)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Settings as data: FluidSettings and HapticSessionSettings are the engine's structs with its
 defaults and checks; a bad value names the setting; every engine error arrives as its own class."""
 

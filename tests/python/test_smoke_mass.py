@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Smoke and heat keep their totals under advection (fluid/scalar_conservation.h): known answers
 on grids the other physics tests do not use (20 x 20 x 30 cells of 2 cm)."""
 

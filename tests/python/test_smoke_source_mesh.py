@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A closed mesh as the smoke source (Simulation.set_smoke_source_mesh): its coverage against a CPU
 reference, the smoke a box source emits (known answers in 'hold' and 'rate' mode, still and
 moving), the pose setter, and refused input that changes nothing."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The soak (hapticfluid.bench.soak, issue 19): its period-by-period checks find what they look for,
 and a short run (20 s; the 10-minute one is in docs/BENCHMARKS.md) passes them all."""
 

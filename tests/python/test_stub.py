@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The shipped type stub names exactly what the native module offers."""
 
 import ast

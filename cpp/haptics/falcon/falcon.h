@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The Falcon folder's public header: find Falcons, open one, or open the simulated Falcon.
 // Layers below (each testable alone): usb_transport / libusb_transport (comm), ftdi_serial,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The Novint Falcon as a haptics Device: composes the transport (USB or simulated), FtdiSerial,
 // the firmware loader, the packet codec and the kinematics.

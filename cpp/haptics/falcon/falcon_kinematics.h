@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Kinematics of the Novint Falcon (pure math, no I/O): Stamper's parallel delta with the
 // libnifalcon parameters. Positions are in the device frame (m): the kinematic frame shifted so

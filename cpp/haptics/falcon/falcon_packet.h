@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The Falcon's 16-byte frames (test and nVent firmware share them): '<', 14 payload bytes, '>'.
 // Bytes 1-12: three int16 as 4 nibbles each, least significant first, nibble + 0x41 ('A'..'P').

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Firmware upload through the DSP's ROM serial bootloader (TI C28x), over FtdiSerial:
 //   1. purge RX/TX; latency 16 ms; baud divisor 0x4138 (9600); 8N1; no flow control

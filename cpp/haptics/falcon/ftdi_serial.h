@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // FTDI FT232R serial port over a UsbTransport: the vendor control requests (bmRequestType 0x40,
 // wIndex 0) and a byte stream without the 2 modem-status bytes that begin every 64-byte IN

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // UsbTransport over libusb-1.0: the Falcon's FT232R (0403:cb48), interface 0, bulk OUT 0x02,
 // bulk IN 0x81. Owns its libusb context and device handle (RAII). Every libusb failure becomes an

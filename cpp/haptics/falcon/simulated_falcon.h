@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A Novint Falcon simulated behind the USB transport, so the whole driver (FTDI setup, firmware
 // upload, homing, packets, kinematics) runs without hardware. It answers the FTDI requests (baud,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The byte transport under the Falcon driver: one USB device with a bulk OUT endpoint, a bulk IN
 // endpoint and vendor control requests. LibusbTransport talks to the cable; the simulated Falcon

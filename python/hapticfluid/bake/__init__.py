@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Baking: the probe's motion in, an OpenVDB frame sequence out (see docs/ARCHITECTURE.md).
 
     from hapticfluid.bake import load_scene, bake

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Where a bake's files go, and how each is written so that a kill never corrupts one.
 
 Layout (like Mantaflow's OpenVDB cache, so tools that know Blender's fluid caches find it)::

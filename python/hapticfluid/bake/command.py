@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid bake SCENE.json [--resume] [--resolution N] ...``.
 
 Bakes the scene (format: :mod:`hapticfluid.bake.scene`) into its cache folder and prints one

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bake loop: steps a Simulation along the probe's trajectory and writes one VDB per frame.
 
 Deterministic: the same scene gives bit-identical frames, whether baked in one go or stopped

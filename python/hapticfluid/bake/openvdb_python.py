@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """OpenVDB's own Python bindings, whichever name they are installed under.
 
 The package writes VDB files from C++ and never needs these bindings; tests and the Mantaflow

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Which frames of a cache still hold what the scene would bake now, and where a re-bake starts.
 
 The bake records, per frame, what the frame consumed beyond the global settings (the keys the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What a bake simulates and writes: the scene description (a JSON file or a dict).
 
 Format (JSON; every length in metres, times in seconds or frames; keys marked * are required)::

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The probe's motion for a bake: rigid transforms keyed at (possibly fractional) frames.
 
 A :class:`Trajectory` holds keys ``(frame, 4x4 matrix)`` in world metres. Between keys the

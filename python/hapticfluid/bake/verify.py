@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Checking a bake's frame files: does every frame the bake claims to have written still hold
 what it wrote?
 

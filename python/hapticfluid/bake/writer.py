@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bake's writer thread: frame n's files are written while the simulation steps frame n+1.
 
 The bake loop steps a frame, reads its state back once (``Simulation.state()``: copies owned by

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bake benchmark: seconds per frame and bytes per frame file at several resolutions, with and
 without half floats, for the demo bake scene (examples/bake_demo.json's plume + sweeping probe,
 built here so the benchmark does not depend on the source tree).

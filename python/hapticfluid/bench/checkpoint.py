@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section ``checkpoint``: what a bake's checkpoint costs at each resolution.
 
 For the benchmark scene at 64^3, 128^3 and 192^3 (quick: 16^3 and 24^3) after a step:

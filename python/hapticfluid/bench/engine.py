@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section ``engine``: steps per second and GPU milliseconds per stage of the whole
 simulation step, on the benchmark scene (plume + moving sphere probe, vorticity confinement),
 at 64^3, the seed paper's 100 x 100 x 70, 128^3 and 256^3, for every pressure solver in

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: what a hand feels in the live demo's default scene (issue 27).
 
 The add-on's live demo (scripts/live_demo.py): a 1 m domain of air (1.2 kg/m^3, gravity), a hot

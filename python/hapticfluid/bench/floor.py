@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section ``floor``: the least a step can cost on this device, from what it launches.
 
 A step is a list of compute dispatches; on Mesa's llvmpipe every launched invocation costs CPU

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section "force_roughness": how smooth the force on a moving probe is.
 
 The scene of issue 18: a 1 m cube of water (no gravity), a sphere of radius 0.09 m moving at a

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: the haptic loop's rate, period jitter and pose-to-force latency.
 
 Scenarios: the loop idle (session paused: no simulation work beside it) and with a simulation

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section ``mantaflow``: Blender's built-in Mantaflow smoke against this engine on the
 same scene, machine and run, in two comparisons: the step loop (:mod:`hapticfluid.bench.mantaflow_loop`:
 one step and a ``density()`` read-back per frame on the seed paper's 100 x 100 x 70 grid) and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The ``mantaflow`` section's second comparison: the bake as a user runs it.
 
 ``python3 -m hapticfluid bake SCENE.json`` (a fresh process: interpreter start, module import,

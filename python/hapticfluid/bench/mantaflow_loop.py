@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The ``mantaflow`` section's first comparison: Blender's built-in Mantaflow smoke against this
 engine's step loop on the same scene, machine and run, and what both comparisons share (running
 Mantaflow in Blender, the columns, the median of the rounds).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Blender-side half of the ``mantaflow`` benchmark section: builds the benchmark scene as a
 Mantaflow gas simulation, bakes it and writes what it measured as JSON.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The benchmark plot: wall ms per step against cell count, one line per pressure solver, from
 the engine section's results (log-log, with the seed's 30 FPS and the haptic 1 kHz lines).
 

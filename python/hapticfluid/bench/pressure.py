@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section "pressure": Jacobi against multigrid-preconditioned CG.
 
 For each grid, identical simulations (a sphere probe moving through a rising hot plume in a

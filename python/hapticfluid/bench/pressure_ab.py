@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Before/after of the pressure solve (issue 20): two builds of the ``hapticfluid`` package
 stepping the same scene in turns, each in a fresh process, so a machine whose speed drifts
 affects both alike. A measurement helper, not a benchmark section.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section ``readback``: what it costs to get results off the GPU.
 
 - ``force``: the force reduction over the probe's bounding box (the step's ``force`` stage, GL

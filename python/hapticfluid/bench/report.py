@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What every benchmark section shares: the section format, the table printer, machine facts,
 statistics and the atomic JSON writer.
 

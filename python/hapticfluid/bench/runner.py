@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid bench``: run the benchmark sections, print a table for each, write
 all results (with the machine's description) to one JSON file.
 

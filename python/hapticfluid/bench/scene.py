@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The benchmark scene: a hot smoke plume rising from a sphere source near the floor, vorticity
 confinement on, and a sphere probe swinging along x through the plume at mid height. The
 engine, read-back and Mantaflow sections all use it, so their figures describe the same work.

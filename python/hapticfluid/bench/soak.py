@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Soak: haptic sessions with the simulated Falcon and an abusive pose stream for minutes, checked
 period by period (issue 19).
 

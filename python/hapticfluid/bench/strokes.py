@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: is the rendering passive with a hand that moves (issue 27, item 3)?
 
 Quick strokes of the simulated Falcon's hand (3-5 cm in 0.25-0.4 s, random directions, a dead

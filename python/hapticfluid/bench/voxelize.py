@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark section ``voxelize``: GPU time to voxelize a moving closed triangle mesh.
 
 A UV sphere of 1k, 10k and 100k triangles (radius 0.3 m, in a 1 m box) is set as the mesh

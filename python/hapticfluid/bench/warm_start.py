@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Why the pressure solve's warm start helps or not (issue 20): a measurement helper, not a section.
 
 For a scene (the bake scene: the seed's box closed, 24 fps, one step per frame; or the haptic

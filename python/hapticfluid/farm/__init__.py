@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bake on a farm: the bake as a job for Open Job Description (Deadline Cloud, ``openjd``) and
 Flamenco, with the paths on shared storage.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``python3 -m hapticfluid.farm bake|write ...``: the farm job's bake task, and the job writer.
 
 * ``bake --root ROOT SCENE --resolution N --cache CACHE [--until LAST]``: the bake task, or one

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The bake task of a farm job: ``python3 -m hapticfluid.farm bake --root ROOT SCENE --resolution N
 --cache CACHE [--until LAST]``.
 

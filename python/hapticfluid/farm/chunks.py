@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The render task's arguments and checks, without Blender (the task itself runs inside Blender:
 addon/hapticfluid_blender/farm_render.py):
 

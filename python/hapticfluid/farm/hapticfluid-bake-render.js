@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Flamenco job type "hapticfluid-bake-render": bake a hapticfluid scene on a GPU worker, then
 // render the baked frames in chunks. With bake_chunk_size N > 0 the bake is a chain of tasks of N
 // frames ("bake-1-24", "bake-25-48", ...), each depending on the one before and continuing from
