@@ -24,74 +24,20 @@ Any failure raises, so Blender exits 1."""
 import math
 import time
 
-import bpy
-
-from support import check, cube, empty_file, set_roles, uv_sphere
+from playback import distance_to_polyline, keys, play, record, record_frames_1_to_48, start
+from playback import new_scene as _new_scene
+from support import check
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
 
-FPS = 24
-CENTRE = (0.5, 0.5, 0.5)
 CELL_M = 1.0 / 16           # the preview grid's cell (16^3 over 1 m)
 GRIP_TOLERANCE_M = 0.02     # the grip from the keys, world m (2 mm in the Falcon at its scale of 10)
 JUMP_TOLERANCE_M = 0.01     # the object's jump at A, world m
-CHANNELS = ("location", "rotation_euler")
 
 
 def new_scene(gesture):
-    scene = empty_file()
-    domain = cube(1.0, CENTRE, "Domain")
-    probe = uv_sphere(0.08, CENTRE, "Probe")
-    bake = set_roles(scene, domain, probe, None)
-    bake.probe_shape = "SPHERE"
-    bake.pressure_iterations = 10
-    live = scene.hapticfluid_live
-    live.auto_resolution = False
-    live.resolution = 16
-    live.device = "SIMULATED_FALCON"
-    live.hand_gesture = gesture
-    live.record_rate = FPS
-    scene.render.fps, scene.render.fps_base = FPS, 1.0
-    scene.frame_start, scene.frame_end = 1, 60
-    bpy.context.view_layer.update()
-    return scene, probe
-
-
-def start(scene, warm_s):
-    run = live_ops.start(scene)
-    run.controller.wait_started()
-    run.controller.timeline_playing = lambda: False  # still while the hand homes
-    end = time.monotonic() + warm_s
-    while time.monotonic() < end:
-        live_ops.tick(run)
-        time.sleep(live_ops.TICK_S)
-    run.controller.timeline_playing = lambda: True  # the test plays the timeline (play())
-    return run
-
-
-def play(run, frames, each=None):
-    scene = run.controller.scene
-    for frame in frames:
-        t = time.monotonic()
-        scene.frame_set(frame)
-        if live_ops.tick(run) == "stopped":
-            raise AssertionError(f"the session stopped: {run.controller.report}")
-        if each is not None:
-            each(frame)
-        time.sleep(max(0.0, 1.0 / FPS - (time.monotonic() - t)))
-
-
-def record():
-    check(bpy.ops.hapticfluid.live_record() == {"FINISHED"}, "Record runs")
-
-
-def keys(probe):
-    out = {}
-    for fc in live_session.object_fcurves(probe):
-        if fc.data_path in CHANNELS:
-            out[(fc.data_path, fc.array_index)] = [live_session.key_state(p) for p in fc.keyframe_points]
-    return out
+    return _new_scene("SIMULATED_FALCON", gesture)
 
 
 def key_at(probe, frame):
@@ -99,25 +45,9 @@ def key_at(probe, frame):
     return [curves.find("location", index=i).evaluate(frame) for i in range(3)]
 
 
-def distance_to_polyline(p, points):
-    best = math.inf
-    for a, b in zip(points, points[1:] or points):
-        ab = [b[i] - a[i] for i in range(3)]
-        n = sum(c * c for c in ab)
-        w = 0.0 if n == 0.0 else max(0.0, min(1.0, sum((p[i] - a[i]) * ab[i] for i in range(3)) / n))
-        best = min(best, math.dist(p, [a[i] + w * ab[i] for i in range(3)]))
-    return best
-
-
 def record_a_sweep():
     scene, probe = new_scene("SWEEP")
-    run = start(scene, warm_s=1.0)
-    scene.frame_set(1)
-    live_ops.tick(run)
-    record()
-    play(run, range(2, 49))
-    record()
-    live_ops.stop_all()
+    record_frames_1_to_48(scene, still_while_warming=True)
     xs = [key_at(probe, f)[0] for f in range(1, 49)]
     check(max(xs) - min(xs) > 0.2, f"a sweep along x recorded over 1-48 ({min(xs):.3f} .. {max(xs):.3f} m)")
     return scene, probe
@@ -129,7 +59,7 @@ def feel_the_played_sweep_then_punch_in():
     live = scene.hapticfluid_live
     live.hand_gesture = "RELAXED"
     check(live.feel_playback, "Feel Playback is on by default")
-    run = start(scene, warm_s=2.5)  # past the homing gesture and the force's 2 s ramp-in
+    run = start(scene, warm_s=2.5, still_while_warming=True)  # past the homing gesture and the force's 2 s ramp-in
     c = run.controller
     session, sim = c.session, c.engine.sim
     check(session.stats()["guide_weight"] == 0.0, "no guide before the timeline plays the keys")

@@ -33,76 +33,15 @@ import time
 
 import bpy
 
-from support import check, cube, empty_file, set_roles, uv_sphere
+from playback import (CENTRE, CHANNELS, FPS, distance_to_polyline, keys, new_scene, play, record,
+                      record_frames_1_to_48, start)
+from support import check
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
 from hapticfluid_blender import live_ops, live_session  # noqa: E402
 
-FPS = 24
-CENTRE = (0.5, 0.5, 0.5)
 RADIUS_M = 0.1          # the Timeline test's circle (0.2 m across)
 PATH_TOLERANCE_M = 0.002
-CHANNELS = ("location", "rotation_euler")
-
-
-def new_scene(device, gesture="REST", source=False):
-    """A 1 m domain cube (corner at the origin), a sphere probe at its centre (and a smoke source
-    at its floor), 16^3, 24 fps."""
-    scene = empty_file()
-    domain = cube(1.0, CENTRE, "Domain")
-    probe = uv_sphere(0.08, CENTRE, "Probe")
-    smoke = uv_sphere(0.08, (0.5, 0.5, 0.15), "Source") if source else None
-    bake = set_roles(scene, domain, probe, smoke)
-    bake.probe_shape = "SPHERE"
-    bake.pressure_iterations = 10
-    live = scene.hapticfluid_live
-    live.auto_resolution = False
-    live.resolution = 16
-    live.device = device
-    live.hand_gesture = gesture
-    live.record_rate = FPS
-    scene.render.fps, scene.render.fps_base = FPS, 1.0
-    scene.frame_start, scene.frame_end = 1, 60
-    bpy.context.view_layer.update()
-    return scene, probe
-
-
-def start(scene, warm_s=0.0):
-    run = live_ops.start(scene)
-    run.controller.wait_started()
-    run.controller.timeline_playing = lambda: True  # the test plays the timeline (play())
-    end = time.monotonic() + warm_s
-    while time.monotonic() < end:
-        live_ops.tick(run)
-        time.sleep(live_ops.TICK_S)
-    return run
-
-
-def play(run, frames, each=None):
-    """Shows each frame for 1/FPS s of wall time, ticking as Blender's timers would."""
-    scene = run.controller.scene
-    for frame in frames:
-        t = time.monotonic()
-        scene.frame_set(frame)
-        if live_ops.tick(run) == "stopped":
-            raise AssertionError(f"the session stopped: {run.controller.report}")
-        if each is not None:
-            each(frame)
-        time.sleep(max(0.0, 1.0 / FPS - (time.monotonic() - t)))
-
-
-def record():
-    check(bpy.ops.hapticfluid.live_record() == {"FINISHED"}, "Record runs")
-
-
-def keys(probe):
-    """{(path, index): [key_state, ...]} of the probe's location and rotation F-curves."""
-    fcurves = live_session.object_fcurves(probe)
-    out = {}
-    for fc in fcurves:
-        if fc.data_path in CHANNELS:
-            out[(fc.data_path, fc.array_index)] = [live_session.key_state(p) for p in fc.keyframe_points]
-    return out
 
 
 def key_points(probe, lo, hi):
@@ -110,16 +49,6 @@ def key_points(probe, lo, hi):
     fcurves = live_session.object_fcurves(probe)
     columns = [{p.co.x: p.co.y for p in fcurves.find("location", index=i).keyframe_points} for i in range(3)]
     return [(f, tuple(columns[i][f] for i in range(3))) for f in sorted(columns[0]) if lo - 1e-6 <= f <= hi + 1e-6]
-
-
-def distance_to_polyline(p, points):
-    best = math.inf
-    for a, b in zip(points, points[1:] or points):
-        ab = [b[i] - a[i] for i in range(3)]
-        n = sum(c * c for c in ab)
-        w = 0.0 if n == 0.0 else max(0.0, min(1.0, sum((p[i] - a[i]) * ab[i] for i in range(3)) / n))
-        best = min(best, math.dist(p, [a[i] + w * ab[i] for i in range(3)]))
-    return best
 
 
 def unchanged_outside(before, after, lo, hi, what):
@@ -202,13 +131,7 @@ def timeline_record_keys_what_plays():
 
 def record_a_sweep_over_frames_1_to_48(source=False):
     scene, probe = new_scene("SIMULATED_FALCON", "SWEEP", source=source)
-    run = start(scene, warm_s=1.0)  # past the 0.6 s homing gesture
-    scene.frame_set(1)
-    live_ops.tick(run)
-    record()
-    play(run, range(2, 49))
-    record()
-    live_ops.stop_all()
+    record_frames_1_to_48(scene)
     taken = key_points(probe, 1, 48)
     xs = [p[0] for _, p in taken]
     check([f for f, _ in taken] == [float(f) for f in range(1, 49)], f"the sweep keyed at frames 1-48 ({len(taken)})")
