@@ -445,17 +445,9 @@ void addHaptics(py::module_& m) {
         py::arg("simulation"), py::arg("device"), py::arg("settings") = py::none(), py::keep_alive<1, 2>());
   c.def_property_readonly("settings", [](const HapticSession& s) { return s.settings(); },
                           "The HapticSessionSettings in use (a copy; force_gain None when derived: stats() has it).");
-  // Started sessions join a WeakSet on the module; an atexit hook stops those still running
-  // before the interpreter tears down (their threads must not outlive the objects they use).
-  py::module_ weakref = py::module_::import("weakref");
-  m.attr("_live_haptic_sessions") = weakref.attr("WeakSet")();
-  const auto start = [m](const py::object& self) {
-    m.attr("_live_haptic_sessions").attr("add")(self);
-    auto& s = self.cast<HapticSession&>();
-    py::gil_scoped_release release;
-    s.start();
-  };
-  c.def("start", start, "Start the haptic and simulation threads (once). Returns at once.");
+  // (Sessions still running when the interpreter ends are stopped by hapticfluid/_lifetime.py.)
+  c.def("start", &HapticSession::start, py::call_guard<py::gil_scoped_release>(),
+        "Start the haptic and simulation threads (once). Returns at once.");
   c.def("pause", &HapticSession::pause, py::call_guard<py::gil_scoped_release>(),
         "Force down to zero at slew_rate (8 N at 200 N/s: 40 ms); the simulation holds after its\n"
         "current step.");
@@ -488,8 +480,12 @@ void addHaptics(py::module_& m) {
   c.def("release_guide", &HapticSession::releaseGuide, py::call_guard<py::gil_scoped_release>(),
         "Let go of the played pose: the guide fades out over guide_ramp and the probe goes back to the grip.");
   addSessionReadings(c);
-  c.def("__enter__", [start](const py::object& self) {
-    if (self.cast<HapticSession&>().state() == session::SessionState::Idle) start(self);
+  c.def("__enter__", [](const py::object& self) {
+    auto& s = self.cast<HapticSession&>();
+    if (s.state() == session::SessionState::Idle) {
+      py::gil_scoped_release release;
+      s.start();
+    }
     return self;
   }, "Starts the session if it has not started.");
   c.def("__exit__", [](HapticSession& s, const py::object& exc_type, const py::object&, const py::object&) {
@@ -504,17 +500,6 @@ void addHaptics(py::module_& m) {
     }
     s.stop();
   });
-
-  py::module_::import("atexit").attr("register")(py::cpp_function([m]() {
-    for (py::handle h : py::list(m.attr("_live_haptic_sessions"))) {
-      auto& s = h.cast<HapticSession&>();
-      py::gil_scoped_release release;
-      try {
-        s.stop(30.0);
-      } catch (const Error&) {  // exiting: the error was available through .error
-      }
-    }
-  }));
 }
 
 }  // namespace hf::python

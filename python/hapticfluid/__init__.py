@@ -15,8 +15,10 @@ Example::
 
 from hapticfluid import _core
 from hapticfluid._arguments import install as _name_bad_arguments
+from hapticfluid._lifetime import install as _stop_sessions_at_exit
 
 _name_bad_arguments(_core)  # a wrong argument type is named, not pybind11's "incompatible function arguments"
+_stop_sessions_at_exit(_core)  # no session thread outlives the interpreter
 
 from hapticfluid._core import (  # noqa: E402  (after the wrapping: these are the wrapped functions)
     CELL_BOUNDARY,
