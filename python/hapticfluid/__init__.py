@@ -13,8 +13,14 @@ Example::
     print(report.force)   # newtons on the probe
 """
 
+import numpy as _numpy
+
 from hapticfluid import _core
-from hapticfluid._arguments import install as _name_bad_arguments
+from hapticfluid._compat import check_numpy as _check_numpy
+
+_check_numpy(_numpy.__version__, _core._PYBIND11_VERSION)  # wrong arrays otherwise: refused, said why
+
+from hapticfluid._arguments import install as _name_bad_arguments  # noqa: E402
 from hapticfluid._lifetime import install as _stop_sessions_at_exit
 
 _name_bad_arguments(_core)  # a wrong argument type is named, not pybind11's "incompatible function arguments"
