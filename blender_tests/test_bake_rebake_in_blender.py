@@ -75,6 +75,8 @@ def main():
     check(entry.kind == "complete", f"after Resume the cache is up to date: {entry.text!r}")
 
     s.vorticity = 0.9
+    check(cache_plan.current(scene) is None and cache_bar.runs(scene) == [(1, 24, "outdated")],
+          "a changed setting: the old plan ('up to date') is not shown before the new one is made")
     entry = cache_plan.refresh(scene)
     check(entry.kind == "settings" and entry.text == "fluid.vorticity changed: re-bake every frame, 1-24",
           f"a changed setting outdates every frame: {entry.text!r}")

@@ -33,9 +33,8 @@ def runs(scene):
     baked_range as one run (while baking, before a plan is made, or when a setting changed since
     the bake: that outdates every frame, known at once); [] for nothing."""
     s = roles.settings_of(scene)
-    entry = cache_plan.get(scene)
-    if s.domain is not None and not s.is_baking and entry is not None and entry.runs \
-            and not properties.changed_cache_inputs(scene, s):
+    entry = cache_plan.current(scene)
+    if s.domain is not None and not s.is_baking and entry is not None and entry.runs:
         return [r for r in entry.runs if r[2] in COLOURS]
     found = baked_range(scene)
     return [found] if found is not None else []

@@ -39,6 +39,18 @@ def get(scene):
     return _plans.get(scene.name) if scene is not None else None
 
 
+def current(scene):
+    """The scene's last plan while it still applies: None also when a bake setting changed since
+    the bake (properties.changed_cache_inputs, known at once, while the plan is made again only
+    after the edits pause), since that outdates every frame, as the panel's warning says."""
+    from . import properties
+
+    entry = get(scene)
+    if entry is None or properties.changed_cache_inputs(scene, roles.settings_of(scene)):
+        return None
+    return entry
+
+
 def refresh(scene):
     """Make the scene's plan now (main thread). Returns the Entry (also kept for get())."""
     global _refreshing

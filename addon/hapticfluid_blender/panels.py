@@ -50,8 +50,9 @@ PLAN_ICONS = {"complete": "CHECKMARK", "inputs": "ERROR", "settings": "ERROR", "
 
 def draw_plan(layout, context):
     """What Resume would do now (cache_plan.py): 'Probe keys changed from frame 80: re-bake
-    80-120 from the checkpoint at 72', or that every frame is up to date."""
-    entry = cache_plan.get(context.scene)
+    80-120 from the checkpoint at 72', or that every frame is up to date; nothing after a changed
+    setting (the warning above says the whole cache is out of date)."""
+    entry = cache_plan.current(context.scene)
     if entry is None or not entry.text:
         return
     text = entry.text[:1].upper() + entry.text[1:]
