@@ -292,11 +292,10 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
                             scene.frame_end if until is None else until)
 
 
-def _start_state(scene: BakeScene, cache_dir: Path, plan: _plan.RebakePlan, ledger: _plan.InputsLedger,
-                 say: Callable[[str], None]) -> Tuple[Optional[int], Optional[Dict[str, Any]]]:
+def _start_state(fingerprint: Dict[str, Any], cache_dir: Path, plan: _plan.RebakePlan,
+                 ledger: _plan.InputsLedger, say: Callable[[str], None]) -> Tuple[Optional[int], Optional[Dict[str, Any]]]:
     """(frame, state) of the latest usable checkpoint the plan allows, or (None, None) to start
     from rest. A checkpoint that fails its checks is reported and the one before it tried."""
-    fingerprint = scene.fingerprint()
     for frame in reversed(plan.checkpoints):
         path = _plan.checkpoint_file(cache_dir, frame)
         try:
@@ -344,7 +343,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     keep_old = plan.kind not in ("fresh", "settings")
     resumed_from, state = (None, None)
     if keep_old and plan.checkpoint_frame >= scene.frame_start:
-        resumed_from, state = _start_state(scene, cache_dir, plan, ledger, say)
+        resumed_from, state = _start_state(fingerprint, cache_dir, plan, ledger, say)
         if resumed_from is None:
             say(f"no usable checkpoint before frame {write_from}: the bake replays from frame {scene.frame_start}")
 

@@ -165,20 +165,7 @@ def rebake_plan(scene: BakeScene, check_files: bool = True, ledger: Optional[Inp
 
 def _damaged_frames(cache_dir: Path, frames: range, records: Dict[int, Dict[str, Any]],
                     check_files: bool) -> Dict[int, str]:
-    if check_files:
-        return dict(_verify.verify_frames(cache_dir, frames, records).damaged)
-    out = {}
-    for f in frames:
-        path = _cache.frame_path(cache_dir, f)
-        try:
-            size = path.stat().st_size
-        except OSError:
-            out[f] = "missing"
-            continue
-        expected = records.get(f, {}).get("bytes")
-        if expected is not None and size != expected:
-            out[f] = f"truncated or changed: {size} bytes, the bake wrote {expected}"
-    return out
+    return dict(_verify.verify_frames(cache_dir, frames, records, read=check_files).damaged)
 
 
 def usable_checkpoints(cache_dir: Path, before: int) -> Tuple[int, ...]:

@@ -41,12 +41,19 @@ def frame_record(path: "str | os.PathLike") -> Dict[str, Any]:
     return {"bytes": size, "sha256": digest.hexdigest()}
 
 
-def frame_problem(cache_dir: "str | os.PathLike", frame: int, record: Optional[Dict[str, Any]]) -> Optional[str]:
-    """None if frame ``frame``'s file is sound (see the module), else what is wrong with it."""
+def frame_problem(cache_dir: "str | os.PathLike", frame: int, record: Optional[Dict[str, Any]],
+                  read: bool = True) -> Optional[str]:
+    """None if frame ``frame``'s file is sound (see the module), else what is wrong with it.
+    read=False: only that it exists with its recorded size (no read: cheap enough for a panel)."""
     path = _cache.frame_path(cache_dir, frame)
     if not path.is_file():
         return "missing"
     try:
+        if not read:
+            size = path.stat().st_size
+            expected = (record or {}).get("bytes")
+            return None if expected is None or size == expected else \
+                f"truncated or changed: {size} bytes, the bake wrote {expected}"
         if record is None:
             with open(path, "rb") as f:
                 head = f.read(len(VDB_MAGIC))
@@ -96,11 +103,11 @@ def records_of(manifest: Optional[Dict[str, Any]]) -> Dict[int, Dict[str, Any]]:
 
 
 def verify_frames(cache_dir: "str | os.PathLike", frames: Iterable[int],
-                  records: Dict[int, Dict[str, Any]]) -> VerifyReport:
+                  records: Dict[int, Dict[str, Any]], read: bool = True) -> VerifyReport:
     report = VerifyReport()
     for frame in frames:
         record = records.get(frame)
-        problem = frame_problem(cache_dir, frame, record)
+        problem = frame_problem(cache_dir, frame, record, read)
         report.checked.append(frame)
         report.recorded += record is not None
         if problem is not None:
