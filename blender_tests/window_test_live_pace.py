@@ -10,7 +10,10 @@ dragged along a circle (0.2 m across, a timer moving it as a drag would) in the 
    path performed and from the circle);
 5. ``wall``: the probe held past the engine's clamp at a wall for 4 s (the arrow's base is
    checked against the drawn probe at every redraw of phases 3-5: within a cell);
-6. ``plain`` again (the machine's load drifts: the no-session rate is the mean of 1 and 6).
+6. ``shared``: the session again with Viewport First off (the simulation's threads at the
+   viewport's priority: the cores shared equally), the side-by-side answer to what the default's
+   lower simulation priority buys the viewport and costs the simulation;
+7. ``plain`` again (the machine's load drifts: the no-session rate is the mean of 1 and 7).
 
 Viewport redraws/s are counted by a POST_PIXEL draw handler in the 3D view. The figures are
 printed and written to out/live_pace_<resolution>.json (HAPTICFLUID_OUT_DIR). Lenient bounds for a loaded
@@ -328,6 +331,21 @@ def step():
               f"{1e3 * counter['arrow_off_m']:.2f} mm off over {counter['arrow_checked']} redraws; a cell is "
               f"{1e3 * cell_m:.0f} mm)")
         check(bpy.ops.hapticfluid.live_stop() == {"FINISHED"}, "Stop runs")
+        live.viewport_first = False
+        bpy.data.objects["Probe"].location = circle_point(time.monotonic())  # back from the wall
+        check(invoke(bpy.ops.hapticfluid.live_start) == {"RUNNING_MODAL"}, "a session with Viewport First off starts")
+        next_phase("shared_warmup")
+    elif phase == "shared_warmup":
+        if run is None:
+            fail(f"the session ended: {live.status}")
+        if run.controller.state == "running" and run.controller.last_sequence >= 1 and elapsed() > WARMUP_S:
+            next_phase("shared")
+    elif phase == "shared" and elapsed() >= MEASURE_S:
+        if run is None:
+            fail(f"the session ended while measured: {live.status}")
+        measured("session_shared", **session_stats(run))
+        check(bpy.ops.hapticfluid.live_stop() == {"FINISHED"}, "Stop runs")
+        live.viewport_first = True
         live_ops.clear_kept_drawings()
         next_phase("plain_again_warmup")
     elif phase == "plain_again_warmup" and elapsed() > 2.0:
@@ -351,6 +369,10 @@ def report():
                    window_cpu_ms_per_redraw_plain=cpu_plain, window_cpu_ms_per_redraw_session=cpu_session,
                    window_cpu_ms_per_redraw_mantaflow=rows["mantaflow"]["window_cpu_ms_per_redraw"],
                    sim_hz=rows["session"]["sim_hz"], latency_p50_ms=rows["session"]["latency_p50_ms"],
+                   shared_redraw_hz=rows["session_shared"]["redraw_hz"],
+                   shared_over_plain=rows["session_shared"]["redraw_hz"] / plain,
+                   shared_sim_hz=rows["session_shared"]["sim_hz"],
+                   shared_latency_p50_ms=rows["session_shared"]["latency_p50_ms"],
                    record_keys_per_s=rows["record"]["keys_per_s"], phases=rows,
                    when=time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()))
     path = os.path.join(out_dir(), f"live_pace_{RESOLUTION}.json")
@@ -361,7 +383,9 @@ def report():
           f"{session:.2f} ({session / plain:.0%} of no session, {session / manta:.0%} of Mantaflow); the window's CPU "
           f"per redraw {cpu_plain:.0f} ms without the session, {cpu_session:.0f} ms with it; sim "
           f"{summary['sim_hz']:.1f} Hz, latency p50 {summary['latency_p50_ms']:.0f} ms; Record "
-          f"{summary['record_keys_per_s']:.1f} keys/s; written to {path}", flush=True)
+          f"{summary['record_keys_per_s']:.1f} keys/s; Viewport First off: {summary['shared_redraw_hz']:.2f} "
+          f"redraws/s ({summary['shared_over_plain']:.0%} of no session), sim {summary['shared_sim_hz']:.1f} Hz, "
+          f"latency p50 {summary['shared_latency_p50_ms']:.0f} ms; written to {path}", flush=True)
     check(cpu_session <= CPU_RATIO_MAX * cpu_plain,
           f"a redraw with the session costs the window {cpu_session / cpu_plain:.2f}x the CPU of one without "
           f"(<= {CPU_RATIO_MAX})")

@@ -69,6 +69,11 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     resolution: IntProperty(name="Preview Resolution", default=32, min=8, max=512, soft_max=128,
                             description="Cells along the domain's longest edge during the live session "
                                         "(the bake has its own)")
+    viewport_first: BoolProperty(
+        name="Viewport First", default=True,
+        description="On a CPU GL device (no usable GPU), the simulation runs at a lower priority so Blender's "
+                    "drawing keeps its pace; it steps slower when both want the cores. Off: they share the cores "
+                    "equally. No effect on a GPU")
     auto_workspace: BoolProperty(
         name="Fit Workspace", default=True,
         description="Map the device's workspace onto the domain: uniform scale so it fits, its middle at the "

@@ -62,6 +62,7 @@ class LivePlan:
     show_temperature: bool = False
     hand_gesture: str = "rest"         # the simulated Falcon's hand (hapticfluid.hand_gestures)
     feel_playback: bool = True         # Falcon modes: guide the grip along the keys played (set_guide)
+    viewport_first: bool = True        # on a CPU GL device the simulation yields the cores to drawing
 
 
 @dataclass
@@ -170,7 +171,7 @@ def read_plan(scene) -> LivePlan:
         probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
         auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
         firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower(),
-        feel_playback=live.feel_playback)
+        feel_playback=live.feel_playback, viewport_first=live.viewport_first)
 
 
 def _box_text(lo, hi) -> str:
@@ -199,11 +200,12 @@ class _Engine:
 
         self.device = self._open_device(hf, plan)
         size = [plan.domain_hi[i] - plan.domain_lo[i] for i in range(3)]
-        res = plan.resolution
-        if res is None:
-            res = preview_resolution(bool(hf.probe_device().get("software", True)))
+        software = bool(hf.probe_device().get("software", True))
+        res = plan.resolution if plan.resolution is not None else preview_resolution(software)
         try:
-            settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid)
+            settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid,
+                                               thread_niceness=assembly.live_thread_niceness(software,
+                                                                                             plan.viewport_first))
         except (hf.InvalidArgumentError, TypeError) as exc:
             raise SessionError(_fix_first(str(exc))) from None
         source = None

@@ -1,12 +1,61 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "gl/gl_worker.h"
 
+#include <algorithm>
+#include <set>
+
+#include "common/thread_priority.h"
+
 namespace hf::gl {
 
-GlWorker::GlWorker(const std::string& device_request) {
+namespace {
+
+#if defined(__linux__)
+// The GL driver's own worker threads (llvmpipe's rasterizer and compute pools): started while a
+// GL worker made the process's first context on a display, and shared from then on by every
+// context on it (displays are never terminated). A new thread seen across a context's creation
+// is the driver's when it carries the worker's name (inherited) or llvmpipe's; Blender's threads
+// (its own GL's llvmpipe threads started long before) never match.
+constexpr const char* kWorkerName = "hf-gl";
+std::mutex g_driver_threads_mutex;
+std::set<int> g_driver_threads;
+
+void noteDriverThreads(const std::vector<int>& before) {
+  std::lock_guard<std::mutex> lock(g_driver_threads_mutex);
+  for (int tid : threadIds()) {
+    if (std::find(before.begin(), before.end(), tid) != before.end() || tid == currentThreadId()) continue;
+    const std::string name = threadName(tid);
+    if (name.rfind(kWorkerName, 0) == 0 || name.rfind("llvmpipe", 0) == 0) g_driver_threads.insert(tid);
+  }
+}
+
+// Gives the driver's threads this thread's niceness: they run this worker's GL work. They are
+// shared, so they keep the niceness of the last worker that asked for a lower priority.
+std::string lowerDriverThreads() {
+  const int niceness = threadNiceness(currentThreadId());
+  std::lock_guard<std::mutex> lock(g_driver_threads_mutex);
+  const std::vector<int> alive = threadIds();
+  for (auto it = g_driver_threads.begin(); it != g_driver_threads.end();) {
+    if (std::find(alive.begin(), alive.end(), *it) == alive.end()) {
+      it = g_driver_threads.erase(it);
+      continue;
+    }
+    if (threadNiceness(*it) < niceness) {
+      const std::string refused = setThreadNiceness(*it, niceness);
+      if (!refused.empty()) return "driver thread " + std::to_string(*it) + ": " + refused;
+    }
+    ++it;
+  }
+  return "";
+}
+#endif
+
+}  // namespace
+
+GlWorker::GlWorker(const std::string& device_request, int niceness) {
   std::promise<void> ready;
   std::future<void> started = ready.get_future();
-  thread_ = std::thread([this, device_request, &ready] { loop(device_request, ready); });
+  thread_ = std::thread([this, device_request, niceness, &ready] { loop(device_request, niceness, ready); });
   try {
     started.get();
   } catch (...) {
@@ -32,11 +81,23 @@ void GlWorker::post(std::function<void()> job) {
   wake_.notify_one();
 }
 
-void GlWorker::loop(const std::string& device_request, std::promise<void>& ready) {
+void GlWorker::loop(const std::string& device_request, int niceness, std::promise<void>& ready) {
+  std::string refused = lowerCurrentThreadPriority(niceness);
+#if defined(__linux__)
+  nameCurrentThread(kWorkerName);
+  const std::vector<int> before = threadIds();
+#endif
   std::unique_ptr<EglContext> context;
   try {
     context = std::make_unique<EglContext>(device_request);
     info_ = context->info();
+#if defined(__linux__)
+    noteDriverThreads(before);
+    if (refused.empty() && niceness > 0) refused = lowerDriverThreads();
+#endif
+    if (!refused.empty()) {
+      info_.warning += (info_.warning.empty() ? "" : "; ") + ("lower thread priority not applied: " + refused);
+    }
   } catch (...) {
     ready.set_exception(std::current_exception());
     return;

@@ -20,7 +20,9 @@ namespace hf::gl {
 class GlWorker {
  public:
   // Starts the thread and creates the context on it; rethrows the context's creation error.
-  explicit GlWorker(const std::string& device_request = "");
+  // `niceness` (0..19) makes the thread, and the threads the driver starts from it (llvmpipe's
+  // workers), that much nicer than the caller; a refusal is noted in info().warning.
+  explicit GlWorker(const std::string& device_request = "", int niceness = 0);
   // Runs the queued work, destroys the context on its thread, then joins.
   ~GlWorker();
   GlWorker(const GlWorker&) = delete;
@@ -40,7 +42,7 @@ class GlWorker {
 
  private:
   void post(std::function<void()> job);
-  void loop(const std::string& device_request, std::promise<void>& ready);
+  void loop(const std::string& device_request, int niceness, std::promise<void>& ready);
 
   std::thread thread_;
   std::mutex mutex_;

@@ -72,7 +72,7 @@ Simulation(settings, vorticity=0.2)) set the settings of the same names. A value
 type raises TypeError naming the setting, a value the engine refuses InvalidArgumentError; the
 grid's settings are checked together when the Simulation is made.
 )doc",
-                                    [](const SimulationConfig& c) { fluid::validate(c.params); });
+                                    [](const SimulationConfig& c) { session::validate(c); });
   c.field<IVec3>("resolution", [](const SimulationConfig& c) { return py::make_tuple(c.resolution.x, c.resolution.y, c.resolution.z); },
                  [](SimulationConfig& c, const IVec3& r) { c.resolution = glm::ivec3(r[0], r[1], r[2]); },
                  "Cells per axis (nx, ny, nz), each >= 8.")
@@ -85,6 +85,11 @@ grid's settings are checked together when the Simulation is made.
       .field<std::string>("device", [](const SimulationConfig& c) { return c.device; },
                           [](SimulationConfig& c, const std::string& d) { c.device = d; },
                           "GL device: '' (HAPTICFLUID_EGL_DEVICE or auto: a hardware GPU first), 'software' or an EGL device number.")
+      .field<int>("thread_niceness", [](const SimulationConfig& c) { return c.thread_niceness; },
+                  [](SimulationConfig& c, int n) { c.thread_niceness = n; },
+                  "0..19: how much nicer (Linux niceness) the simulation's GL thread and its driver's threads "
+                  "run than the caller; 0 shares the cores equally, more lets an interactive thread (Blender's "
+                  "drawing on a CPU GL device) go first.")
       .field<float>("fluid_density", [](const SimulationConfig& c) { return c.params.density_kg_m3; },
                     [](SimulationConfig& c, float v) { c.params.density_kg_m3 = v; },
                     "rho (kg/m^3): 1.2 for air, 1000 for water.")

@@ -492,6 +492,7 @@ a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can
         cfg.origin_m = s.grid().origin_m;
         cfg.params = s.params();
         cfg.device = s.deviceInfo().device_index >= 0 ? std::to_string(s.deviceInfo().device_index) : std::string();
+        cfg.thread_niceness = s.threadNiceness();
         return cfg;
       },
       "The FluidSettings in use now (a copy; the GL device as the EGL device number in use).");

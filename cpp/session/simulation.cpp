@@ -9,6 +9,7 @@
 #include "common/log_sink.h"
 #include "common/finite.h"
 #include "common/format.h"
+#include "common/thread_priority.h"
 #include "fluid/grid_checks.h"
 #include "fluid/hydrostatic.h"
 #include "fluid/validate.h"
@@ -21,11 +22,21 @@ namespace hf::session {
 
 std::size_t Simulation::stepReadbackBytes() { return StepPipeline::kResultSlots * sizeof(glm::vec4); }
 
+void validate(const SimulationConfig& config) {
+  fluid::validate(config.params);
+  if (config.thread_niceness < 0 || config.thread_niceness > kMaxNicenessIncrement) {
+    throw InvalidArgument("thread_niceness must be 0 to " + std::to_string(kMaxNicenessIncrement) +
+                          " (how much nicer the simulation's threads run), got " +
+                          std::to_string(config.thread_niceness));
+  }
+}
+
 Simulation::Simulation(const SimulationConfig& config)
     : grid_(fluid::makeGrid(config.resolution, config.domain_size_m, config.origin_m)), params_(config.params) {
-  fluid::validate(params_);
+  validate(config);
   fluid::checkPressureTolerance(params_, grid_);
-  worker_ = std::make_unique<gl::GlWorker>(config.device);
+  worker_ = std::make_unique<gl::GlWorker>(config.device, config.thread_niceness);
+  thread_niceness_ = config.thread_niceness;
   info_ = worker_->info();
   fluid::checkFits(grid_, info_);
   pipeline_ = worker_->call([this] { return std::make_unique<StepPipeline>(grid_); });

@@ -35,7 +35,15 @@ struct SimulationConfig {
   glm::vec3 origin_m{0.0f};            // world position of the box's minimum corner, m
   fluid::FluidParams params;
   std::string device;                  // EGL device request ("" = HAPTICFLUID_EGL_DEVICE or auto)
+  // How much nicer (0..19, Linux niceness) the simulation's GL thread and its driver's threads run
+  // than the thread that makes the Simulation: 0 shares the cores equally; a live session beside
+  // Blender's drawing on a CPU (llvmpipe) device asks for more, so the viewport keeps its pace.
+  int thread_niceness = 0;
 };
+
+// The checks of a SimulationConfig that need no grid or device: the fluid's parameters and
+// thread_niceness (the grid is checked when the Simulation is made).
+void validate(const SimulationConfig& config);
 
 struct StepReport {
   glm::vec3 force_n{0.0f};             // fluid force on the probe, N
@@ -93,6 +101,7 @@ class Simulation {
   Simulation& operator=(const Simulation&) = delete;
 
   const gl::ContextInfo& deviceInfo() const { return info_; }
+  int threadNiceness() const { return thread_niceness_; }  // as made with (SimulationConfig)
   const fluid::Grid& grid() const { return grid_; }
 
   fluid::FluidParams params() const;
@@ -179,6 +188,7 @@ class Simulation {
   std::mutex gpu_mutex_;
   std::atomic<bool> closed_{false};
   std::unique_ptr<gl::GlWorker> worker_;
+  int thread_niceness_ = 0;
   std::unique_ptr<StepPipeline> pipeline_;  // the GL objects; lives and dies on the worker's thread
 };
 

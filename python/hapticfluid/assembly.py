@@ -58,15 +58,31 @@ def grid(domain_size: Sequence[float], resolution: int) -> Grid:
     return Grid(cells, h, tuple(n * h for n in cells))
 
 
+# A live session's simulation beside Blender's drawing on a CPU GL device (llvmpipe): its threads
+# run this much nicer, so the viewport's threads go first when both want the cores (CFS weights
+# 1024 : 110 at niceness 0 : 10). Measured by blender_tests/window_test_live_pace.py.
+VIEWPORT_FIRST_NICENESS = 10
+
+
+def live_thread_niceness(software: bool, viewport_first: bool) -> int:
+    """The simulation's ``thread_niceness`` in a live session: VIEWPORT_FIRST_NICENESS when the GL
+    device is software (the simulation computes on the same cores Blender draws with) and the user
+    wants the viewport first; 0 on a GPU (the simulation's threads mostly wait for the GPU there, and
+    a nicer one would only wait longer for a busy main thread) or when asked to share equally."""
+    return VIEWPORT_FIRST_NICENESS if (software and viewport_first) else 0
+
+
 def fluid_settings(origin: Sequence[float], domain_size: Sequence[float], resolution: int,
-                   fluid: Optional[Mapping[str, Any]] = None, device: str = "") -> "hf.FluidSettings":
+                   fluid: Optional[Mapping[str, Any]] = None, device: str = "",
+                   thread_niceness: int = 0) -> "hf.FluidSettings":
     """A FluidSettings for a domain box (minimum corner ``origin``, edges ``domain_size``, m) with
     ``resolution`` cells along its longest edge, the fluid's settings by FluidSettings' names
-    (the engine's defaults for the rest) and the GL device request. The residual is not measured
-    (the bake and the live session never read it)."""
+    (the engine's defaults for the rest), the GL device request and how much nicer the
+    simulation's threads run (``thread_niceness``, 0..19). The residual is not measured (the bake
+    and the live session never read it)."""
     g = grid(domain_size, resolution)
     s = hf.FluidSettings(resolution=g.cells, domain_size=g.size, origin=tuple(float(x) for x in origin),
-                         device=device, compute_residual=False)
+                         device=device, compute_residual=False, thread_niceness=thread_niceness)
     for name, value in (fluid or {}).items():
         setattr(s, name, tuple(value) if isinstance(value, list) else value)
     return s

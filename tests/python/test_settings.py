@@ -29,6 +29,45 @@ def test_fluid_settings_are_the_engines_defaults_and_a_simulation_keeps_them():
     assert given.vorticity == pytest.approx(0.25)
 
 
+def _thread_niceness():
+    """{thread id: (name, niceness)} of this process's threads (/proc)."""
+    import os
+    out = {}
+    for tid in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{tid}/stat") as f:
+                stat = f.read()
+            with open(f"/proc/self/task/{tid}/comm") as f:
+                name = f.read().strip()
+        except OSError:
+            continue
+        out[int(tid)] = (name, int(stat[stat.rindex(")") + 2:].split()[16]))
+    return out
+
+
+def test_thread_niceness_lowers_the_simulations_threads_and_the_drivers_only():
+    """A live session beside Blender's drawing on llvmpipe asks for nicer simulation threads
+    (hapticfluid.assembly.live_thread_niceness). The GL worker ("hf-gl") and the driver's threads it
+    computes on (llvmpipe's, made when the process's first context was: probe_device's here, at
+    niceness 0) get it; the caller's thread keeps its own."""
+    hf.probe_device()  # the driver's threads start here, at the caller's niceness
+    with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=7)) as sim:
+        sim.step(0.01)
+        threads = _thread_niceness()
+        assert sim.settings.thread_niceness == 7
+        workers = [n for name, n in threads.values() if name.startswith("hf-gl")]
+        assert workers and all(n >= 7 for n in workers), threads
+        lp = [n for name, n in threads.values() if name.startswith("llvmpipe")]
+        if sim.device["software"]:
+            assert lp and all(n >= 7 for n in lp), threads
+        import threading
+        assert threads[threading.get_native_id()][1] < 7, threads
+    with pytest.raises(hf.InvalidArgumentError, match="thread_niceness must be 0 to 19.*got 20"):
+        hf.FluidSettings(thread_niceness=20)
+    with pytest.raises(TypeError, match="thread_niceness"):
+        hf.FluidSettings(thread_niceness="low")
+
+
 @pytest.mark.parametrize("cls, name, value, error, words", [
     (hf.FluidSettings, "pressure_solver", "cg", hf.InvalidArgumentError, ["pressure_solver", "'jacobi'", "'multigrid'"]),
     (hf.FluidSettings, "advection", 3, hf.InvalidArgumentError, ["advection", "'semi_lagrangian'", "'maccormack'"]),
