@@ -14,7 +14,7 @@ import bpy
 
 from support import check, cube, empty_file, set_roles, uv_sphere
 
-from hapticfluid_blender import live_ops, live_session  # noqa: E402  (support put the add-on on sys.path)
+from hapticfluid_blender.live import live_ops, live_session  # noqa: E402  (support put the add-on on sys.path)
 
 FPS = 24
 CENTRE = (0.5, 0.5, 0.5)

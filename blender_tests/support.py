@@ -148,7 +148,7 @@ def settings(scene=None):
     """The scene's roles and settings as the add-on reads them (roles.settings_of): ``domain``,
     ``probe``, ``source`` are the objects holding the roles (assigning moves a role), the other
     names the settings of the role that owns them."""
-    from hapticfluid_blender import roles
+    from hapticfluid_blender.properties import roles
 
     return roles.settings_of(scene or bpy.context.scene)
 
@@ -156,7 +156,7 @@ def settings(scene=None):
 def set_roles(scene, domain, probe, source=None):
     """Give the objects their hapticfluid roles, as the Physics tab stores them (each object's
     ``hapticfluid.role``, one object per role); returns ``settings(scene)``."""
-    from hapticfluid_blender import roles
+    from hapticfluid_blender.properties import roles
 
     for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):
         if obj is not None:

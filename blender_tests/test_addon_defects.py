@@ -21,7 +21,10 @@ import bpy
 from support import SOURCE_DIR as SOURCE, bake_scene, check, cube, refused, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import blender_scene, panels, physics_panels, prefs, properties, volume  # noqa: E402
+from hapticfluid_blender.bake import blender_scene  # noqa: E402
+from hapticfluid_blender.properties import object_props  # noqa: E402
+from hapticfluid_blender.render import volume  # noqa: E402
+from hapticfluid_blender.ui import panels, physics_panels, prefs  # noqa: E402
 
 
 class Recorder:
@@ -171,7 +174,7 @@ def command_line_failure(tmp):
     s.domain = None  # the bake must fail
     path = os.path.join(tmp, "no_domain.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
-    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
+    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake", "bake_blend.py")
     run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", "--python-use-system-env", path,
                           "--python-exit-code", "1",
                           "--python", script], capture_output=True, text=True, timeout=300)
@@ -215,18 +218,18 @@ def bake_cycle(tmp):
           "changing Render Density after the bake updates the material (Cycles' and EEVEE's shaders) and the "
           "viewport density together")
     check(s.domain.display_type == "WIRE" and s.domain.hide_render, "the domain shows as a wire frame after the bake")
-    check(properties.changed_cache_inputs(scene, s) == [], "right after the bake the cache is up to date")
+    check(object_props.changed_cache_inputs(scene, s) == [], "right after the bake the cache is up to date")
     scene.frame_set(3)  # playing the timeline does not change the inputs
-    check(properties.changed_cache_inputs(scene, s) == [], "moving the timeline keeps the cache up to date")
+    check(object_props.changed_cache_inputs(scene, s) == [], "moving the timeline keeps the cache up to date")
 
     s.frame_end = 3  # raise End and Resume: the bake is extended
-    check(properties.changed_cache_inputs(scene, s) == [], "raising End alone does not put the cache out of date")
+    check(object_props.changed_cache_inputs(scene, s) == [], "raising End alone does not put the cache out of date")
     check(bpy.ops.hapticfluid.bake_resume() == {"FINISHED"}, f"Resume after raising End: {s.status}")
     check(os.path.exists(os.path.join(tmp, "cycle", "data", "fluid_data_0003.vdb"))
           and s.volume_object.data.frame_duration == 3, "Resume baked frame 3 and the Volume shows frames 1..3")
 
     s.vorticity = 0.9
-    check(properties.changed_cache_inputs(scene, s) == ["Vorticity"], "a changed fluid setting is named")
+    check(object_props.changed_cache_inputs(scene, s) == ["Vorticity"], "a changed fluid setting is named")
     labels = " ".join(draw(panels.HAPTICFLUID_PT_bake).labels())
     check("Bake again" in labels and "cache is out of date" in labels and "Vorticity" in labels,
           f"the panel says the cache is out of date: {labels}")
@@ -238,7 +241,7 @@ def bake_cycle(tmp):
     check(bpy.ops.hapticfluid.bake_resume() == {"FINISHED"}
           and "fluid.vorticity changed: re-bake every frame, 1-3" in s.status,
           f"Resume after a changed setting re-bakes every frame and says why: {s.status}")
-    check(properties.changed_cache_inputs(scene, s) == [], "after it the cache is up to date")
+    check(object_props.changed_cache_inputs(scene, s) == [], "after it the cache is up to date")
     s.is_baking, s.progress = True, 0.25
     layout = draw(panels.HAPTICFLUID_PT_bake)
     bars = [(kw, owner) for kind, kw, owner in layout.log if kind == "prop" and kw["name"] == "progress"]
@@ -259,8 +262,8 @@ def bake_cycle(tmp):
     check(s.volume_object is None and not any(o.type == "VOLUME" for o in bpy.data.objects),
           "Free removed the Volume object showing the deleted frames")
     check(s.domain.display_type == "TEXTURED" and not s.domain.hide_render, "Free restored the domain's display")
-    check(properties.changed_cache_inputs(scene, s) == [], "no cache, nothing out of date")
-    check("invoke" in vars(hapticfluid_blender.bake_ops.HAPTICFLUID_OT_bake_free),
+    check(object_props.changed_cache_inputs(scene, s) == [], "no cache, nothing out of date")
+    check("invoke" in vars(hapticfluid_blender.operators.bake_ops.HAPTICFLUID_OT_bake_free),
           "Free has an invoke (invoke_confirm: it asks before deleting when clicked)")
 
 
@@ -279,7 +282,7 @@ def sub_panels():
     check(found == expected, f"the roles' sub-panels: {found}")
     fluid = draw(physics_panels.SUB_PANELS["HAPTICFLUID_PT_domain_fluid"], domain)
     names = {kw["name"]: kw for kind, kw, _ in fluid.log if kind == "prop"}
-    ui = properties.ui_name
+    ui = object_props.ui_name
     check("kg/m³" in ui("fluid_density") and "m/s²" in names["gravity"]["text"]
           and "(K)" in ui("source_temperature") and "(Pa)" in ui("write_pressure"),
           "units: kg/m³, m/s², K, Pa")
@@ -297,6 +300,8 @@ def sub_panels():
 
 
 def missing_package():
+    check(prefs.HapticFluidPreferences.bl_idname == hapticfluid_blender.__name__,
+          f"the preferences are the add-on's, not its ui folder's: {prefs.HapticFluidPreferences.bl_idname}")
     saved = sys.modules.get("hapticfluid")
     sys.modules["hapticfluid"] = None  # import hapticfluid now raises ImportError
     try:

@@ -34,7 +34,7 @@ def main():
         check(bpy.ops.hapticfluid.bake.poll() and bpy.ops.hapticfluid.bake_resume.poll()
               and bpy.ops.hapticfluid.bake_free.poll(), "Bake, Resume and Free are usable again")
     hapticfluid_blender.unregister()
-    check(hapticfluid_blender.properties.clear_stale_bake_state not in bpy.app.handlers.load_post,
+    check(hapticfluid_blender.properties.object_props.clear_stale_bake_state not in bpy.app.handlers.load_post,
           "unregister removes the load handler")
 
 
@@ -53,7 +53,7 @@ def bake_blend_from_the_command_line():
     settings.domain = bpy.context.active_object
     settings.frame_start, settings.frame_end, settings.substeps, settings.resolution = 1, 1, 1, 8
     settings.pressure_iterations = 2
-    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
+    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake", "bake_blend.py")
     with tempfile.TemporaryDirectory() as tmp:
         settings.cache_dir = os.path.join(tmp, "cache")
         settings.is_baking = True  # saved in the middle of a bake

@@ -18,7 +18,8 @@ import bpy
 from support import bake_scene, check, cube, empty_file, ico_sphere, refused, settings, uv_sphere
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import cache_bar, legacy, panels, physics_panels, properties, roles  # noqa: E402
+from hapticfluid_blender.properties import legacy, object_props, roles  # noqa: E402
+from hapticfluid_blender.ui import cache_bar, panels, physics_panels  # noqa: E402
 
 
 class Recorder:
@@ -71,7 +72,7 @@ def set_role_operator():
     s.resolution, s.probe_shape = 40, "SPHERE"
     check(a.hapticfluid.domain_settings.resolution == 40 and pointer.hapticfluid.probe_settings.probe_shape == "SPHERE",
           "the view writes each setting onto the object holding its role")
-    check(s.source_density == properties.HapticFluidSourceSettings.bl_rna.properties["source_density"].default,
+    check(s.source_density == object_props.HapticFluidSourceSettings.bl_rna.properties["source_density"].default,
           "without a source, its settings read as their defaults")
     try:
         s.source_density = 2.0
@@ -168,7 +169,7 @@ def check_migrated(values, how):
         same = abs(got - want) <= 1e-6 * max(1.0, abs(want)) if isinstance(want, float) else got == want
         check(same, f"{how}: {key} kept ({got!r})")
     check(s.volume_object is not None and s.volume_object.name == "OldVolume", f"{how}: the Volume kept")
-    check(not s.is_baking and s.status == properties.INTERRUPTED_NOTE,
+    check(not s.is_baking and s.status == object_props.INTERRUPTED_NOTE,
           f"{how}: is_baking moved, then cleared as interrupted: {s.status!r}")
     check(not scene.is_property_set("hapticfluid_bake"), f"{how}: the old scene group is gone")
 

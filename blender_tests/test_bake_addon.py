@@ -32,7 +32,7 @@ def main():
     scene, s = build_scene(cache)
 
     # The pressure solver settings reach the bake's scene description.
-    from hapticfluid_blender import blender_scene
+    from hapticfluid_blender.bake import blender_scene
 
     s.pressure_solver, s.pressure_iterations = "MULTIGRID", 4
     fluid = blender_scene.scene_dict(scene, s)["fluid"]
@@ -102,7 +102,7 @@ def main():
     s.cache_dir = "//cli_cache"
     blend = os.path.join(tmp, "scene.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
-    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake_blend.py")
+    script = os.path.join(SOURCE, "addon", "hapticfluid_blender", "bake", "bake_blend.py")
     run = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", "--python-use-system-env", blend,
                           "--python-exit-code", "1",
                           "--python", script, "--", "--resolution", "16"],

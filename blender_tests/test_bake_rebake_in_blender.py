@@ -14,7 +14,9 @@ import bpy
 from support import bake_scene, check, finish, move_key
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import cache_bar, cache_plan, physics_panels, roles  # noqa: E402
+from hapticfluid_blender.bake import cache_plan  # noqa: E402
+from hapticfluid_blender.properties import roles  # noqa: E402
+from hapticfluid_blender.ui import cache_bar, physics_panels  # noqa: E402
 
 PATH = ((1, (0.3, 0.5, 0.55)), (10, (0.45, 0.5, 0.55)), (20, (0.6, 0.5, 0.5)), (24, (0.65, 0.5, 0.55)))
 

@@ -13,7 +13,7 @@ import numpy as np
 from mathutils import Vector
 
 from support import check
-from hapticfluid_blender import live_draw, live_draw_geometry as geometry  # noqa: E402
+from hapticfluid_blender.live import live_draw, live_draw_geometry as geometry  # noqa: E402
 
 
 def raises(call, word):

@@ -38,7 +38,7 @@ from playback import (CENTRE, CHANNELS, FPS, distance_to_polyline, keys, new_sce
 from support import check
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
 
 RADIUS_M = 0.1          # the Timeline test's circle (0.2 m across)
 PATH_TOLERANCE_M = 0.002
@@ -249,7 +249,7 @@ def rebake_after_a_punch_in():
 
     from hapticfluid.bake import rebake_plan, scene_from_dict
 
-    from hapticfluid_blender import blender_scene
+    from hapticfluid_blender.bake import blender_scene
     from support import frames_on_disk, remove_on_exit, settings
 
     scene, probe = record_a_sweep_over_frames_1_to_48(source=True)

@@ -24,7 +24,7 @@ import bpy
 from support import check, cube, empty_file, set_roles, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
 
 
 def new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1.2):
@@ -65,7 +65,7 @@ def register_twice():
         hapticfluid_blender.unregister()
         check(not hasattr(bpy.types.Scene, "hapticfluid_live"), "unregister removes them")
     hapticfluid_blender.register()
-    from hapticfluid_blender import live_panel
+    from hapticfluid_blender.live import live_panel
 
     check(live_panel.package_problem() is None, "the preferences find the package importable")
 
@@ -104,7 +104,7 @@ def simulated_falcon_moves_the_probe():
 def the_feel_choice_reaches_the_session():
     """Feel: Amplified (the derived gain, the default) or Physical 1:1, sent as the session's feel;
     the stats line puts what the hand feels against what the fluid gives."""
-    from hapticfluid_blender import live_panel
+    from hapticfluid_blender.live import live_panel
 
     scene, _domain, _probe = new_scene()
     live = scene.hapticfluid_live
@@ -360,7 +360,7 @@ def mouse_turns_a_mesh_probe_and_record_keys_the_rotation():
     # The pose the bake gives: the object's matrix_world (as performed: the keys now drive the
     # object, at the current frame the first one) to set_mesh_probe / set_probe_pose.
     import hapticfluid as hf
-    from hapticfluid_blender import blender_scene
+    from hapticfluid_blender.bake import blender_scene
 
     shape = blender_scene.probe_shape_dict(probe, "MESH")
     plan = c.plan
@@ -489,7 +489,7 @@ def bad_setups():
     sys.modules["hapticfluid"] = None  # what an uninstalled package looks like to `import`
     try:
         expect(lambda s, d, p: None, "not importable", first="Install the hapticfluid package")
-        from hapticfluid_blender import live_panel
+        from hapticfluid_blender.live import live_panel
 
         problem = live_panel.package_problem()  # what the preferences and the sidebar show
         check(problem is not None and problem.startswith("Install the hapticfluid package"),

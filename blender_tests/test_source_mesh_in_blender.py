@@ -51,7 +51,7 @@ def build(cache_dir):
 
 
 def check_export(scene, s, source):
-    from hapticfluid_blender import blender_scene
+    from hapticfluid_blender.bake import blender_scene
 
     data = blender_scene.scene_dict(scene, s)["source"]
     check(data["shape"] == "mesh" and len(data["triangles"]) == 12 and len(data["vertices"]) == 8,
@@ -139,7 +139,7 @@ def check_refused(s, source):
     empty = bpy.context.active_object
     empty.empty_display_size = 0.1
     s.source = empty
-    from hapticfluid_blender import blender_scene
+    from hapticfluid_blender.bake import blender_scene
 
     data = blender_scene.source_dict(s)
     check("shape" not in data and abs(data["radius"] - 0.1) < 1e-6 and np.allclose(data["centre"], (0.5, 0.5, 0.3)),

@@ -27,7 +27,8 @@ from support import (area as area_of, check, clear_objects, close_splash, cube, 
                      uv_sphere, window)
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import bake_ops, cache_bar, physics_panels  # noqa: E402
+from hapticfluid_blender.operators import bake_ops  # noqa: E402
+from hapticfluid_blender.ui import cache_bar, physics_panels  # noqa: E402
 
 FRAMES = 48
 OUT = out_dir("addon")

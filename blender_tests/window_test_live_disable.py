@@ -15,7 +15,8 @@ import bpy
 from support import check, drive, fail, finish, invoke, live_scene
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops, modal_guard  # noqa: E402
+from hapticfluid_blender.live import live_ops  # noqa: E402
+from hapticfluid_blender.operators import modal_guard  # noqa: E402
 
 state = {"phase": "start", "phase_t": time.time()}
 

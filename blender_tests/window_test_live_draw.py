@@ -23,8 +23,8 @@ from mathutils import Euler
 from support import (OVERLAY_ONLY_SCREENSHOTS, area, check, clear_objects, cube, drive, on_exit, out_dir, png_rgb,
                      region, screenshot as screenshot_to, uv_sphere, window)
 
-from hapticfluid_blender import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
-from hapticfluid_blender import live_draw_geometry as geometry  # noqa: E402
+from hapticfluid_blender.live import live_draw, live_draw_gpu  # noqa: E402  (registers nothing)
+from hapticfluid_blender.live import live_draw_geometry as geometry  # noqa: E402
 
 # The pictures compared here (texelFetch against texture(), scaled against full resolution) must
 # be marched at one pixel scale: no time budget (window_test_live_pace.py measures the budget).

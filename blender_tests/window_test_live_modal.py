@@ -13,9 +13,9 @@ import bpy
 from support import check, drive, fail, invoke, live_scene, region, settings, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops  # noqa: E402
+from hapticfluid_blender.live import live_ops  # noqa: E402
 
-from hapticfluid_blender import live_draw  # noqa: E402,F401  (an import failure fails the test)
+from hapticfluid_blender.live import live_draw  # noqa: E402,F401  (an import failure fails the test)
 state = {"phase": "start", "t0": time.time(), "phase_t": time.time(), "ticks": 0}
 
 
@@ -70,7 +70,7 @@ def step():
             n = len(recording.samples)
             check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record again ends it")
             probe = settings(scene).probe
-            from hapticfluid_blender import live_session
+            from hapticfluid_blender.live import live_session
 
             fc = live_session.object_fcurves(probe).find("location", index=0)
             keyed = running().controller.keys_written

@@ -39,7 +39,7 @@ from support import area, check, clear_objects, close_splash, cube, drive, fail,
     region, remove_on_exit, screenshot, set_roles, uv_sphere, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
 
 MEASURE_S = float(os.environ.get("HAPTICFLUID_PACE_SECONDS", "15"))
 RESOLUTION = int(os.environ.get("HAPTICFLUID_PACE_RESOLUTION", "32"))

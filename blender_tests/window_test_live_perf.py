@@ -18,7 +18,7 @@ import bpy
 from support import check, clear_objects, cube, drive, fail, ico_sphere, invoke, set_roles, uv_sphere
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops  # noqa: E402
+from hapticfluid_blender.live import live_ops  # noqa: E402
 
 RESOLUTIONS = (32, 48, 64)
 WARMUP_S = 4.0      # after the first snapshot: the rates settle

@@ -19,7 +19,7 @@ import bpy
 from support import check, drive, fail, invoke, live_scene, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
 
 CENTRE = (0.5, 0.5, 0.5)
 RADIUS_M = 0.1

@@ -17,7 +17,9 @@ from support import (area, check, clear_objects, close_splash, cube, drive, fini
                      uv_sphere)
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender import cache_bar, cache_plan, roles  # noqa: E402
+from hapticfluid_blender.bake import cache_plan  # noqa: E402
+from hapticfluid_blender.properties import roles  # noqa: E402
+from hapticfluid_blender.ui import cache_bar  # noqa: E402
 
 PATH = ((1, (0.3, 0.5, 0.55)), (10, (0.45, 0.5, 0.55)), (20, (0.6, 0.5, 0.5)), (24, (0.65, 0.5, 0.55)))
 OUT = out_dir("addon")

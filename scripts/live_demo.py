@@ -99,7 +99,7 @@ def build_scene():
     probe.location = (0.72, 0.5, 0.55)
     probe.keyframe_insert("location", frame=120)
     scene.frame_start, scene.frame_end, scene.frame_current = 1, 120, 1
-    from hapticfluid_blender import roles
+    from hapticfluid_blender.properties import roles
 
     for obj, role in ((domain, "DOMAIN"), (probe, "PROBE"), (source, "SOURCE")):
         roles.assign(scene, role, obj)  # the Physics tab's roles (scene.hapticfluid_bake is the pre-roles one)

@@ -5,7 +5,7 @@
         [--size 320 240] [--samples 16] [--density 30]
 
 Reads the cache's manifest for the domain and frame range and renders the frame in the add-on's
-render scene (hapticfluid_blender.render_scene, as the farm's render task does) with the probe
+render scene (hapticfluid_blender.render.render_scene, as the farm's render task does) with the probe
 drawn as a dark ball, to OUT.png.
 """
 
@@ -19,7 +19,7 @@ import bpy
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "addon"))
 
-from hapticfluid_blender import render_scene  # noqa: E402
+from hapticfluid_blender.render import render_scene  # noqa: E402
 
 
 def main(argv):

@@ -20,11 +20,14 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import bake_ops, cache_bar, cache_plan, farm_ops, legacy, live_ops, live_panel, live_props, panels, \
-    physics_panels, prefs, properties, roles, source_mesh  # noqa: E402  (bl_info first)
+from .bake import cache_plan, source_mesh  # noqa: E402  (bl_info first)
+from .live import live_ops, live_panel, live_props  # noqa: E402
+from .operators import bake_ops, farm_ops  # noqa: E402
+from .properties import legacy, object_props, roles  # noqa: E402
+from .ui import cache_bar, panels, physics_panels, prefs  # noqa: E402
 
 classes = (
-    *properties.classes,
+    *object_props.classes,
     legacy.HapticFluidBakeSettings,
     bake_ops.HAPTICFLUID_OT_bake,
     bake_ops.HAPTICFLUID_OT_bake_resume,
@@ -38,7 +41,7 @@ classes = (
     *live_panel.classes,
 )
 
-_LOAD_HANDLERS = (legacy.migrate_on_load, properties.clear_stale_bake_state, live_props.clear_stale_live_state)
+_LOAD_HANDLERS = (legacy.migrate_on_load, object_props.clear_stale_bake_state, live_props.clear_stale_live_state)
 
 
 def register():
@@ -49,8 +52,8 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     # a role change: its checks first (they may take the role back), then the source's visibility
-    properties.ROLE_CHANGED_HOOKS[:] = [roles.check_new_role, source_mesh.sync_render_visibility]
-    properties.attach()
+    object_props.ROLE_CHANGED_HOOKS[:] = [roles.check_new_role, source_mesh.sync_render_visibility]
+    object_props.attach()
     legacy.attach()
     live_props.attach()
     physics_panels.attach()
@@ -61,7 +64,7 @@ def register():
             bpy.app.handlers.load_post.append(handler)
     try:  # a file opened while the add-on was disabled: move its old settings onto the objects
         legacy.migrate()
-        properties.clear_stale_bake_state()  # re-enabled after a bake was cut short: none runs now
+        object_props.clear_stale_bake_state()  # re-enabled after a bake was cut short: none runs now
     except AttributeError:  # bpy.data is not readable while Blender starts; load_post clears it then
         pass
     live_ops.register()
@@ -83,7 +86,7 @@ def unregister():
     physics_panels.detach()
     live_props.detach()
     legacy.detach()
-    properties.detach()
-    properties.ROLE_CHANGED_HOOKS.clear()
+    object_props.detach()
+    object_props.ROLE_CHANGED_HOOKS.clear()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

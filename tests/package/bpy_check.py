@@ -135,7 +135,7 @@ def install_extension():
     result = bpy.ops.extensions.package_install_files(filepath=ZIP, repo="user_default", enable_on_install=True)
     check(result == {"FINISHED"}, f"the extension zip installs ({result})")
     check(EXTENSION_MODULE in bpy.context.preferences.addons, f"the add-on {EXTENSION_MODULE} is enabled")
-    prefs = importlib.import_module(EXTENSION_MODULE + ".prefs")
+    prefs = importlib.import_module(EXTENSION_MODULE + ".ui.prefs")
     check(prefs.unsupported_here() is None and prefs.package_problem() is None,
           "the add-on finds its engine loadable here (platform, Python, glibc)")
     py = f"cp{sys.version_info[0]}{sys.version_info[1]}"
@@ -183,7 +183,7 @@ def bake_through_operator(cache_dir):
         bpy.context.view_layer.objects.active = obj
         result = bpy.ops.hapticfluid.set_role(role=role)
         check(result == {"FINISHED"} and obj.hapticfluid.role == role, f"Set Role makes {obj.name} the {role} ({result})")
-    s = importlib.import_module(EXTENSION_MODULE + ".roles").settings_of(scene)  # the settings, through the roles
+    s = importlib.import_module(EXTENSION_MODULE + ".properties.roles").settings_of(scene)  # the settings, through the roles
     check((s.domain, s.probe, s.source) == (domain, probe, source), "the objects hold their roles")
     s.resolution, s.frame_start, s.frame_end, s.substeps = RES, 1, 3, 1
     s.cache_dir = cache_dir
@@ -214,7 +214,7 @@ def live_session_through_operators():
     ticks the Start operator's timer would make are made here, through the add-on's own tick."""
     import bpy
 
-    live_ops = importlib.import_module(EXTENSION_MODULE + ".live_ops")
+    live_ops = importlib.import_module(EXTENSION_MODULE + ".live.live_ops")
     scene = bpy.context.scene
     live = scene.hapticfluid_live
     live.device, live.hand_gesture = "SIMULATED_FALCON", "SWEEP"

@@ -205,7 +205,7 @@ def test_a_blend_scene_is_baked_by_the_add_ons_script_into_the_job_s_cache(tmp_p
     monkeypatch.syspath_prepend(str(ADDON))
     cmd = bake_step.bake_command_blend("blender", tmp_path / "shot.blend", 96, tmp_path / "c")
     assert cmd[:3] == ["blender", "--background", str(tmp_path / "shot.blend")]
-    assert cmd[cmd.index("--python") + 1] == str(ADDON / "hapticfluid_blender" / "bake_blend.py")
+    assert cmd[cmd.index("--python") + 1] == str(ADDON / "hapticfluid_blender" / "bake" / "bake_blend.py")
     assert f"cache_dir = {str(tmp_path / 'c')!r}" in cmd[cmd.index("--python-expr") + 1]
     assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--resume"]
     cmd = bake_step.bake_command_blend("blender", tmp_path / "shot.blend", 96, tmp_path / "c", until=12)

@@ -21,7 +21,7 @@ type builds the chain itself from its ``bake_chunk_size`` setting.
 :func:`write_openjd_job` and :func:`write_flamenco_job` write them for one scene into a folder,
 with every path made relative to the farm's shared root; the worker-side commands are
 ``python3 -m hapticfluid.farm bake`` (:mod:`hapticfluid.farm.bake_step`) and Blender running
-:mod:`hapticfluid_blender.farm_render` (its arguments: :mod:`hapticfluid.farm.chunks`). See docs/FARM.md.
+:mod:`hapticfluid_blender.render.farm_render` (its arguments: :mod:`hapticfluid.farm.chunks`). See docs/FARM.md.
 """
 
 from __future__ import annotations

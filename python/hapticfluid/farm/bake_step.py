@@ -54,11 +54,12 @@ def bake_command_blend(blender: str, scene: Path, resolution: int, cache: Path,
     """The Blender command line that bakes a .blend's hapticfluid settings into ``cache``."""
     folder = addon_folder()
     setup = ("import sys, bpy; sys.path.insert(0, {parent!r}); import hapticfluid_blender as a; a.register(); "
-             "a.properties.clear_stale_bake_state(); a.roles.settings_of(bpy.context.scene).cache_dir = {cache!r}"
+             "from hapticfluid_blender.properties import object_props, roles; object_props.clear_stale_bake_state(); "
+             "roles.settings_of(bpy.context.scene).cache_dir = {cache!r}"
              ).format(parent=str(folder.parent), cache=str(cache))
     # --python-use-system-env: Blender 4.x reads PYTHONPATH (where hapticfluid may be) only with it.
     args = [blender, "--background", str(scene), "--python-use-system-env", "--python-exit-code", "1", "--python-expr", setup,
-            "--python", str(folder / "bake_blend.py"), "--", "--resolution", str(resolution), "--resume"]
+            "--python", str(folder / "bake" / "bake_blend.py"), "--", "--resolution", str(resolution), "--resume"]
     return args + _until_args(until)
 
 

@@ -22,7 +22,7 @@ SCENE_PROP = "hapticfluid_bake"
 
 def _annotations():
     """The old group's properties: the three pointers, then every role's settings, defined once
-    in properties.py (same names, defaults and limits as when they lived on the scene)."""
+    in object_props.py (same names, defaults and limits as when they lived on the scene)."""
     found = {
         "domain": PointerProperty(name="Domain", type=bpy.types.Object),
         "probe": PointerProperty(name="Probe", type=bpy.types.Object),

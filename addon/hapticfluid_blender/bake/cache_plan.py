@@ -15,7 +15,7 @@ import logging
 
 import bpy
 
-from . import roles
+from ..properties import roles
 
 REFRESH_DELAY_S = 0.5
 log = logging.getLogger(__name__)
@@ -41,12 +41,12 @@ def get(scene):
 
 def current(scene):
     """The scene's last plan while it still applies: None also when a bake setting changed since
-    the bake (properties.changed_cache_inputs, known at once, while the plan is made again only
+    the bake (object_props.changed_cache_inputs, known at once, while the plan is made again only
     after the edits pause), since that outdates every frame, as the panel's warning says."""
-    from . import properties
+    from ..properties import object_props
 
     entry = get(scene)
-    if entry is None or properties.changed_cache_inputs(scene, roles.settings_of(scene)):
+    if entry is None or object_props.changed_cache_inputs(scene, roles.settings_of(scene)):
         return None
     return entry
 

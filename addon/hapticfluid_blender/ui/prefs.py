@@ -28,7 +28,7 @@ def unsupported_here(wheel_names=None):
         return (f"hapticfluid's engine is built for Linux x86_64 only: none for {system} {machine} "
                 f"(Windows, macOS and arm64 are not supported)")
     if wheel_names is None:
-        manifest = os.path.join(os.path.dirname(__file__), "blender_manifest.toml")
+        manifest = os.path.join(os.path.dirname(os.path.dirname(__file__)), "blender_manifest.toml")
         try:
             with open(manifest, encoding="utf-8") as f:
                 wheel_names = re.findall(r"hapticfluid-[^\"/]+\.whl", f.read())
@@ -66,7 +66,7 @@ def package_problem():
 
 
 class HapticFluidPreferences(bpy.types.AddonPreferences):
-    bl_idname = __package__
+    bl_idname = __package__.rpartition(".")[0]  # the add-on's module: this file is in its ui/
 
     def draw(self, context):
         problem = package_problem()

@@ -15,7 +15,8 @@ import logging
 
 import bpy
 
-from . import live_session, modal_guard
+from . import live_session
+from ..operators import modal_guard
 
 log = logging.getLogger(__name__)
 

@@ -16,7 +16,10 @@ import threading
 
 import bpy
 
-from . import blender_scene, cache_plan, modal_guard, properties, roles, volume
+from . import modal_guard
+from ..bake import blender_scene, cache_plan
+from ..properties import object_props, roles
+from ..render import volume
 
 TIMER_S = 0.2
 log = logging.getLogger(__name__)
@@ -170,7 +173,7 @@ class _BakeBase(_IdleOnly):
         job = _BakeJob(bake_scene, self.resume, context.scene.name)
         # what the cache is made from once this bake ends, for "cache out of date" (a Resume after a
         # changed setting re-bakes every frame with it)
-        settings.baked_inputs = properties.cache_inputs_json(context.scene, settings)
+        settings.baked_inputs = object_props.cache_inputs_json(context.scene, settings)
         settings.is_baking = True
         settings.progress = 0.0
         note = blender_scene.cache_note(settings)

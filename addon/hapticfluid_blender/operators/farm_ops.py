@@ -15,7 +15,8 @@ import os
 import bpy
 from bpy.props import EnumProperty, IntProperty, PointerProperty, StringProperty
 
-from . import blender_scene, roles
+from ..bake import blender_scene
+from ..properties import roles
 
 SCENE_FILE = "hapticfluid_scene.json"
 

@@ -24,7 +24,8 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import bpy
 
-from . import blender_scene, roles
+from ..bake import blender_scene
+from ..properties import roles
 
 log = logging.getLogger(__name__)
 

@@ -11,7 +11,7 @@ the role goes (sync_render_visibility).
 
 import bpy
 
-from . import roles
+from ..properties import roles
 
 # Custom property on an object hidden from renders because it is a smoke source: its
 # hide_render from before, restored when it stops being one.
@@ -103,7 +103,7 @@ def source_dict(settings):
 
 def sync_render_visibility(_obj=None, _role=None):
     """Hide every scene's smoke source from renders and give any object that is no longer one
-    its own hide_render back (run when a role changes: properties.ROLE_CHANGED_HOOKS; safe to
+    its own hide_render back (run when a role changes: object_props.ROLE_CHANGED_HOOKS; safe to
     call any time)."""
     sources = {obj.name for obj in bpy.data.objects if roles.role_of(obj) == "SOURCE"}
     for obj in bpy.data.objects:

@@ -9,7 +9,8 @@ operator, which refuses a second holder with a report naming the one that has it
 import bpy
 from bpy.props import EnumProperty
 
-from . import panels, properties, roles
+from . import panels
+from ..properties import object_props, roles
 from .ui_text import wrapped_label
 
 
@@ -20,7 +21,7 @@ class HAPTICFLUID_OT_set_role(bpy.types.Operator):
     bl_label = "hapticfluid Role"
     bl_options = {"REGISTER", "UNDO"}
 
-    role: EnumProperty(name="Role", items=properties.ROLE_ITEMS, default="DOMAIN",
+    role: EnumProperty(name="Role", items=object_props.ROLE_ITEMS, default="DOMAIN",
                        description="The role the object gets (a scene has one object per role)")
 
     @classmethod
@@ -80,7 +81,7 @@ class HAPTICFLUID_PT_physics(bpy.types.Panel):
         split = layout.split(factor=0.3)
         split.label(text="Type")
         row = split.row(align=True)
-        for key, name, _ in properties.ROLE_ITEMS[1:]:
+        for key, name, _ in object_props.ROLE_ITEMS[1:]:
             row.operator(HAPTICFLUID_OT_set_role.bl_idname, text=name, depress=role == key).role = key
         if role == "DOMAIN":
             if s.domain == obj:
@@ -162,7 +163,7 @@ def checkpoint_cost(s):
         from hapticfluid import assembly
         from hapticfluid.bake.plan import checkpoint_cost as cost
 
-        from . import blender_scene
+        from ..bake import blender_scene
 
         lo, hi = blender_scene.world_box(s.id_data)
         cells = assembly.grid([hi[i] - lo[i] for i in range(3)], s.resolution).cells

@@ -18,16 +18,16 @@ not per read): make a new one after roles were changed elsewhere.
 
 import logging
 
-from . import properties
+from . import object_props
 
 log = logging.getLogger(__name__)
 
 PHYSICS_PATH = "Properties > Physics > hapticfluid"
 ROLE_ATTRS = {"domain": "DOMAIN", "probe": "PROBE", "source": "SOURCE"}  # view attribute -> role
 GROUPS = {  # role -> (the object's settings group attribute, its class)
-    "DOMAIN": ("domain_settings", properties.HapticFluidDomainSettings),
-    "PROBE": ("probe_settings", properties.HapticFluidProbeSettings),
-    "SOURCE": ("source_settings", properties.HapticFluidSourceSettings),
+    "DOMAIN": ("domain_settings", object_props.HapticFluidDomainSettings),
+    "PROBE": ("probe_settings", object_props.HapticFluidProbeSettings),
+    "SOURCE": ("source_settings", object_props.HapticFluidSourceSettings),
 }
 _ROLE_OF_SETTING = {name: role for role, (_attr, cls) in GROUPS.items() for name in cls.__annotations__}
 
@@ -37,7 +37,7 @@ class RoleError(LookupError):
 
 
 def label(role) -> str:
-    return properties.ROLE_LABELS[role]
+    return object_props.ROLE_LABELS[role]
 
 
 def role_of(obj):

@@ -9,8 +9,8 @@ import textwrap
 
 import bpy
 
-from . import roles
-from .prefs import package_problem
+from ..properties import roles
+from ..ui.prefs import package_problem
 
 # Average width of a sidebar character in pixels at UI scale 1 (Blender's default font at 11 pt):
 # wraps long text to the region's width.

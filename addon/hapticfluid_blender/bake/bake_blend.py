@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Bake a .blend from the command line, without the UI:
 
-    blender --background scene.blend --python-exit-code 1 --python addon/hapticfluid_blender/bake_blend.py \
+    blender --background scene.blend --python-exit-code 1 --python addon/hapticfluid_blender/bake/bake_blend.py \
         -- [--resume] [--resolution N] [--save | --until FRAME]
 
-Registers the add-on (from this folder) if needed, bakes with the scene's hapticfluid settings
+Registers the add-on (the one this file is in) if needed, bakes with the scene's hapticfluid settings
 (the objects' roles: domain with the bake settings and cache folder, probe, source), and with --save stores the .blend with the Volume
 object pointing at the frames. --until FRAME bakes up to that frame and stops, keeping its
 checkpoint, so that the next `--resume --until` continues from it (a farm job's chained bake
@@ -35,19 +35,20 @@ def main(argv):
               "stores: drop --save (save after the last chunk with a plain --resume --save)", file=sys.stderr)
         return 2
 
-    addon_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    addon_parent = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     if addon_parent not in sys.path:
         sys.path.insert(0, addon_parent)
     import hapticfluid_blender
+    from hapticfluid_blender.properties import object_props, roles
 
     if not hasattr(bpy.types.Object, "hapticfluid"):
         # registered after the .blend loaded, so its load handlers did not run: register() itself
         # moves an older file's scene settings onto the objects and clears a stale is_baking
         hapticfluid_blender.register()
     scene = bpy.context.scene
-    settings = hapticfluid_blender.roles.settings_of(scene)
+    settings = roles.settings_of(scene)
     if args.resolution is not None:
-        prop = hapticfluid_blender.properties.HapticFluidDomainSettings.bl_rna.properties["resolution"]
+        prop = object_props.HapticFluidDomainSettings.bl_rna.properties["resolution"]
         if not prop.hard_min <= args.resolution <= prop.hard_max:  # Blender would clamp it silently
             print(f"bake_blend.py: --resolution must be between {prop.hard_min} and {prop.hard_max}, "
                   f"got {args.resolution}", file=sys.stderr)
@@ -74,14 +75,14 @@ def main(argv):
 def bake_until(scene, settings, until, resume):
     """Bake the scene up to frame ``until`` (a farm chunk) with hapticfluid.bake.bake, as the Bake
     operator exports it; 0 when done, 1 when the scene or the bake fails."""
-    from hapticfluid_blender import blender_scene
+    from hapticfluid_blender.bake import blender_scene
 
     try:
         from hapticfluid.bake import bake, scene_from_dict
 
         bake_scene = scene_from_dict(blender_scene.scene_dict(scene, settings))
         result = bake(bake_scene, resume=resume, until=until,
-                      log=lambda line: logging.getLogger("hapticfluid_blender.bake_blend").info("bake: %s", line))
+                      log=lambda line: logging.getLogger("hapticfluid_blender.bake.bake_blend").info("bake: %s", line))
     except Exception as exc:  # the bake's errors name the setting or argument (until) with the fix
         print(f"bake_blend.py: {exc}", file=sys.stderr)
         return 1

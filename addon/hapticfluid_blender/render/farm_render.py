@@ -2,7 +2,7 @@
 """The render task of a farm job, run inside Blender: render a chunk of baked frames in one session.
 
     blender --background --factory-startup --python-use-system-env --python-exit-code 1 \
-        --python-expr "import hapticfluid_blender.farm_render as r; r.main()" -- \
+        --python-expr "import hapticfluid_blender.render.farm_render as r; r.main()" -- \
         [--root ROOT] [--size W H] [--samples N] [--density D] CACHE FRAMES OUTDIR
 
 The arguments and the checks (a frame not baked yet is an error, so a render never shows an empty

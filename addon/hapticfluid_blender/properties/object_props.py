@@ -7,7 +7,7 @@ settings, its cache and status; ``probe_settings``; ``source_settings``). Read t
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from . import volume
+from ..render import volume
 
 
 ROLE_ITEMS = (
