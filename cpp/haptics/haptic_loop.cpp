@@ -265,6 +265,12 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
     t.filtered_n = out.filtered_n;
     t.commanded_n = out.commanded_n;
     t.guide_n = out.guide_n;
+    if (have_force_) {
+      t.step_velocity_m_s = force_.probe_velocity_m_s;
+      t.step_dt_s = force_.step_dt_s;
+      t.step_pose_time_s = force_.pose_time_s;
+    }
+    if (out.coupled) t.model_added_mass_kg = static_cast<float>(pipeline_.model().addedMassKg());
     trace_.push(t);
   }
 }

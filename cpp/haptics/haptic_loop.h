@@ -43,6 +43,13 @@ struct TraceSample {                   // one haptic period
   glm::vec3 filtered_n{0.0f};          // device N, before safety
   glm::vec3 commanded_n{0.0f};         // device N
   glm::vec3 guide_n{0.0f};             // the playback guide's part of it, device N
+  // The simulation step this period's force came from (zero before the first): the probe
+  // velocity it used (fluid frame, m/s), its own time step (s) and when its pose was read
+  // (monotonic clock), so a check can hold the engine's force against the motion it saw.
+  glm::vec3 step_velocity_m_s{0.0f};
+  double step_dt_s = 0.0;
+  double step_pose_time_s = 0.0;
+  float model_added_mass_kg = 0.0f;    // the local model's added mass in use (fluid kg; coupled only)
 };
 
 struct LoopStats {

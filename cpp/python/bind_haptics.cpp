@@ -102,6 +102,14 @@ py::array_t<float> vec3Rows(const std::vector<haptics::TraceSample>& t, glm::vec
   return a;
 }
 
+template <class T>
+py::array_t<double> scalarRows(const std::vector<haptics::TraceSample>& t, T haptics::TraceSample::*member) {
+  py::array_t<double> a(static_cast<py::ssize_t>(t.size()));
+  auto r = a.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < t.size(); ++i) r(static_cast<py::ssize_t>(i)) = static_cast<double>(t[i].*member);
+  return a;
+}
+
 const char* kSessionDoc = R"doc(
 A Simulation touched through a haptic Device: a 1 kHz haptic thread and a free-running
 simulation thread, started by start() (or by entering a `with` block) and ended by stop().
@@ -367,11 +375,18 @@ void addSessionReadings(py::class_<HapticSession>& c) {
         d["sim_force"] = vec3Rows(t, &haptics::TraceSample::sim_force_n);
         d["filtered_force"] = vec3Rows(t, &haptics::TraceSample::filtered_n);
         d["commanded_force"] = vec3Rows(t, &haptics::TraceSample::commanded_n);
+        d["step_velocity"] = vec3Rows(t, &haptics::TraceSample::step_velocity_m_s);
+        d["step_dt"] = scalarRows(t, &haptics::TraceSample::step_dt_s);
+        d["step_pose_time"] = scalarRows(t, &haptics::TraceSample::step_pose_time_s);
+        d["model_added_mass"] = scalarRows(t, &haptics::TraceSample::model_added_mass_kg);
         return d;
       },
       "Hand over the haptic periods recorded since the last call (needs trace=True): a dict of\n"
       "arrays time (s, monotonic clock), position (m, device frame), sim_force (fluid N),\n"
-      "filtered_force and commanded_force (device N), one row per period.");
+      "filtered_force and commanded_force (device N), one row per period; and of the simulation step\n"
+      "that force came from, step_velocity (the probe velocity it used, fluid m/s), step_dt (its\n"
+      "time step, s) and step_pose_time (when its pose was read, monotonic s; 0 before the first\n"
+      "step), and model_added_mass (the local model's added mass in use, fluid kg; 0 uncoupled).");
   c.def_property_readonly("device", [](const HapticSession& s) { return s.device(); }, "The Device it drives.");
   c.def(
       "snapshot",

@@ -334,6 +334,77 @@ TEST(HapticCoupling, ASlowSimulationsAddedMassIsFeltAsTheEngines) {
   EXPECT_NEAR(sum / n, want, 0.05f * std::fabs(want)) << "added mass part " << g * law.m * s * a;
 }
 
+// The ramp-in is not a debt: while the coupled rendering ramps in, the hand gets the steady part
+// alone, and a hand that yields to it (a 300 N/m hand lifted by gain x buoyancy, 1.6 N: 4 mJ into
+// its spring) took that work as the loop's. The passivity controller then paid it at the hand's
+// first push with its full damping, 20 N s/m x 25 mm/s = 0.5 N, against gain x the fluid's drag of
+// 62 mN here (at 48^3 in water on the simulated Falcon, 0.3-0.6 N for the first second of the push
+// against about 20 mN: tests/python/test_haptic_seed_feel.py). Now it rests through the ramp: it
+// never acts on this push (before: 20 N s/m), and the settled push feels gain x the drag.
+TEST(HapticCoupling, TheRampInsWorkIsNoDebtTheFirstPushFeelsTheDrag) {
+  Law law;
+  law.steady = glm::vec3(0.0f, 0.0f, 16.0f);  // fluid N: about 0.08 m of sphere's buoyancy in water
+  law.b = -2.0f;
+  law.m = 1.0f;
+  PipelineSettings p = coupledSettings(true);
+  p.map.force_gain = 0.1f;
+  p.coupling.stiffness_n_m = 750.0f;
+  p.coupling.damping_n_s_m = 10.0f;
+  p.coupling.added_mass_kg = law.m;
+  p.safety.ramp_s = 2.0;
+  ForcePipeline pipe(p);
+  ForceFrame frame;
+  frame.sim_rate_hz = 2.0;
+  frame.step_dt_s = 0.5;
+  constexpr double kStep = 0.5, kPushAt = 4.0, kRiseS = 0.25, kSpeed = 0.025;  // s, s, s, device m/s
+  // Along z the hand yields to the force: the simulated Falcon's hand, 0.15 kg on 300 N/m and 12 N s/m.
+  constexpr double kHandKg = 0.15, kHandN_m = 300.0, kHandN_s_m = 12.0;
+  double hand_z_m_s = 0.0;
+  glm::vec3 hand(0.0f), commanded(0.0f);
+  double next_step = 0.0, work = 0.0, ramp_work = 0.0, max_alpha = 0.0, push_sum = 0.0;
+  int push_n = 0;
+  for (int i = 1; i * kDt <= 6.0; ++i) {
+    const double t = i * kDt;
+    const glm::vec3 last = hand;
+    hand_z_m_s += kDt * (commanded.z - kHandN_m * hand.z - kHandN_s_m * hand_z_m_s) / kHandKg;
+    hand.z += static_cast<float>(kDt * hand_z_m_s);
+    // The push: 0.25 s at a constant acceleration, then kSpeed.
+    const double since = std::max(0.0, t - kPushAt);
+    hand.x = static_cast<float>(since < kRiseS ? 0.5 * kSpeed / kRiseS * since * since : kSpeed * (since - 0.5 * kRiseS));
+    const glm::vec3 v_dev = (hand - last) / static_cast<float>(kDt);
+    TickInput in;
+    in.now_s = t;
+    in.dt_s = kDt;
+    in.state.homed = true;
+    in.state.position_m = hand;
+    in.state.velocity_m_s = v_dev;
+    if (t >= next_step - 1e-9) {  // real time: the step's dt is its wall period, so a = 0 here
+      const glm::vec3 v = p.map.velocityToDomain(v_dev);
+      frame.force_n = law.force(v, glm::vec3(0.0f));
+      frame.probe_velocity_m_s = v;
+      frame.publish_time_s = t;
+      in.new_frame = true;
+      next_step += kStep;
+    }
+    in.have_force = true;
+    in.force = frame;
+    const TickOutput out = pipe.tick(in);
+    work += glm::dot(commanded, hand - last);
+    commanded = out.commanded_n;
+    if (t <= kPushAt) ramp_work = work;
+    if (t > kPushAt) max_alpha = std::max(max_alpha, out.damping_n_s_m);
+    if (t > kPushAt + 1.0) {  // the proxy (1.25 kg on 750 N/m) has settled after the rise
+      push_sum += commanded.x;
+      ++push_n;
+    }
+  }
+  EXPECT_NEAR(commanded.z, 0.1f * 16.0f, 0.02f);
+  EXPECT_GT(ramp_work, 3e-3) << "the ramp lifted the hand: the steady force's work";
+  EXPECT_EQ(max_alpha, 0.0) << "the controller damped the first push";
+  const double drag = 0.1 * law.b * 12.5 * kSpeed;  // gain x b x domain speed: -62.5 mN
+  EXPECT_NEAR(push_sum / push_n, drag, 0.1 * std::fabs(drag));
+}
+
 TEST(HapticCoupling, TheGainIsNoLongerCappedAtOneAndKeepsItsMargin) {
   DeviceInfo falcon;
   falcon.name = "Novint Falcon";

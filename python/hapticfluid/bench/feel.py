@@ -88,7 +88,10 @@ def live_scene_run(seconds: float, resolution: int = 32, gesture: str = "sweep",
     finally:
         falcon.close()
     trace = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
-    trace["time"] = trace["time"] - trace["time"][0]
+    t0 = trace["time"][0]
+    trace["time"] = trace["time"] - t0
+    # The pose time of the step each period's force came from, on the same clock (NaN before the first).
+    trace["step_pose_time"] = np.where(trace["step_pose_time"] > 0.0, trace["step_pose_time"] - t0, np.nan)
     return {"trace": trace, "stats": stats, "scale": scale}
 
 
