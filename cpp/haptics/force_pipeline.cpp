@@ -157,6 +157,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  out.commanded_domain_n = s_.map.forceToDomainAxes(out.commanded_n);
   // What of the held force is the guide's (safety may have scaled the sum down): the observer's
   // next period leaves it out.
   {

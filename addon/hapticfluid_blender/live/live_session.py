@@ -610,11 +610,10 @@ class LiveController:
 
     def hand_force_world(self, latest) -> Tuple[float, float, float]:
         """The force the hand feels (N): the device's commanded force (after the force gain, the
-        filter and the safety stage) in world axes. The session maps a world force f to the device
-        as gain * sign(workspace_scale) * f per axis, so sign(scale) * commanded is its world
-        direction. Drawn against Max Force, the device's limit, in the same newtons."""
-        scale = self.session.workspace_scale
-        return tuple(math.copysign(1.0, float(scale[i])) * float(latest["commanded_force"][i]) for i in range(3))
+        filter and the safety stage) in world axes, as the engine reports it (latest()'s
+        commanded_force_world: its workspace map flips a mirrored axis back). Drawn against Max
+        Force, the device's limit, in the same newtons."""
+        return tuple(float(c) for c in latest["commanded_force_world"])
 
     def _update_stats(self, latest):
         s = self.session.stats()
