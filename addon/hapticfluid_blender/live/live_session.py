@@ -175,6 +175,11 @@ def read_plan(scene) -> LivePlan:
         feel_playback=live.feel_playback, viewport_first=live.viewport_first)
 
 
+def _gl_context_problem(exc) -> str:
+    return (f"Check the GPU driver (or set HAPTICFLUID_EGL_DEVICE, see README): the simulation's "
+            f"GL context could not be made: {exc}")
+
+
 def _box_text(lo, hi) -> str:
     return "(" + ", ".join(f"{a:.3g}..{b:.3g}" for a, b in zip(lo, hi)) + ") m"
 
@@ -201,7 +206,10 @@ class _Engine:
 
         self.device = self._open_device(hf, plan)
         size = [plan.domain_hi[i] - plan.domain_lo[i] for i in range(3)]
-        software = bool(hf.probe_device().get("software", True))
+        try:  # the EGL device the simulation will use (HAPTICFLUID_EGL_DEVICE may name a bad one)
+            software = bool(hf.probe_device().get("software", True))
+        except hf.HapticFluidError as exc:
+            raise SessionError(_gl_context_problem(exc)) from None
         res = plan.resolution if plan.resolution is not None else preview_resolution(software)
         try:
             settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid,
@@ -221,8 +229,7 @@ class _Engine:
         try:
             self.sim = hf.Simulation(settings)
         except hf.HapticFluidError as exc:
-            raise SessionError(f"Check the GPU driver (or set HAPTICFLUID_EGL_DEVICE, see README): the simulation's "
-                               f"GL context could not be made: {exc}") from None
+            raise SessionError(_gl_context_problem(exc)) from None
         try:
             if source is not None:
                 assembly.place_source(self.sim, **source)
