@@ -308,6 +308,11 @@ def missing_package():
         problem = prefs.package_problem()
         check(problem is not None and problem.startswith("Install the hapticfluid package"),
               f"the missing package is detected, fix first: {problem}")
+        # The source tree's manifest lists no wheels (its comment names placeholder ones): the
+        # add-on came without its engine, whatever this Blender's Python (a Python 3.13 Blender
+        # was told "built for CPython 3.11", read from the comment).
+        check("came without its engine" in problem and "build_extension.sh" in problem and "CPython" not in problem,
+              f"a wheel-less install says the engine did not come with it and how to get it: {problem}")
         p = draw(prefs.HapticFluidPreferences)
         check(any("Install the hapticfluid package" in t for t in p.labels()), "the preferences show the warning")
         panel = draw(panels.HAPTICFLUID_PT_bake)
@@ -318,6 +323,20 @@ def missing_package():
     check(prefs.package_problem() is None, "with the package back, no warning")
     check(any("is importable" in t for t in draw(prefs.HapticFluidPreferences).labels()),
           "the preferences say the package is importable")
+    check(prefs.manifest_wheels() == [] and prefs.unsupported_here() is None,
+          f"the source tree's manifest lists no wheels: {prefs.manifest_wheels()}, {prefs.unsupported_here()}")
+    with tempfile.TemporaryDirectory() as tmp:  # a built extension's manifest: wheels appended
+        manifest = os.path.join(tmp, "blender_manifest.toml")
+        with open(manifest, "w", encoding="utf-8") as f:
+            f.write('# `wheels = ["./wheels/hapticfluid-<version>-cp311-...whl"]` appended\nid = "hapticfluid"\n'
+                    'wheels = ["./wheels/hapticfluid-0.1.0-cp311-cp311-manylinux_2_28_x86_64.whl",\n'
+                    '          "./wheels/hapticfluid-0.1.0-cp313-cp313-manylinux_2_28_x86_64.whl"]\n')
+        listed = prefs.manifest_wheels(manifest)
+    check(listed == ["hapticfluid-0.1.0-cp311-cp311-manylinux_2_28_x86_64.whl",
+                     "hapticfluid-0.1.0-cp313-cp313-manylinux_2_28_x86_64.whl"],
+          f"the wheels the manifest lists, not its comment's: {listed}")
+    other = prefs.unsupported_here(["hapticfluid-0.1.0-cp310-cp310-manylinux_2_28_x86_64.whl"])
+    check(other is not None and "CPython 3.10, not this Blender's Python" in other, f"another Python's wheel: {other}")
 
 
 def main():

@@ -195,14 +195,14 @@ def the_drawer_gets_what_it_draws():
     controller.tick()
     _o, drawn, _m = c["set_force"][-1]
     latest = controller.session.latest()
-    scale = controller.session.workspace_scale
-    world = [math.copysign(1.0, scale[i]) * latest["commanded_force"][i] for i in range(3)]
     check(math.isclose(math.hypot(*drawn), scene.hapticfluid_live.device_force_n, rel_tol=1e-5, abs_tol=1e-9),
           f"the arrow's newtons are the device force shown in Stats ({math.hypot(*drawn):.4g} N = "
           f"{scene.hapticfluid_live.device_force_n:.4g} N), not the fluid force ({scene.hapticfluid_live.force_n:.4g} N "
           f"at gain {scene.hapticfluid_live.force_gain_used:.3g})")
-    check(len(world) == 3 and controller.hand_force_world(latest) == tuple(world),
-          "hand_force_world maps the commanded force to world axes by sign(workspace scale)")
+    world = controller.hand_force_world(latest)
+    check(len(world) == 3 and world == tuple(float(c) for c in latest["commanded_force_world"])
+          and math.isclose(math.hypot(*world), math.hypot(*latest["commanded_force"]), rel_tol=1e-6, abs_tol=1e-12),
+          "hand_force_world is the engine's commanded force in world axes (commanded_force_world), the same newtons")
     check(c["set_display"] == [(scene.hapticfluid_live.density_scale, False)], "the display settings")
     scene.hapticfluid_live.density_scale = 5.0
     controller.tick()

@@ -18,7 +18,7 @@ PassivitySettings passivityFor(const PipelineSettings& s) {
 double maxModelDrag(const PipelineSettings& s) {
   const glm::vec3 scale = glm::abs(s.map.scale);
   const double per_drag = static_cast<double>(s.map.force_gain) * std::max({scale.x, scale.y, scale.z});
-  const double bound = s.passivity.max_damping_n_s_m;
+  const double bound = s.passivity.max_damping_n_s_m.value_or(0.0f);
   return (bound > 0.0 && per_drag > 0.0) ? bound / per_drag : 1e30;
 }
 }  // namespace
@@ -164,6 +164,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   safe.homed = in.state.homed;
   safe.enabled = in.enabled && in.have_force;
   out.commanded_n = safety_.apply(safe);
+  out.commanded_domain_n = s_.map.forceToDomainAxes(out.commanded_n);
   // What of the held force is the guide's (safety may have scaled the sum down): the observer's
   // next period leaves it out.
   {

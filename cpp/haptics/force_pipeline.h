@@ -86,6 +86,7 @@ struct TickOutput {
   glm::vec3 passive_n{0.0f};          // after the passivity controller, device N
   double damping_n_s_m = 0.0;         // the passivity controller's damping this period, N s/m
   glm::vec3 commanded_n{0.0f};        // after safety, device N
+  glm::vec3 commanded_domain_n{0.0f}; // commanded_n in the domain's axes (map.forceToDomainAxes), device N
   double cutoff_hz = 0.0;
   double force_age_s = 0.0;
   double stale_after_s = 0.0;         // the age at which this force starts fading (staleAfterS), s

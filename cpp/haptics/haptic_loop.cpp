@@ -30,12 +30,13 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
                           device.info().name + "' (" + std::to_string(device_max) + " N); give at most that");
   }
   // The passivity controller's damper is bounded by the device's maximum stable damping.
-  float& damping = s.pipeline.passivity.max_damping_n_s_m;
+  // None takes the device's; a device that reports none leaves it None (observed only).
+  std::optional<float>& damping = s.pipeline.passivity.max_damping_n_s_m;
   const float device_damping = device.info().max_damping_n_s_m;
-  if (damping == 0.0f) {
-    damping = device_damping;
-  } else if (device_damping > 0.0f && damping > device_damping) {
-    throw InvalidArgument("passivity_max_damping " + std::to_string(damping) + " N s/m is above the maximum stable damping of '" +
+  if (!damping) {
+    if (device_damping > 0.0f) damping = device_damping;
+  } else if (device_damping > 0.0f && *damping > device_damping) {
+    throw InvalidArgument("passivity_max_damping " + std::to_string(*damping) + " N s/m is above the maximum stable damping of '" +
                           device.info().name + "' (" + std::to_string(device_damping) + " N s/m); give at most that");
   }
   // The virtual coupling's spring and damper: shares of the device's stable limits unless given
@@ -292,7 +293,7 @@ LoopStats HapticLoop::stats() const {
   st.non_finite = non_finite_.load(std::memory_order_relaxed);
   st.trace_dropped = trace_.dropped();
   passivity_.tryRead(st.passivity);
-  st.max_damping_n_s_m = s_.pipeline.passivity.max_damping_n_s_m;
+  st.max_damping_n_s_m = s_.pipeline.passivity.max_damping_n_s_m.value_or(0.0f);
   if (sched_known_.load(std::memory_order_acquire)) {
     st.realtime = realtime_.load(std::memory_order_relaxed);
     st.scheduling = scheduling_;

@@ -29,7 +29,7 @@ namespace hf::haptics {
 struct HapticLoopSettings {
   double rate_hz = 1000.0;             // loop rate, Hz (100 .. 10000)
   PipelineSettings pipeline;           // safety.max_force_n at most the device's maximum;
-                                       // passivity.max_damping_n_s_m too (0: the device's)
+                                       // passivity.max_damping_n_s_m too (None: the device's)
   bool realtime = true;                // ask for SCHED_FIFO
   int realtime_priority = 80;          // 1 .. 99
   std::size_t trace_capacity = 0;      // records kept for drainTrace() (0: no trace)
@@ -64,7 +64,7 @@ struct LoopStats {
   std::uint64_t non_finite = 0;        // NaN/Inf forces zeroed by the safety stage
   std::uint64_t trace_dropped = 0;     // trace records lost (ring full)
   PassivityState passivity;            // the passivity observer/controller (passivity_controller.h)
-  float max_damping_n_s_m = 0.0f;      // the controller's damping bound in use, N s/m
+  float max_damping_n_s_m = 0.0f;      // the controller's damping bound in use, N s/m (0: none, observed only)
   bool realtime = false;               // SCHED_FIFO granted
   std::string scheduling;              // "" or the warning about real-time priority
   std::string error;                   // "" or the device error that ended the loop

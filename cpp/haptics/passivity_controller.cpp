@@ -11,9 +11,9 @@
 namespace hf::haptics {
 
 void PassivitySettings::validate() const {
-  if (!std::isfinite(max_damping_n_s_m) || max_damping_n_s_m < 0.0f) {
-    throw InvalidArgument("passivity_max_damping must be a finite number >= 0 N s/m (0: the device's maximum), got " +
-                          std::to_string(max_damping_n_s_m));
+  if (max_damping_n_s_m && !(std::isfinite(*max_damping_n_s_m) && *max_damping_n_s_m > 0.0f)) {
+    throw InvalidArgument("passivity_max_damping must be a finite number > 0 N s/m, or None (the device's maximum), got " +
+                          std::to_string(*max_damping_n_s_m));
   }
   if (!std::isfinite(velocity_deadband_m_s) || velocity_deadband_m_s < 0.0f) {
     throw InvalidArgument("passivity_deadband must be a finite number >= 0 m/s, got " +
@@ -113,7 +113,7 @@ glm::vec3 PassivityController::apply(const glm::vec3& wanted_n, const glm::vec3&
   if (max_step_n > 0.0 && glm::length(wanted - held) > max_step_n) {
     delivered = held + (wanted - held) * (max_step_n / glm::length(wanted - held));
   }
-  if (!(s_.max_damping_n_s_m > 0.0f)) return wanted_n;  // observed only
+  if (!s_.max_damping_n_s_m) return wanted_n;  // observed only
   const double accel_along = glm::dot(accel_m_s2_, along);  // > 0: speeding up along the motion
   const double push_n = glm::dot(delivered, along);
   glm::dvec3 out = wanted;
@@ -123,7 +123,7 @@ glm::vec3 PassivityController::apply(const glm::vec3& wanted_n, const glm::vec3&
     // The push along the motion must come down to what the budget allows (with no slew limit:
     // exactly the excess this period). The bounded damper first ...
     const double reduce_n = std::max(0.0, glm::dot(wanted, along) - allowedPush(st_.energy_j, speed, accel_along, dt_s));
-    alpha = std::min(reduce_n / speed, static_cast<double>(s_.max_damping_n_s_m));
+    alpha = std::min(reduce_n / speed, static_cast<double>(*s_.max_damping_n_s_m));
     out = wanted - alpha * v;
     const double left_n = reduce_n - alpha * speed;
     // ... then the push along the motion is cut back, to zero at most.

@@ -58,6 +58,7 @@
 // Reset (observer, damper, memory): at (re)start, while the device is not homed, and when the
 // output is off (paused, stopping or failed with the force slewed to zero).
 #include <cstdint>
+#include <optional>
 
 #include <glm/glm.hpp>
 
@@ -77,10 +78,10 @@ inline constexpr double kTurnAllowanceJ = 1e-4;
 
 struct PassivitySettings {
   bool enabled = true;                    // false: observe only (no damping)
-  // Largest damping the controller adds, N s/m (>= 0). 0: the device's maximum stable damping
-  // (DeviceInfo::max_damping_n_s_m), filled in by the haptic loop; a device that reports none
-  // (virtual devices) is then observed only.
-  float max_damping_n_s_m = 0.0f;
+  // Largest damping the controller adds, N s/m (> 0). None: the device's maximum stable damping
+  // (DeviceInfo::max_damping_n_s_m), filled in by the haptic loop; with a device that reports
+  // none (virtual devices) it stays None and the loop is observed only.
+  std::optional<float> max_damping_n_s_m;
   // Below this speed nothing is applied, m/s (>= 0). What the loop can still put in is at most
   // |F| x this (8 mW at 8 N); the Falcon's encoder (about 0.04 mm per count) read through the
   // driver's 15 ms velocity filter jitters up to ~2.5 mm/s, so below that noise may trigger small

@@ -4,6 +4,8 @@
 //   domain position = offset + scale * device position     (per axis; a negative scale flips it)
 //   domain velocity = scale * device velocity
 //   device force    = force_gain * sign(scale) * fluid force (device N per fluid N)
+//   domain axes     = sign(scale) * device force (forceToDomainAxes: the same newtons, the
+//                     mirror undone; the direction the fluid's force had)
 //   domain rotation = S R S with S = diag(sign(scale)) (a rotation: the map's mirror on both
 //                     sides; scale's size does not turn anything), angular velocity det(S) S w
 // The force keeps its direction in the user's hand: an axis the map flips is flipped back.
@@ -21,6 +23,7 @@ struct WorkspaceMap {
   glm::vec3 positionToDomain(const glm::vec3& p) const { return offset_m + scale * p; }
   glm::vec3 velocityToDomain(const glm::vec3& v) const { return scale * v; }
   glm::vec3 forceToDevice(const glm::vec3& f) const { return force_gain * glm::sign(scale) * f; }
+  glm::vec3 forceToDomainAxes(const glm::vec3& device_n) const { return glm::sign(scale) * device_n; }
   glm::quat orientationToDomain(const glm::quat& q) const {
     const glm::vec3 s = glm::sign(scale);
     // S R S for a diagonal S of signs: the quaternion's vector part picks up det(S) S.

@@ -342,6 +342,7 @@ void addSessionReadings(py::class_<HapticSession>& c) {
         d["passive_force"] = vec3Array(o.passive_n);
         d["damping"] = o.damping_n_s_m;
         d["commanded_force"] = vec3Array(o.commanded_n);
+        d["commanded_force_world"] = vec3Array(o.commanded_domain_n);
         d["cutoff_hz"] = o.cutoff_hz;
         d["force_age"] = o.force_age_s;
         d["stale_after"] = o.stale_after_s;
@@ -354,7 +355,8 @@ void addSessionReadings(py::class_<HapticSession>& c) {
         return d;
       },
       "The latest haptic period: sim_force, predicted_force (fluid N), filtered_force, passive_force\n"
-      "(after the passivity controller), commanded_force (device N), damping (N s/m), cutoff_hz,\n"
+      "(after the passivity controller), commanded_force (device N, device axes), commanded_force_world (the\n"
+      "same newtons in world axes: an axis the workspace map mirrors is flipped back), damping (N s/m), cutoff_hz,\n"
       "force_age (s), stale_after (s: the age at which that force starts fading), guide_force (device N, the\n"
       "playback guide's part of commanded_force) and guide_weight (0 off .. 1 engaged), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
       "latest reading.");

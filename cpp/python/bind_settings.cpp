@@ -249,19 +249,9 @@ depend on the device (max_force, passivity_max_damping) are checked when the ses
       .field<bool>("passivity", [](const S& s) { return s.loop.pipeline.passivity.enabled; },
                    [](S& s, bool v) { s.loop.pipeline.passivity.enabled = v; },
                    "The passivity controller damps energy the loop made (Hannaford and Ryu 2002); False: observe only.")
-      .field<std::optional<float>>("passivity_max_damping",
-                                   [](const S& s) -> py::object {
-                                     const float d = s.loop.pipeline.passivity.max_damping_n_s_m;
-                                     return d > 0.0f ? py::cast(d) : py::none();
-                                   },
-                                   [](S& s, const std::optional<float>& d) {
-                                     if (d && !(*d > 0.0f)) {  // 0 is the engine's "the device's", which None says
-                                       throw InvalidArgument("passivity_max_damping must be a positive number of N s/m, or None "
-                                                             "(the device's), got " + std::to_string(*d));
-                                     }
-                                     s.loop.pipeline.passivity.max_damping_n_s_m = d.value_or(0.0f);
-                                   },
-                                   "Bound on the controller's damping (N s/m); None: the device's max_damping.")
+      .field<std::optional<float>>("passivity_max_damping", [](const S& s) { return s.loop.pipeline.passivity.max_damping_n_s_m; },
+                                   [](S& s, const std::optional<float>& d) { s.loop.pipeline.passivity.max_damping_n_s_m = d; },
+                                   "Bound on the controller's damping (N s/m, > 0); None: the device's max_damping.")
       .field<float>("passivity_deadband", [](const S& s) { return s.loop.pipeline.passivity.velocity_deadband_m_s; },
                     [](S& s, float v) { s.loop.pipeline.passivity.velocity_deadband_m_s = v; },
                     "Below this device speed (m/s) no damping is applied.")

@@ -51,18 +51,30 @@ T settingArg(const py::handle& value, const std::string& name) {
   }
 }
 
-// The engine's check of a whole settings struct S, as its SettingsClass registered it; and a
-// count of keyword applications under way, during which the properties leave the check to the
-// end (settings that bound each other, such as min_sim_dt <= max_sim_dt, may come in any order).
+// The engine's check of a whole settings struct S, as its SettingsClass registered it.
 template <class S>
 std::function<void(const S&)>& settingsCheck() {
   static std::function<void(const S&)> check;
   return check;
 }
-inline int& deferredChecks() {
-  static int depth = 0;  // the GIL serialises every use
-  return depth;
-}
+
+// While one of these lives (keywords being applied), the properties leave the whole-struct check
+// to the end: settings that bound each other, such as min_sim_dt <= max_sim_dt, may come in any
+// order. Scopes nest; the GIL serialises every use.
+class DeferredChecks {
+ public:
+  DeferredChecks() { ++depth(); }
+  ~DeferredChecks() { --depth(); }
+  DeferredChecks(const DeferredChecks&) = delete;
+  DeferredChecks& operator=(const DeferredChecks&) = delete;
+  static bool active() { return depth() > 0; }
+
+ private:
+  static int& depth() {
+    static int d = 0;
+    return d;
+  }
+};
 
 // settings.<key> = value for every keyword; an unknown key is a TypeError naming it and the
 // settings that exist. `who` names the call in the message ("Simulation").
@@ -91,14 +103,10 @@ S settingsWithKeywords(const py::object& settings, const py::kwargs& kwargs, con
                          py::str(py::type::handle_of(settings).attr("__name__")).cast<std::string>());
   }
   py::object copy = settings.is_none() ? py::cast(S{}) : settings.attr("copy")();
-  ++deferredChecks();
-  try {
+  {
+    const DeferredChecks deferred;
     applyKeywords(copy, kwargs, who);
-  } catch (...) {
-    --deferredChecks();
-    throw;
   }
-  --deferredChecks();
   S result = copy.cast<S>();
   if (settingsCheck<S>()) settingsCheck<S>()(result);
   return result;
@@ -136,7 +144,7 @@ class SettingsClass {
         [set, check, qualified](S& s, const py::object& value) {
           S candidate = s;
           set(candidate, settingArg<T>(value, qualified));
-          if (check && deferredChecks() == 0) check(candidate);
+          if (check && !DeferredChecks::active()) check(candidate);
           s = std::move(candidate);
         },
         doc);

@@ -212,6 +212,9 @@ TEST(HapticWorkspaceMap, MapsPoseIntoTheDomainAndForceBack) {
   expectVec(m.velocityToDomain(glm::vec3(0.1f, 0.1f, 0.0f)), glm::vec3(0.5f, -0.5f, 0.0f));
   // The flipped y axis is flipped back for the force, so it pushes the hand the same way.
   expectVec(m.forceToDevice(glm::vec3(2.0f, 2.0f, -4.0f)), glm::vec3(1.0f, -1.0f, -2.0f));
+  // ... and the device's force read back in the domain's axes has the fluid force's direction
+  // (the same device newtons: no gain undone).
+  expectVec(m.forceToDomainAxes(glm::vec3(1.0f, -1.0f, -2.0f)), glm::vec3(1.0f, 1.0f, -2.0f));
   m.scale.y = 0.0f;
   EXPECT_THROW(m.validate(), InvalidArgument);
   m.scale.y = 1.0f;

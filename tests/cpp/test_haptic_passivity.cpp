@@ -438,6 +438,12 @@ TEST(HapticPassivity, SettingsAreChecked) {
   PassivitySettings s;
   s.max_damping_n_s_m = -1.0f;
   EXPECT_THROW(s.validate(), InvalidArgument);
+  s.max_damping_n_s_m = 0.0f;  // None says "the device's"; 0 is no bound at all
+  EXPECT_THROW(s.validate(), InvalidArgument);
+  s.max_damping_n_s_m = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(s.validate(), InvalidArgument);
+  s.max_damping_n_s_m = std::nullopt;
+  EXPECT_NO_THROW(s.validate());
   s = PassivitySettings{};
   s.velocity_deadband_m_s = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(s.validate(), InvalidArgument);

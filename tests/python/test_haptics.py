@@ -152,6 +152,29 @@ def test_session_runs_and_reports_sane_statistics(sim):
     session.stop()  # a second stop is harmless
 
 
+@pytest.mark.parametrize("scale", [(1.0, 1.0, 1.0), (1.0, 1.0, -1.0)])
+def test_the_hand_force_in_world_axes_undoes_a_mirrored_axis(scale):
+    """latest()['commanded_force_world'] is the commanded force in world axes as the engine's
+    workspace map gives it (what the add-on draws): a mirrored axis (negative scale) pushes the
+    device the other way, and the world force flips it back, so a buoyant probe's force points up
+    (+z, against gravity) whatever the device's z."""
+    with hf.Simulation(resolution=(16, 16, 16), pressure_iterations=10, fluid_density=1000.0) as sim:
+        session = hf.HapticSession(sim, hf.null_device(max_force=5.0), probe_radius=0.15, force_gain=0.02,
+                                   max_force=4.0, ramp_time=0.0, filter="none", realtime=False, passivity=False,
+                                   workspace_scale=scale, fit_workspace=False)
+        with session:
+            assert wait_until(lambda: session.stats()["sim_steps"] >= 3
+                              and np.linalg.norm(session.latest()["commanded_force"]) > 0.0)
+            latest = session.latest()
+    device = np.asarray(latest["commanded_force"])
+    world = np.asarray(latest["commanded_force_world"])
+    np.testing.assert_array_equal(world, np.sign(scale) * device)  # the same newtons, the mirror undone
+    buoyancy = 0.02 * 1000.0 * 9.81 * 4.0 / 3.0 * np.pi * 0.15 ** 3  # gain x Archimedes, N (voxels: about)
+    assert world[2] > 0.5 * buoyancy, (world, buoyancy)  # up in the world
+    assert np.sign(device[2]) == np.sign(scale[2]), device  # down on the device when its z is mirrored
+    assert abs(world[2]) > 3.0 * max(abs(world[0]), abs(world[1])), world
+
+
 def test_session_context_manager_pause_resume(sim):
     device = hf.host_device(max_force=2.0)
     device.push_pose((0.0, 0.0, 0.0))

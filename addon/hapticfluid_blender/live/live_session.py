@@ -175,6 +175,11 @@ def read_plan(scene) -> LivePlan:
         feel_playback=live.feel_playback, viewport_first=live.viewport_first)
 
 
+def _gl_context_problem(exc) -> str:
+    return (f"Check the GPU driver (or set HAPTICFLUID_EGL_DEVICE, see README): the simulation's "
+            f"GL context could not be made: {exc}")
+
+
 def _box_text(lo, hi) -> str:
     return "(" + ", ".join(f"{a:.3g}..{b:.3g}" for a, b in zip(lo, hi)) + ") m"
 
@@ -201,7 +206,10 @@ class _Engine:
 
         self.device = self._open_device(hf, plan)
         size = [plan.domain_hi[i] - plan.domain_lo[i] for i in range(3)]
-        software = bool(hf.probe_device().get("software", True))
+        try:  # the EGL device the simulation will use (HAPTICFLUID_EGL_DEVICE may name a bad one)
+            software = bool(hf.probe_device().get("software", True))
+        except hf.HapticFluidError as exc:
+            raise SessionError(_gl_context_problem(exc)) from None
         res = plan.resolution if plan.resolution is not None else preview_resolution(software)
         try:
             settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid,
@@ -221,8 +229,7 @@ class _Engine:
         try:
             self.sim = hf.Simulation(settings)
         except hf.HapticFluidError as exc:
-            raise SessionError(f"Check the GPU driver (or set HAPTICFLUID_EGL_DEVICE, see README): the simulation's "
-                               f"GL context could not be made: {exc}") from None
+            raise SessionError(_gl_context_problem(exc)) from None
         try:
             if source is not None:
                 assembly.place_source(self.sim, **source)
@@ -610,11 +617,10 @@ class LiveController:
 
     def hand_force_world(self, latest) -> Tuple[float, float, float]:
         """The force the hand feels (N): the device's commanded force (after the force gain, the
-        filter and the safety stage) in world axes. The session maps a world force f to the device
-        as gain * sign(workspace_scale) * f per axis, so sign(scale) * commanded is its world
-        direction. Drawn against Max Force, the device's limit, in the same newtons."""
-        scale = self.session.workspace_scale
-        return tuple(math.copysign(1.0, float(scale[i])) * float(latest["commanded_force"][i]) for i in range(3))
+        filter and the safety stage) in world axes, as the engine reports it (latest()'s
+        commanded_force_world: its workspace map flips a mirrored axis back). Drawn against Max
+        Force, the device's limit, in the same newtons."""
+        return tuple(float(c) for c in latest["commanded_force_world"])
 
     def _update_stats(self, latest):
         s = self.session.stats()

@@ -18,22 +18,34 @@ def _glibc_floor(wheel_names):
     return max(floors) if floors else None
 
 
+MANIFEST = os.path.join(os.path.dirname(os.path.dirname(__file__)), "blender_manifest.toml")
+
+
+def manifest_wheels(manifest=MANIFEST):
+    """The wheel file names the manifest's ``wheels = [...]`` lists (scripts/build_extension.sh
+    appends it): [] where it lists none (the source tree, a zip built without wheels) or there is
+    no manifest (a legacy add-on install). Comments are not read (they name placeholder wheels)."""
+    try:
+        with open(manifest, encoding="utf-8") as f:
+            text = "".join(line for line in f if not line.lstrip().startswith("#"))
+    except OSError:
+        return []
+    listed = re.search(r"^wheels\s*=\s*\[(.*?)\]", text, re.M | re.S)
+    return [os.path.basename(n) for n in re.findall(r"[\"']([^\"']+\.whl)[\"']", listed.group(1))] if listed else []
+
+
 def unsupported_here(wheel_names=None):
     """One line saying why the engine cannot load on this system, or None where it can (as far as
     the platform, Python and glibc tell). The extension's wheels are Linux x86_64 only, for CPython
     3.11 (Blender 4.2 to 5.0) and 3.13 (5.1 to 5.3), each needing at least the glibc its
-    manylinux tag names; wheel_names defaults to those the installed manifest lists."""
+    manylinux tag names; wheel_names defaults to those the installed manifest lists (none listed:
+    the engine did not come with the add-on, so only the platform is judged here)."""
     system, machine = platform.system(), platform.machine().lower()
     if system != "Linux" or machine not in ("x86_64", "amd64"):
         return (f"hapticfluid's engine is built for Linux x86_64 only: none for {system} {machine} "
                 f"(Windows, macOS and arm64 are not supported)")
     if wheel_names is None:
-        manifest = os.path.join(os.path.dirname(os.path.dirname(__file__)), "blender_manifest.toml")
-        try:
-            with open(manifest, encoding="utf-8") as f:
-                wheel_names = re.findall(r"hapticfluid-[^\"/]+\.whl", f.read())
-        except OSError:  # a legacy add-on install: no manifest, the package comes from elsewhere
-            wheel_names = []
+        wheel_names = manifest_wheels()
     py = f"cp{sys.version_info[0]}{sys.version_info[1]}"
     mine = [n for n in wheel_names if f"-{py}-" in n]
     if wheel_names and not mine:
@@ -59,6 +71,11 @@ def package_problem():
         if missing:  # libglvnd is the system's on purpose (the wheel does not carry it)
             return (f"Install your system's {missing.group(1)} (Debian/Ubuntu: apt install libegl1 libopengl0; "
                     f"Fedora/RHEL: dnf install libglvnd-egl libglvnd-opengl): the engine needs it ({exc})")
+        if not manifest_wheels():  # the source tree, a zip built without wheels, a legacy install
+            return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
+                    f"(read by Blender 4.x only with --python-use-system-env), or install the extension zip "
+                    f"scripts/build_extension.sh builds, which carries it: this add-on came without its engine "
+                    f"(its manifest lists no wheels) and it is not importable ({exc})")
         return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
                 f"(read by Blender 4.x only with --python-use-system-env): "
                 f"it is not importable ({exc})")
