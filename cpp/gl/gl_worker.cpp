@@ -30,29 +30,36 @@ void noteDriverThreads(const std::vector<int>& before) {
 }
 
 // Gives the driver's threads this thread's niceness: they run this worker's GL work. They are
-// shared, so they keep the niceness of the last worker that asked for a lower priority.
-std::string lowerDriverThreads() {
+// shared by every context on the display, so they follow the simulation made last. Making them
+// nicer needs no privilege; making them less nice again (a simulation at 0 after one at 10) needs
+// CAP_SYS_NICE: without it they keep the earlier niceness, and the reason is returned.
+std::string matchDriverThreads() {
   const int niceness = threadNiceness(currentThreadId());
   std::lock_guard<std::mutex> lock(g_driver_threads_mutex);
   const std::vector<int> alive = threadIds();
+  std::string refused;
   for (auto it = g_driver_threads.begin(); it != g_driver_threads.end();) {
     if (std::find(alive.begin(), alive.end(), *it) == alive.end()) {
       it = g_driver_threads.erase(it);
       continue;
     }
-    if (threadNiceness(*it) < niceness) {
-      const std::string refused = setThreadNiceness(*it, niceness);
-      if (!refused.empty()) return "driver thread " + std::to_string(*it) + ": " + refused;
+    const int was = threadNiceness(*it);
+    if (was != niceness && refused.empty()) {
+      const std::string why = setThreadNiceness(*it, niceness);
+      if (!why.empty()) {
+        refused = "the GL driver's threads keep niceness " + std::to_string(was) + " from an earlier simulation (" +
+                  why + ")";
+      }
     }
     ++it;
   }
-  return "";
+  return refused;
 }
 #endif
 
 }  // namespace
 
-GlWorker::GlWorker(const std::string& device_request, int niceness) {
+GlWorker::GlWorker(const std::string& device_request, std::optional<int> niceness) {
   std::promise<void> ready;
   std::future<void> started = ready.get_future();
   thread_ = std::thread([this, device_request, niceness, &ready] { loop(device_request, niceness, ready); });
@@ -81,8 +88,8 @@ void GlWorker::post(std::function<void()> job) {
   wake_.notify_one();
 }
 
-void GlWorker::loop(const std::string& device_request, int niceness, std::promise<void>& ready) {
-  std::string refused = lowerCurrentThreadPriority(niceness);
+void GlWorker::loop(const std::string& device_request, std::optional<int> niceness, std::promise<void>& ready) {
+  std::string refused = lowerCurrentThreadPriority(niceness.value_or(0));
 #if defined(__linux__)
   nameCurrentThread(kWorkerName);
   const std::vector<int> before = threadIds();
@@ -93,10 +100,10 @@ void GlWorker::loop(const std::string& device_request, int niceness, std::promis
     info_ = context->info();
 #if defined(__linux__)
     noteDriverThreads(before);
-    if (refused.empty() && niceness > 0) refused = lowerDriverThreads();
+    if (refused.empty() && niceness) refused = matchDriverThreads();
 #endif
     if (!refused.empty()) {
-      info_.warning += (info_.warning.empty() ? "" : "; ") + ("lower thread priority not applied: " + refused);
+      info_.warning += (info_.warning.empty() ? "" : "; ") + ("thread priority: " + refused);
     }
   } catch (...) {
     ready.set_exception(std::current_exception());

@@ -9,6 +9,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <type_traits>
@@ -20,9 +21,11 @@ namespace hf::gl {
 class GlWorker {
  public:
   // Starts the thread and creates the context on it; rethrows the context's creation error.
-  // `niceness` (0..19) makes the thread, and the threads the driver starts from it (llvmpipe's
-  // workers), that much nicer than the caller; a refusal is noted in info().warning.
-  explicit GlWorker(const std::string& device_request = "", int niceness = 0);
+  // `niceness` (0..19) makes the thread that much nicer than the caller, and gives the GL driver's
+  // own threads (llvmpipe's workers, shared by every context on the device) the same niceness;
+  // a refusal is noted in info().warning. Without it (a probe of the device) no thread's priority
+  // changes.
+  explicit GlWorker(const std::string& device_request = "", std::optional<int> niceness = std::nullopt);
   // Runs the queued work, destroys the context on its thread, then joins.
   ~GlWorker();
   GlWorker(const GlWorker&) = delete;
@@ -42,7 +45,7 @@ class GlWorker {
 
  private:
   void post(std::function<void()> job);
-  void loop(const std::string& device_request, int niceness, std::promise<void>& ready);
+  void loop(const std::string& device_request, std::optional<int> niceness, std::promise<void>& ready);
 
   std::thread thread_;
   std::mutex mutex_;

@@ -141,7 +141,7 @@ class HAPTICFLUID_PT_live_settings(bpy.types.Panel):
         sub = col.column()
         sub.enabled = not live.auto_resolution
         sub.prop(live, "resolution", text="Cells")
-        col.prop(live, "viewport_first")
+        col.prop(live, "cpu_share")
         col = layout.column()
         col.enabled = not live.is_running
         col.prop(live, "auto_workspace", text="Fit Workspace")

@@ -45,6 +45,16 @@ def _default(name):
 # What follows the object in Mouse and Timeline mode (also docs/ARCHITECTURE.md, Live session).
 ROTATION_NOTE = ("The object's location and rotation drive the fluid; its scale stays what it was at Start "
                  "(a scale change applies at the next Start)")
+CPU_SHARE_ITEMS = (
+    ("AUTO", "Auto", "Viewport First when the mouse or the timeline moves the probe (the viewport is what you "
+                     "follow), Equal with a Falcon (what the hand feels needs the simulation's rate)"),
+    ("VIEWPORT", "Viewport First", "The simulation runs at a lower priority: the viewport keeps its pace, the "
+                                   "simulation steps in what the drawing leaves (2 cores, 32^3: about 80% of the "
+                                   "redraws without a session, 2 steps/s)"),
+    ("EQUAL", "Equal", "The simulation and the drawing share the cores equally (2 cores, 32^3: about 55% of the "
+                       "redraws without a session, 6 steps/s)"),
+)
+
 DEVICE_ITEMS = (
     ("MOUSE", "Mouse / Transform", "No device: the probe object's transform drives the fluid; grab it (G), "
                                    "turn it (R) or move it any way Blender allows. " + ROTATION_NOTE),
@@ -69,11 +79,10 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     resolution: IntProperty(name="Preview Resolution", default=32, min=8, max=512, soft_max=128,
                             description="Cells along the domain's longest edge during the live session "
                                         "(the bake has its own)")
-    viewport_first: BoolProperty(
-        name="Viewport First", default=True,
-        description="On a CPU GL device (no usable GPU), the simulation runs at a lower priority so Blender's "
-                    "drawing keeps its pace; it steps slower when both want the cores. Off: they share the cores "
-                    "equally. No effect on a GPU")
+    cpu_share: EnumProperty(
+        name="CPU Share", items=CPU_SHARE_ITEMS, default="AUTO",
+        description="Who goes first when the simulation and Blender's drawing both want the cores, on a CPU GL "
+                    "device (no usable GPU; no effect on a GPU)")
     auto_workspace: BoolProperty(
         name="Fit Workspace", default=True,
         description="Map the device's workspace onto the domain: uniform scale so it fits, its middle at the "

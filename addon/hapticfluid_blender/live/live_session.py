@@ -172,7 +172,7 @@ def read_plan(scene) -> LivePlan:
         probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
         auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
         firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower(),
-        feel_playback=live.feel_playback, viewport_first=live.viewport_first)
+        feel_playback=live.feel_playback, viewport_first=viewport_first(live.cpu_share, live.device))
 
 
 def _gl_context_problem(exc) -> str:
@@ -182,6 +182,13 @@ def _gl_context_problem(exc) -> str:
 
 def _box_text(lo, hi) -> str:
     return "(" + ", ".join(f"{a:.3g}..{b:.3g}" for a, b in zip(lo, hi)) + ") m"
+
+
+def viewport_first(cpu_share: str, mode: str) -> bool:
+    """Whether the simulation yields the cores to Blender's drawing (on a CPU GL device): CPU Share
+    'VIEWPORT', or 'AUTO' in the modes where the viewport is what the user follows (Mouse,
+    Timeline); with a Falcon the hand's force needs the simulation's rate, so 'AUTO' shares equally."""
+    return cpu_share == "VIEWPORT" or (cpu_share == "AUTO" and mode not in DEVICE_MODES)
 
 
 def preview_resolution(software: bool) -> int:
