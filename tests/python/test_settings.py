@@ -29,50 +29,65 @@ def test_fluid_settings_are_the_engines_defaults_and_a_simulation_keeps_them():
     assert given.vorticity == pytest.approx(0.25)
 
 
-def _thread_niceness():
-    """{thread id: (name, niceness)} of this process's threads (/proc)."""
-    import os
+_NICENESS_CHECK = r"""
+import json, os, threading
+import hapticfluid as hf
+
+def threads():
     out = {}
     for tid in os.listdir("/proc/self/task"):
         try:
-            with open(f"/proc/self/task/{tid}/stat") as f:
-                stat = f.read()
-            with open(f"/proc/self/task/{tid}/comm") as f:
-                name = f.read().strip()
+            stat = open(f"/proc/self/task/{tid}/stat").read()
+            name = open(f"/proc/self/task/{tid}/comm").read().strip()
         except OSError:
             continue
         out[int(tid)] = (name, int(stat[stat.rindex(")") + 2:].split()[16]))
     return out
+
+hf.probe_device()  # the driver's threads start here, at the caller's niceness
+result = {}
+with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=7)) as sim:
+    sim.step(0.01)
+    result["software"] = bool(sim.device["software"])
+    result["kept"] = sim.settings.thread_niceness
+    result["nice"] = threads()
+    result["caller"] = threads()[threading.get_native_id()][1]
+with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=0)) as sim:
+    sim.step(0.01)
+    result["after"] = threads()
+    result["warning"] = sim.device["warning"]
+print(json.dumps(result))
+"""
 
 
 def test_thread_niceness_lowers_the_simulations_threads_and_the_drivers_only():
     """A live session beside Blender's drawing on llvmpipe asks for nicer simulation threads
     (hapticfluid.assembly.live_thread_niceness). The GL worker ("hf-gl") and the driver's threads it
     computes on (llvmpipe's, made when the process's first context was: probe_device's here, at
-    niceness 0) get it; the caller's thread keeps its own."""
-    hf.probe_device()  # the driver's threads start here, at the caller's niceness
-    with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=7)) as sim:
-        sim.step(0.01)
-        threads = _thread_niceness()
-        assert sim.settings.thread_niceness == 7
-        workers = [n for name, n in threads.values() if name.startswith("hf-gl")]
-        assert workers and all(n >= 7 for n in workers), threads
-        lp = [n for name, n in threads.values() if name.startswith("llvmpipe")]
-        if sim.device["software"]:
-            assert lp and all(n >= 7 for n in lp), threads
-        import threading
-        assert threads[threading.get_native_id()][1] < 7, threads
-    # The driver's threads follow the simulation made last: back to the caller's at 0 where the
-    # process may lower niceness again (root; CAP_SYS_NICE), else its device warning says why not.
+    niceness 0) get it; the caller's thread keeps its own. Then a simulation at 0 takes the driver's
+    threads back where the process may lower niceness (root; CAP_SYS_NICE), else its device warning
+    says why not. In a fresh process: the driver's threads are the process's, shared by every
+    simulation in it."""
+    import json
     import os
-    with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=0)) as sim:
-        sim.step(0.01)
-        lp = [n for name, n in _thread_niceness().values() if name.startswith("llvmpipe")]
-        if sim.device["software"]:
-            if os.geteuid() == 0:
-                assert lp and all(n == 0 for n in lp), lp
-            else:
-                assert "keep niceness 7" in sim.device["warning"], sim.device
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, "-c", _NICENESS_CHECK], capture_output=True, text=True, timeout=120,
+                         env=dict(os.environ))
+    assert out.returncode == 0, out.stderr
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    assert r["kept"] == 7
+    named = [(name, n) for name, n in r["nice"].values() if name.startswith(("hf-gl", "llvmpipe"))]
+    assert named and all(n == 7 for _, n in named), r["nice"]
+    if r["software"]:
+        assert any(name.startswith("llvmpipe") for name, _ in named), r["nice"]
+    assert r["caller"] == 0, r
+    lp = [n for name, n in r["after"].values() if name.startswith("llvmpipe")]
+    if r["software"]:
+        if os.geteuid() == 0:
+            assert lp and all(n == 0 for n in lp), r["after"]
+        else:
+            assert "keep niceness 7" in r["warning"], r["warning"]
     with pytest.raises(hf.InvalidArgumentError, match="thread_niceness must be 0 to 19.*got 20"):
         hf.FluidSettings(thread_niceness=20)
     with pytest.raises(TypeError, match="thread_niceness"):
