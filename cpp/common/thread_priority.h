@@ -4,6 +4,7 @@
 // Blender's drawing on a CPU GL device) yields the cores to an interactive thread when both want
 // them. On Linux niceness and the name belong to each thread and are copied to the threads it
 // starts. Raising niceness needs no privilege; lowering it below the start does (CAP_SYS_NICE).
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -74,8 +75,7 @@ inline std::string lowerCurrentThreadPriority(int increment) {
   if (increment <= 0) return "";
 #if defined(__linux__)
   const int tid = currentThreadId();
-  const int wanted = threadNiceness(tid) + increment > 19 ? 19 : threadNiceness(tid) + increment;
-  return setThreadNiceness(tid, wanted);
+  return setThreadNiceness(tid, std::min(19, threadNiceness(tid) + increment));  // 19: the lowest priority
 #else
   return "thread niceness is only supported on Linux";
 #endif

@@ -64,21 +64,21 @@ def package_problem():
     try:
         import hapticfluid  # noqa: F401
     except ImportError as exc:
-        why = unsupported_here()
+        wheels = manifest_wheels()
+        why = unsupported_here(wheels)
         if why:
             return f"{why}: the add-on's engine cannot load ({exc})"
         missing = re.match(r"(lib(EGL|OpenGL)\.so\.\d+): cannot open shared object file", str(exc))
         if missing:  # libglvnd is the system's on purpose (the wheel does not carry it)
             return (f"Install your system's {missing.group(1)} (Debian/Ubuntu: apt install libegl1 libopengl0; "
                     f"Fedora/RHEL: dnf install libglvnd-egl libglvnd-opengl): the engine needs it ({exc})")
-        if not manifest_wheels():  # the source tree, a zip built without wheels, a legacy install
-            return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
-                    f"(read by Blender 4.x only with --python-use-system-env), or install the extension zip "
-                    f"scripts/build_extension.sh builds, which carries it: this add-on came without its engine "
-                    f"(its manifest lists no wheels) and it is not importable ({exc})")
-        return (f"Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
-                f"(read by Blender 4.x only with --python-use-system-env): "
-                f"it is not importable ({exc})")
+        install = ("Install the hapticfluid package into Blender's Python (see README) or add it to PYTHONPATH "
+                   "(read by Blender 4.x only with --python-use-system-env)")
+        if not wheels:  # the source tree, a zip built without wheels, a legacy install
+            return (f"{install}, or install the extension zip scripts/build_extension.sh builds, which carries it: "
+                    f"this add-on came without its engine (its manifest lists no wheels) and it is not importable "
+                    f"({exc})")
+        return f"{install}: it is not importable ({exc})"
     return None
 
 
