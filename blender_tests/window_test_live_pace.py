@@ -252,6 +252,14 @@ def session_stats(run):
                 haptic_hz=live.haptic_rate_hz, ticks=run.controller.ticks, **extra)
 
 
+def warmed_up(run, live):
+    """A session phase's warm-up is over: running, a snapshot drawn, WARMUP_S passed (fails the test
+    if the session ended instead)."""
+    if run is None:
+        fail(f"the session ended: {live.status}")
+    return run.controller.state == "running" and run.controller.last_sequence >= 1 and elapsed() > WARMUP_S
+
+
 def step():
     scene = bpy.context.scene
     live = scene.hapticfluid_live
@@ -279,9 +287,7 @@ def step():
               f"a Mouse-mode session with CPU Share Equal starts at {RESOLUTION}")
         next_phase("shared_warmup")
     elif phase == "shared_warmup":
-        if run is None:
-            fail(f"the session ended: {live.status}")
-        if run.controller.state == "running" and run.controller.last_sequence >= 1 and elapsed() > WARMUP_S:
+        if warmed_up(run, live):
             next_phase("shared")
     elif phase == "shared" and elapsed() >= MEASURE_S:
         if run is None:
@@ -292,9 +298,7 @@ def step():
         check(invoke(bpy.ops.hapticfluid.live_start) == {"RUNNING_MODAL"}, f"a Mouse-mode session starts at {RESOLUTION}")
         next_phase("session_warmup")
     elif phase == "session_warmup":
-        if run is None:
-            fail(f"the session ended: {live.status}")
-        if run.controller.state == "running" and run.controller.last_sequence >= 1 and elapsed() > WARMUP_S:
+        if warmed_up(run, live):
             state["seq0"] = run.controller.last_sequence
             state["marches0"] = getattr(run.drawer, "marches", 0)
             next_phase("session")
