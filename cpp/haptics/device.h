@@ -27,6 +27,9 @@ struct DeviceInfo {
   // force gain (rendering_limits.h) and the passivity controller's damper.
   float max_stiffness_n_m = 0.0f;         // N/m
   float max_damping_n_s_m = 0.0f;         // N s/m
+  // The spread of a position reading's quantization error per axis, m (0: exact or not reported):
+  // the grip's velocity (grip_motion.h) fits its readings within it.
+  float position_resolution_m = 0.0f;
 };
 
 struct DeviceState {

@@ -36,6 +36,7 @@ ForcePipeline::ForcePipeline(const PipelineSettings& s)
     : s_((s.validate(), s)),
       model_(s.coupling.added_mass_kg, maxModelDrag(s)),
       coupling_(s.coupling.stiffness_n_m, s.coupling.damping_n_s_m),
+      grip_(s.position_resolution_m),
       passivity_(passivityFor(s), s.safety.slew_rate_n_s),
       safety_(s.safety),
       guide_(s.guide) {}

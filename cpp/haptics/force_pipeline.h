@@ -64,6 +64,9 @@ struct PipelineSettings {
   SafetySettings safety;
   CouplingSettings coupling;
   GuideSettings guide;  // haptic playback (playback_guide.h); its gains resolved by the loop
+  // The device's position resolution (DeviceInfo::position_resolution_m, m, >= 0), filled in by the
+  // haptic loop: the grip's velocity fits the readings within it (grip_motion.h).
+  double position_resolution_m = 0.0;
   void validate() const;
 };
 
@@ -121,7 +124,7 @@ class ForcePipeline {
   FluidModel model_;
   VirtualCoupling coupling_;
   LowPassFilter filter_;
-  GripMotion grip_;  // the velocity the passivity controller acts on (grip_motion.h)
+  GripMotion grip_;  // the velocity the coupling's damper and the passivity controller act on (grip_motion.h)
   PassivityController passivity_;
   ForceSafety safety_;
   PlaybackGuide guide_;

@@ -29,6 +29,7 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
     throw InvalidArgument("max_force " + std::to_string(s.pipeline.safety.max_force_n) + " N is above the maximum of '" +
                           device.info().name + "' (" + std::to_string(device_max) + " N); give at most that");
   }
+  s.pipeline.position_resolution_m = device.info().position_resolution_m;
   // The passivity controller's damper is bounded by the device's maximum stable damping.
   // None takes the device's; a device that reports none leaves it None (observed only).
   std::optional<float>& damping = s.pipeline.passivity.max_damping_n_s_m;

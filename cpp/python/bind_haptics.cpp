@@ -161,6 +161,9 @@ void addDeviceTypes(py::module_& m) {
       .def_readonly("max_damping", &DeviceInfo::max_damping_n_s_m,
                     "Largest damping the device renders stably (N s/m; 0: not reported). Bounds the\n"
                     "default force gain and the passivity controller's damper.")
+      .def_readonly("position_resolution", &DeviceInfo::position_resolution_m,
+                    "Spread of a position reading's quantization error per axis (m; 0: exact or not\n"
+                    "reported). The grip's velocity is fitted to the readings within it.")
       .def("__repr__", [](const DeviceInfo& i) {
         return "DeviceInfo(name='" + i.name + "', kind='" + i.kind + "', max_force=" + std::to_string(i.max_force_n) +
                " N)";

@@ -282,6 +282,8 @@ class DeviceInfo:
     def max_stiffness(self) -> float: ...  # N/m; 0 = not reported
     @property
     def max_damping(self) -> float: ...  # N s/m; 0 = not reported
+    @property
+    def position_resolution(self) -> float: ...  # m; 0 = exact or not reported
 
 class DeviceState:
     @property

@@ -103,6 +103,34 @@ TEST(FalconKinematics, EncoderRoundTripIsWithinQuantisation) {
   EXPECT_GT(worst, 1e-7);  // quantisation is there at all
 }
 
+TEST(FalconKinematics, PositionResolutionBoundsTheQuantisationSpreadPerAxis) {
+  // The spread (largest less smallest error) of the quantised readings per axis, over a fine grid
+  // of the cube, stays within positionResolutionM(), and is not far below it (a useful bound).
+  const FalconKinematics kin;
+  const double resolution = kin.positionResolutionM();
+  EXPECT_GT(resolution, 2e-5);
+  EXPECT_LT(resolution, 3e-4);
+  glm::dvec3 guess(0.0);
+  double worst_spread = 0.0;
+  for (const glm::dvec3& centre : workspaceGrid(0.036, 5)) {
+    // Readings about one pose: their error spread per axis.
+    glm::dvec3 lo(1.0), hi(-1.0);
+    for (int i = 0; i < 400; ++i) {
+      const glm::dvec3 p = centre + 1e-4 * glm::dvec3(std::sin(0.37 * i), std::cos(0.53 * i), std::sin(0.71 * i + 1.0));
+      const auto counts = kin.countsFor(p);
+      ASSERT_TRUE(counts);
+      const ForwardResult fk = kin.forward(FalconKinematics::anglesFromCounts(*counts), guess);
+      ASSERT_TRUE(fk.converged);
+      guess = fk.position_m;
+      lo = glm::min(lo, fk.position_m - p);
+      hi = glm::max(hi, fk.position_m - p);
+    }
+    for (int a = 0; a < 3; ++a) worst_spread = std::max(worst_spread, hi[a] - lo[a]);
+  }
+  EXPECT_LE(worst_spread, resolution);
+  EXPECT_GT(worst_spread, 0.3 * resolution);
+}
+
 TEST(FalconKinematics, JacobianMatchesFiniteDifferences) {
   const FalconKinematics kin;
   const double h = 1e-6;

@@ -13,11 +13,13 @@ controller at gain 1 in water: there the bounds fail, so they can tell. (At the 
 seed alone stays passive in these strokes; what it cannot do is answer the hand between steps:
 tests/cpp/test_haptic_coupling.cpp.)
 
-48^3 is not in the suite: at 1-2 simulation steps a second the same strokes in water stayed
-within the bounds in most runs (0.006-0.06 mJ) but reached 2.12 mJ once on a loaded machine, and
-in air the hand settled 0.2-1.83 mm from rest; the table of every case (32^3 and 48^3, air and
-water, the default and the largest gain, the mechanism on and off) is the benchmark's:
-python3 -m hapticfluid.bench.strokes."""
+48^3 is not in the suite (3-5 simulation steps a second: each case is as long, and the suite's
+time goes to the cases above); the table of every case (32^3 and 48^3, air and water, the default
+and the largest gain, the mechanism on and off) is the benchmark's, python3 -m
+hapticfluid.bench.strokes (docs/BENCHMARKS.md, Quick strokes): with the grip's velocity fitted
+within the encoder's resolution, 48^3 stayed within 1.34 mJ and settled within 0.47 mm; with the
+fixed 4-period velocity the hand had settled up to 1.83 mm off in air and water had reached 2.12 mJ
+once on a loaded machine."""
 
 import pytest
 
@@ -54,14 +56,27 @@ def test_strokes_are_passive_with_the_simulation_slowed_to_5_hz(name, density):
     assert drift <= SETTLE_M, (name, drift)
 
 
+# The fast case is a fast case only when the machine lets the simulation run fast: a run whose
+# simulation stepped under FAST_HZ (another process on the 2 cores: 24.5 Hz once in a full suite)
+# measured something else, so it is run again, FAST_TRIES times at most; the bounds are the same.
+FAST_HZ = 30.0
+FAST_TRIES = 3
+
+
 @pytest.mark.parametrize("name,density", CASES)
 def test_strokes_are_passive_with_the_simulation_at_60_hz(name, density):
     """Issue 27, item 4 (the fast half): steps of 1/60 s at 16^3, which this machine's llvmpipe
-    runs at about 58 Hz (32^3 reaches 10-20 Hz); the derived gain is the same."""
-    run, energy, drift = run_strokes(density, resolution=16, min_sim_dt=1.0 / 60.0)
-    st = run["stats"]
+    runs at about 58 Hz (32^3 reaches 10-20 Hz); the derived gain is the same. The bounds are
+    checked on a run that stepped at FAST_HZ or more."""
+    rates = []
+    for _ in range(FAST_TRIES):
+        run, energy, drift = run_strokes(density, resolution=16, min_sim_dt=1.0 / 60.0)
+        st = run["stats"]
+        rates.append(st["sim_rate_hz"])
+        if st["sim_rate_hz"] >= FAST_HZ:
+            break
     assert st["error"] is None and st["coupling"] is True
-    assert st["sim_rate_hz"] >= 30.0, st["sim_rate_hz"]  # tolerant: a loaded machine slows it
+    assert st["sim_rate_hz"] >= FAST_HZ, rates
     assert energy <= ENERGY_J, (name, energy, st["force_gain"])
     assert drift <= SETTLE_M, (name, drift)
 

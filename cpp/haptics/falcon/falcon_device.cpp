@@ -30,6 +30,8 @@ DeviceInfo falconInfo(const std::string& name, const std::string& kind, const st
   info.max_force_n = 8.0f;
   info.max_stiffness_n_m = 3000.0f;
   info.max_damping_n_s_m = 20.0f;
+  // One count of every encoder, the worst place in the cube (about 0.1 mm).
+  info.position_resolution_m = static_cast<float>(FalconKinematics().positionResolutionM());
   return info;
 }
 

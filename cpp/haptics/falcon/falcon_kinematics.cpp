@@ -106,6 +106,27 @@ std::optional<glm::dmat3> FalconKinematics::jacobian(const glm::dvec3& position_
   return glm::inverse(*inv);
 }
 
+double FalconKinematics::positionResolutionM() const {
+  constexpr int kSteps = 8;  // 9 points per edge
+  double worst = 0.0;
+  for (int i = 0; i <= kSteps; ++i) {
+    for (int j = 0; j <= kSteps; ++j) {
+      for (int k = 0; k <= kSteps; ++k) {
+        const glm::dvec3 p = glm::dvec3(-kWorkspaceHalfEdge) +
+                             (2.0 * kWorkspaceHalfEdge / kSteps) * glm::dvec3(i, j, k);
+        const auto jac = jacobian(p);  // columns: motors; rows: axes
+        if (!jac) continue;
+        for (int axis = 0; axis < 3; ++axis) {
+          double spread = 0.0;
+          for (int motor = 0; motor < 3; ++motor) spread += std::abs((*jac)[motor][axis]) * kRadPerCount;
+          worst = std::max(worst, spread);
+        }
+      }
+    }
+  }
+  return worst;
+}
+
 ForwardResult FalconKinematics::forward(const glm::dvec3& angles_rad, const glm::dvec3& guess_m, int max_iterations,
                                         double tolerance_rad) const {
   ForwardResult result;

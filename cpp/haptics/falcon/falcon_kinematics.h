@@ -72,6 +72,11 @@ class FalconKinematics {
   // dp/dt1 (m/rad), the inverse of inverseJacobian().
   std::optional<glm::dmat3> jacobian(const glm::dvec3& position_m) const;
 
+  // The most one axis' reading moves across one count of every encoder, anywhere in the reachable
+  // cube about the workspace centre (m): the spread of the quantization error of a position reading (sum over the motors of
+  // |dp_axis/dt1_i| x one count, the largest over a 9^3 grid of the cube and the three axes).
+  double positionResolutionM() const;
+
   // Encoder counts <-> angles.
   static double angleFromCount(std::int16_t count);
   static std::optional<std::int16_t> countFromAngle(double angle_rad);
