@@ -16,6 +16,7 @@ HF_PACKAGES=(
   libusb-1.0-0-dev pkg-config clang libclang-rt-dev
   blender xvfb xauth
   nodejs  # runs the Flamenco job compiler in tests/farm (18 on Debian 12, 20 on 13)
+  mmdebstrap  # builds the trixie tree whose Blender 4.3 the package tests install the zip into
   libopenvdb-dev python3-openvdb libopenvdb-tools libboost-iostreams-dev
 )
 
