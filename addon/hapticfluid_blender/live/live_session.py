@@ -103,8 +103,13 @@ class _Recording:
 
 
 def _import_hf():
+    """The hapticfluid package, with the modules the worker thread uses already imported: a first
+    import reads files through the import machinery, and it runs here, on the main thread (read_plan),
+    not on the worker (Blender 3.4 in a window once segfaulted reading a .pyc in the worker's first
+    import of hapticfluid.assembly while its main thread ran); later imports are look-ups."""
     try:
         import hapticfluid
+        from hapticfluid import assembly, hand_gestures  # noqa: F401  (imported for the worker)
     except ImportError as exc:
         raise SessionError(f"Install the hapticfluid package where Blender's Python finds it (see README: "
                            f"pip install into Blender's Python, or PYTHONPATH): it is not importable ({exc})") from None
