@@ -77,6 +77,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     }
   }
   const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
+  const glm::vec3 grip_velocity_now = grip_now_.update(in.state.position_m, in.dt_s);
   const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
   // Haptic playback: while the guide is engaged (weight w > 0) the fluid's probe follows the played
   // pose, not the hand, so the fluid is not an impedance the hand moves (a proxy whose mass and drag
@@ -84,7 +85,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   // stored for the hand-over back) and the hand gets the rendering's steady part on the played probe
   // (the flow's push, buoyancy: low-passed, mapped), bounded to kPlayedForceShare of the guide's
   // force so the guide keeps leading, blended in by w.
-  const GuideTick guide = guide_.step(in.guide, in.state.position_m, grip_velocity, in.now_s, in.dt_s);
+  const GuideTick guide = guide_.step(in.guide, in.state.position_m, grip_velocity_now, in.now_s, in.dt_s);
   const float w = guide.weight;
   out.guide_weight = w;
   out.guide_target_m = guide.target_m;
@@ -144,8 +145,14 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
     // energy it balances is then the energy the device can put in. Not acting, it passes the
     // force on untouched.
     const glm::vec3 deliverable = clampMagnitude(out.filtered_n, s_.safety.max_force_n);
-    const glm::vec3 damped =
-        passivity_.apply(deliverable, in.state.position_m, grip_velocity, safety_.last() - guide_held_, in.dt_s);
+    // With the coupling the dead-band (kCoupledDeadbandM_s) is held against the fitted speed: the
+    // shortest span's jitter (a count in 4 ms, 10 mm/s) opened it in a slow push, and the
+    // controller's damper on that jitter made the energy it then took out of the push (water, 48^3,
+    // 12 mm/s: 0.2 N of damping where gain x the fluid's drag is 0.015 N). It damps on the
+    // shortest span's velocity, which has 2 ms of lag at the hand's turns.
+    const double gate_m_s = out.coupled && allFinite(grip_velocity) ? static_cast<double>(glm::length(grip_velocity)) : -1.0;
+    const glm::vec3 damped = passivity_.apply(deliverable, in.state.position_m, grip_velocity_now,
+                                              safety_.last() - guide_held_, in.dt_s, gate_m_s);
     out.passive_n = passivity_.acted() ? damped : out.filtered_n;
   }
   out.damping_n_s_m = passivity_.state().alpha_n_s_m;
@@ -193,6 +200,7 @@ void ForcePipeline::reset() {
   coupling_.reset();
   filter_.reset();
   grip_.reset();
+  grip_now_.reset();
   passivity_.reset();
   safety_.reset();
   guide_.reset();

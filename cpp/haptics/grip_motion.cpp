@@ -41,21 +41,33 @@ glm::vec3 GripMotion::update(const glm::vec3& position_m, double dt_s) {
   const std::size_t longest = resolution_m_ > 0.0 ? count_ - 1 : std::min(count_ - 1, kGripVelocitySpan);
   const std::size_t shortest = std::min(longest, kGripVelocitySpan);
   glm::dvec3 v(0.0);
+  const double tolerance_m = resolution_m_ + kReadingRoundingM;
   for (int axis = 0; axis < 3; ++axis) {
     const double x0 = x_[newest][axis], t0 = t_[newest];
+    // A reading i periods back lies within the tolerance of the line through the newest reading
+    // with slope s when s is in [(x0 - x_i - tol) / dt_i, (x0 - x_i + tol) / dt_i]: the window grows
+    // to n while the slope to the reading n back is in every such interval of the readings inside
+    // (kept as their intersection, so each update is linear in the window).
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    const auto include = [&](std::size_t back) {
+      const std::size_t s = slot(back);
+      const double dt = t0 - t_[s];
+      if (!(dt > 0.0)) {
+        lo = std::numeric_limits<double>::infinity();  // no slope fits a reading at the same time
+        return;
+      }
+      lo = std::max(lo, (x0 - x_[s][axis] - tolerance_m) / dt);
+      hi = std::min(hi, (x0 - x_[s][axis] + tolerance_m) / dt);
+    };
     std::size_t n = shortest;
-    // Grow the window while every reading inside lies within the resolution of the end-fit line.
+    for (std::size_t i = 1; i < n; ++i) include(i);
     while (n < longest) {
+      include(n);  // the readings inside the window n + 1
       const std::size_t far = slot(n + 1);
       const double span_s = t0 - t_[far];
       if (!(span_s > 0.0)) break;
       const double slope = (x0 - x_[far][axis]) / span_s;
-      bool fits = true;
-      for (std::size_t i = 1; i <= n && fits; ++i) {
-        const std::size_t s = slot(i);
-        fits = std::fabs(x_[s][axis] - (x0 - slope * (t0 - t_[s]))) <= resolution_m_ + kReadingRoundingM;
-      }
-      if (!fits) break;
+      if (!(slope >= lo && slope <= hi)) break;
       ++n;
     }
     const std::size_t far = slot(n);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// GripMotion: the grip's velocity as the coupling's damper and the passivity controller need it,
-// from the positions the loop reads, by first-order adaptive windowing (end-fit FOAW, Janabi-Sharifi,
+// GripMotion: the grip's velocity from the positions the loop reads (the coupling's damper, the
+// passivity controller and its dead-band: force_pipeline.h says which estimate each uses), by
+// first-order adaptive windowing (end-fit FOAW, Janabi-Sharifi,
 // Hayward and Chen 2000). Per axis, the velocity is the slope of the line through the newest
 // reading and the one n periods back, n the longest window (kGripVelocitySpan <= n <=
 // kGripVelocityMaxSpan) over which every reading in between lies within the device's position
@@ -19,9 +20,12 @@
 // damper in 13 s, and the passivity controller damped the push at up to 20 N s/m for it (0.2 N
 // where gain x the fluid's drag is 0.015 N). With the window the velocity is quiet within the
 // resolution over the window (0.5 mm/s at 80 ms) and that energy falls about tenfold
-// (docs/ARCHITECTURE.md, Force at the haptic rate). A device that reports no resolution (0: exact
-// readings) keeps the fixed span. Spans tried at gain 1 on the simulated Falcon before the window
-// (20 runs each): 2 periods, too noisy (the controller chattered, 2.8 mm swings); 8, a 62 mJ window.
+// (docs/ARCHITECTURE.md, Force at the haptic rate). The window's cost: near a turn the readings fit
+// a line within the resolution for up to ~7 ms, so a damper that must not push at the hand's turns
+// (the passivity controller's) keeps the fixed span (GripMotion with no resolution). A device that
+// reports no resolution (0: exact readings) keeps the fixed span. Spans tried at gain 1 on the
+// simulated Falcon (20 runs each): 2 periods, too noisy (the controller chattered, 2.8 mm swings);
+// 8, a 62 mJ window.
 #include <array>
 #include <cstddef>
 

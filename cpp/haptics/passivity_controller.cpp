@@ -80,7 +80,8 @@ void PassivityController::trackAcceleration(const glm::vec3& velocity_m_s, doubl
 }
 
 glm::vec3 PassivityController::apply(const glm::vec3& wanted_n, const glm::vec3& position_m,
-                                     const glm::vec3& velocity_m_s, const glm::vec3& held_n, double dt_s) {
+                                     const glm::vec3& velocity_m_s, const glm::vec3& held_n, double dt_s,
+                                     double gate_speed_m_s) {
   st_.alpha_n_s_m = 0.0;
   st_.cut_n = 0.0;
   acted_ = false;
@@ -102,7 +103,8 @@ glm::vec3 PassivityController::apply(const glm::vec3& wanted_n, const glm::vec3&
   if (!s_.enabled || !timed || !allFinite(wanted_n) || !allFinite(velocity_m_s)) return wanted_n;
   const glm::dvec3 v(velocity_m_s);
   const double speed_sq = glm::dot(v, v);
-  if (!(speed_sq > 0.0) || std::sqrt(speed_sq) < s_.velocity_deadband_m_s) return wanted_n;
+  const double gate_m_s = gate_speed_m_s >= 0.0 ? gate_speed_m_s : std::sqrt(speed_sq);
+  if (!(speed_sq > 0.0) || !(gate_m_s >= s_.velocity_deadband_m_s)) return wanted_n;
   const double speed = std::sqrt(speed_sq);
   const glm::dvec3 along = v / speed;
   const glm::dvec3 wanted(wanted_n);

@@ -111,10 +111,13 @@ class PassivityController {
   // One haptic period. wanted_n: the force this period wants (device frame, N, before safety);
   // position_m, velocity_m_s: this period's device reading; held_n: the force the device held
   // since the previous reading (the safety stage's last output, N); dt_s: the period (s).
-  // Returns the force to hand to the safety stage: wanted_n itself when the controller does not
-  // act. A non-finite input is passed through unchanged (safety zeroes it) and not observed.
+  // gate_speed_m_s: the speed held against the velocity dead-band (m/s; < 0, the default: |velocity|),
+  // e.g. a quieter estimate of the same motion, so noise in the velocity the damper acts on does
+  // not open the gate. Returns the force to hand to the safety stage: wanted_n itself when the
+  // controller does not act. A non-finite input is passed through unchanged (safety zeroes it) and
+  // not observed.
   glm::vec3 apply(const glm::vec3& wanted_n, const glm::vec3& position_m, const glm::vec3& velocity_m_s,
-                  const glm::vec3& held_n, double dt_s);
+                  const glm::vec3& held_n, double dt_s, double gate_speed_m_s = -1.0);
   void reset();
   const PassivityState& state() const { return st_; }
   bool acted() const { return acted_; }  // this period: damped, cut or slewed the push back first

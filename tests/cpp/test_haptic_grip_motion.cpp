@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// GripMotion: the velocity the coupling's damper and the passivity controller act on, from the
-// positions the loop reads.
+// GripMotion: the grip's velocity from the positions the loop reads.
 #include <gtest/gtest.h>
 
 #include <algorithm>

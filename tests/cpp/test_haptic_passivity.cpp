@@ -181,6 +181,26 @@ TEST(HapticPassivity, TheDamperRemovesExactlyTheExcessAboveTheDeadBand) {
   EXPECT_NEAR(paid.x, -1.0f, 1e-5f);
 }
 
+TEST(HapticPassivity, TheDeadBandCanBeHeldAgainstAQuieterSpeed) {
+  // The pipeline (with the coupling) damps on the shortest span's velocity but opens the dead-band
+  // on the fitted speed: a count's jitter in the first must not start the damper.
+  PassivitySettings s;
+  s.max_damping_n_s_m = 20.0f;
+  s.velocity_deadband_m_s = 0.015f;
+  PassivityController pc(s);
+  pc.apply(glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f), 0.001);
+  pc.apply(glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.001f, 0.0f, 0.0f), glm::vec3(0.0f), glm::vec3(1.0f, 0.0f, 0.0f), 0.001);
+  ASSERT_GT(pc.state().energy_j, 0.0);  // 1 mJ owed
+  // Jitter: 20 mm/s read, 12 mm/s fitted (below the dead-band): nothing applied.
+  const glm::vec3 jitter(0.02f, 0.0f, 0.0f), wanted(0.1f, 0.0f, 0.0f);
+  EXPECT_EQ(pc.apply(wanted, glm::vec3(0.001f, 0.0f, 0.0f), jitter, glm::vec3(0.0f), 0.001, 0.012), wanted);
+  EXPECT_EQ(pc.state().active, 0u);
+  // The same reading with the fitted speed above the dead-band (or none given): it damps.
+  const glm::vec3 damped = pc.apply(wanted, glm::vec3(0.001f, 0.0f, 0.0f), jitter, glm::vec3(0.0f), 0.001, 0.02);
+  EXPECT_LT(damped.x, wanted.x);
+  EXPECT_EQ(pc.state().active, 1u);
+}
+
 TEST(HapticPassivity, StoredDissipationIsCappedAndForgotten) {
   PassivitySettings s;
   s.max_damping_n_s_m = 20.0f;

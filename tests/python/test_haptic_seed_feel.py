@@ -41,8 +41,9 @@ acceleration. The haptic path adds nothing: the passivity controller does not ac
 force is the coupling's output. It used to damp the slow push at up to 20 N s/m (the hand got 0.2 N
 where gain x the fluid's drag is 0.015 N): the grip's velocity from the last 4 readings jittered by
 an encoder count, the coupling's damper on it made energy in the observer's books, and the
-controller took it out of the push; the velocity is now fitted over a window as long as the
-readings stay within the encoder's resolution (grip_motion.h).
+controller took it out of the push (its own damper on the jitter making more); the coupling's
+damper now acts on a velocity fitted over a window as long as the readings stay within the
+encoder's resolution (grip_motion.h), and the controller's dead-band is held against that speed.
 A debt of the ramp-in (buoyancy lifting the hand 5 mm while the force ramps in: 4-5 mJ) that the
 controller used to pay at the first push is gone (force_pipeline.cpp; gtest
 HapticCoupling.TheRampInsWorkIsNoDebtTheFirstPushFeelsTheDrag).
