@@ -41,8 +41,9 @@ namespace hf::haptics {
 inline constexpr double kSteadyBandwidthShare = 0.2;
 
 // With the coupling, the passivity controller does not act below this grip speed (m/s), whatever
-// its own dead-band: the grip's velocity (grip_motion.h) jitters by one encoder count over its
-// span, 0.04 mm / 4 ms = 10 mm/s on the Falcon, and a controller damping that jitter at rest fed
+// its own dead-band, held against the fitted speed (grip_motion.h): the 4-period velocity its
+// damper acts on jitters by one encoder count over its span, 0.04 mm / 4 ms = 10 mm/s on the
+// Falcon (in a slow push too, without the fitted speed as the gate), and a controller damping that jitter at rest fed
 // the hand through the coupling (simulated Falcon, air strokes at the derived gain: 1.0-2.3 mJ into
 // the hand, almost all at rest; 0.01-0.18 mJ with 15 mm/s; 0.13-0.45 mJ with no controller).
 inline constexpr float kCoupledDeadbandM_s = 0.015f;

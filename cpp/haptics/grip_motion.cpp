@@ -60,7 +60,9 @@ glm::vec3 GripMotion::update(const glm::vec3& position_m, double dt_s) {
       hi = std::min(hi, (x0 - x_[s][axis] + tolerance_m) / dt);
     };
     std::size_t n = shortest;
-    for (std::size_t i = 1; i < n; ++i) include(i);
+    if (n < longest) {  // the window can grow (a resolution given): the readings inside the shortest
+      for (std::size_t i = 1; i < n; ++i) include(i);
+    }
     while (n < longest) {
       include(n);  // the readings inside the window n + 1
       const std::size_t far = slot(n + 1);
