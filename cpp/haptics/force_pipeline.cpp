@@ -23,6 +23,14 @@ double maxModelDrag(const PipelineSettings& s) {
 }
 }  // namespace
 
+glm::vec3 rampHeldForce(const glm::vec3& steady_n, const glm::vec3& grip_m_s) {
+  const float speed = glm::length(grip_m_s);
+  if (!(speed > kCoupledDeadbandM_s)) return steady_n;  // slow, or not finite: as it is
+  const glm::vec3 along = grip_m_s / speed;
+  const float push = glm::dot(steady_n, along);
+  return push > 0.0f ? steady_n - push * along : steady_n;
+}
+
 void PipelineSettings::validate() const {
   map.validate();
   filter.validate();
@@ -110,7 +118,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
       const glm::vec3 steady = s_.map.forceToDevice(smoothed);
       if (ramping || w > 0.0f) {  // the steady force alone, the proxy placed (VirtualCoupling::place)
         coupling_.place(in.state.position_m, grip_velocity, steady);
-        out.filtered_n = steady;
+        out.filtered_n = ramping && w == 0.0f ? rampHeldForce(steady, grip_velocity) : steady;
       } else {
         out.filtered_n = coupling_.step(in.state.position_m, grip_velocity, mass, drag, steady, in.dt_s);
         coupled_step = true;

@@ -57,6 +57,16 @@ inline constexpr float kCoupledDeadbandM_s = 0.015f;
 // off the keys, 0.1 (0.2 N) about 0.3 mm = 3-4 mm.
 inline constexpr float kPlayedForceShare = 0.1f;
 
+// While the coupled rendering ramps in, the hand gets the steady part alone, a held force with no
+// impedance behind it. At rest that is buoyancy and the flow's push, and their work on a hand that
+// yields to them is the fluid's. But a hand that moves as force starts (the session started mid-
+// motion, the device still settling from homing) gives the model's first, impulsive steps, whose
+// residual is the model's error and can point along the motion: water at 16^3, a hand falling at
+// 0.17 m/s as the first step landed, got -0.7..-1.3 N along its motion and 1.5-2.0 mJ. So above the
+// coupled dead-band speed the held force keeps only what resists the grip's motion (its component
+// along the velocity, when that would push the hand on, is taken out); below it, untouched.
+glm::vec3 rampHeldForce(const glm::vec3& steady_n, const glm::vec3& grip_m_s);
+
 struct PipelineSettings {
   WorkspaceMap map;
   LowPassSettings filter;

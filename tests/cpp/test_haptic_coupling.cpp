@@ -405,6 +405,66 @@ TEST(HapticCoupling, TheRampInsWorkIsNoDebtTheFirstPushFeelsTheDrag) {
   EXPECT_NEAR(push_sum / push_n, drag, 0.1 * std::fabs(drag));
 }
 
+TEST(HapticCoupling, TheRampsHeldForceNeverPushesAHandAlongItsMotion) {
+  // Slow (at most the coupled dead-band), or not finite: as it is.
+  const glm::vec3 f(0.3f, -0.2f, -1.0f);
+  EXPECT_EQ(rampHeldForce(f, glm::vec3(0.0f)), f);
+  EXPECT_EQ(rampHeldForce(f, glm::vec3(0.0f, 0.0f, -0.01f)), f);
+  EXPECT_EQ(rampHeldForce(f, glm::vec3(NAN)), f);
+  // Moving: resisting is kept whole; pushing along the motion is taken out, the rest kept.
+  EXPECT_EQ(rampHeldForce(f, glm::vec3(0.0f, 0.0f, 0.17f)), f);
+  const glm::vec3 held = rampHeldForce(f, glm::vec3(0.0f, 0.0f, -0.17f));
+  EXPECT_FLOAT_EQ(held.z, 0.0f);
+  EXPECT_FLOAT_EQ(held.x, 0.3f);
+  EXPECT_FLOAT_EQ(held.y, -0.2f);
+  const glm::vec3 v(0.1f, 0.0f, -0.1f);
+  EXPECT_LE(glm::dot(rampHeldForce(f, v), v), 1e-7f);
+
+  // Through the pipeline: a hand falling at 0.17 m/s through the ramp while the model's steady
+  // part points down (fluid -16 N z, its identification error in an impulsive start) gets no work.
+  Law law;
+  law.steady = glm::vec3(0.0f, 0.0f, -16.0f);
+  PipelineSettings p = coupledSettings(true);
+  p.map.force_gain = 0.1f;
+  p.safety.ramp_s = 2.0;
+  ForcePipeline pipe(p);
+  ForceFrame frame;
+  frame.sim_rate_hz = 60.0;
+  frame.step_dt_s = 1.0 / 60.0;
+  glm::vec3 hand(0.0f, 0.0f, 0.03f), commanded(0.0f);
+  double work = 0.0, next_step = 0.0;
+  float most_down = 0.0f;
+  for (int i = 1; i * kDt <= 1.5; ++i) {
+    const double t = i * kDt;
+    const glm::vec3 last = hand;
+    if (t > 0.5 && t <= 0.7) hand.z -= static_cast<float>(0.17 * kDt);  // 34 mm in 0.2 s, then still
+    TickInput in;
+    in.now_s = t;
+    in.dt_s = kDt;
+    in.state.homed = true;
+    in.state.position_m = hand;
+    in.state.velocity_m_s = (hand - last) / static_cast<float>(kDt);
+    if (t >= next_step - 1e-9) {
+      frame.force_n = law.steady;
+      frame.probe_velocity_m_s = glm::vec3(0.0f);
+      frame.publish_time_s = t;
+      in.new_frame = true;
+      next_step += 1.0 / 60.0;
+    }
+    in.have_force = true;
+    in.force = frame;
+    const TickOutput out = pipe.tick(in);
+    work += glm::dot(commanded, hand - last);
+    commanded = out.commanded_n;
+    if (t > 0.52 && t < 0.68) most_down = std::min(most_down, commanded.z);
+  }
+  // Held along the motion it would do about 0.4-1.6 N x 34 mm, 14-54 mJ; what is left is the few
+  // periods in which safety's slew (200 N/s) takes the held force away as the hand starts (0.1 mJ).
+  EXPECT_LE(work, 0.3e-3) << "the held force did work on the falling hand";
+  EXPECT_GT(most_down, -1e-3f) << "it pushed the falling hand down";
+  EXPECT_LT(commanded.z, -0.1f) << "at rest again the hand feels the steady part, ramping in";
+}
+
 TEST(HapticCoupling, TheGainIsNoLongerCappedAtOneAndKeepsItsMargin) {
   DeviceInfo falcon;
   falcon.name = "Novint Falcon";
