@@ -4,6 +4,7 @@
 #include <libusb.h>
 
 #include <algorithm>
+#include <filesystem>
 
 namespace hf::haptics::falcon {
 namespace {
@@ -80,6 +81,13 @@ std::string udevRuleHelp() {
 }
 
 std::vector<UsbFalconEntry> findUsbFalcons() {
+  // A system with no USB bus at all (a VM, a container, a render node) has no usbfs folder, so no
+  // Falcon can be attached. libusb built without udev (the wheels' static one, which finds devices
+  // through sysfs and hears of new ones through netlink) fails libusb_init there; Debian's, with
+  // udev, assumes /dev/bus/usb and finds nothing. Both answer "no Falcon" here.
+  std::error_code ignored;
+  if (!std::filesystem::exists("/dev/bus/usb", ignored) && !std::filesystem::exists("/proc/bus/usb", ignored))
+    return {};
   Context ctx;
   DeviceList list(ctx.get());
   std::vector<UsbFalconEntry> found;
