@@ -29,14 +29,54 @@ _GENERIC = ("incompatible function arguments", "incompatible constructor argumen
 _SIGNATURE = re.compile(r"^(?:\d+\. )?(\w+)\((.*)\)(?: -> .*)?$")
 
 
+def _split_union(text: str) -> List[str]:
+    """Split ``A | B`` at the bars outside brackets."""
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        if ch in "[(":
+            depth += 1
+        elif ch in "])":
+            depth -= 1
+        elif ch == "|" and depth == 0:
+            parts.append(text[start:i].strip())
+            start = i + 1
+    return parts + [text[start:].strip()]
+
+
+def canonical(annotation: str) -> str:
+    """An annotation in pybind11 2.10's notation, whichever pybind11 wrote it: Debian's 2.10 (the
+    source build) writes ``List[float[3]]``, 2.13 (the wheels) ``Annotated[list[float],
+    FixedSize(3)]``, and 3.x ``typing.SupportsFloat | typing.SupportsIndex`` for ``float``,
+    ``collections.abc.Sequence[...]`` for an argument's list and ``X | None`` for ``Optional[X]``."""
+    a = re.sub(r"\b(?:typing|collections\.abc)\.", "", annotation.strip())
+    union = _split_union(a)
+    if len(union) > 1:
+        if "None" in union:
+            return f"Optional[{canonical(' | '.join(u for u in union if u != 'None'))}]"
+        kinds = set(union)
+        if kinds == {"SupportsFloat", "SupportsIndex"} or kinds == {"float", "int"}:
+            return "float"
+        if kinds == {"SupportsInt", "SupportsIndex"}:
+            return "int"
+        return a
+    m = re.fullmatch(r"Annotated\[(.*), [\"']?FixedSize\((\d+)\)[\"']?\]", a)
+    if m:
+        inner = canonical(m.group(1))
+        return f"List[{inner[5:-1]}[{m.group(2)}]]" if inner.startswith("List[") else a
+    m = re.fullmatch(r"(list|List|Sequence|Optional)\[(.*)\]", a)
+    if m:
+        return f"{'Optional' if m.group(1) == 'Optional' else 'List'}[{canonical(m.group(2))}]"
+    return a
+
+
 class Param:
-    """One parameter of a signature: name, annotation text, whether it has a default."""
+    """One parameter of a signature: name, annotation (canonical()), whether it has a default."""
 
     def __init__(self, text: str):
         name, _, rest = text.partition(":")
         annotation, _, default = rest.partition("=")
         self.name = name.strip()
-        self.annotation = annotation.strip()
+        self.annotation = canonical(annotation)
         self.has_default = bool(_.strip() or default.strip())
         self.star = self.name.startswith("*")
 

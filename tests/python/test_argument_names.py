@@ -128,3 +128,20 @@ def test_other_errors_pass_through_unchanged():
         assert isinstance(sim.step(0.01), hf.StepReport)
     finally:
         sim.close()
+
+
+@pytest.mark.parametrize("written,meant", [
+    # Debian's pybind11 2.10 (the source build), 2.13 (the wheels) and 3.x write the same types so
+    ("List[float[3]]", "List[float[3]]"),
+    ("Annotated[list[float], FixedSize(3)]", "List[float[3]]"),
+    ('typing.Annotated[collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], "FixedSize(3)"]',
+     "List[float[3]]"),
+    ("list[Annotated[list[float], FixedSize(4)]]", "List[List[float[4]]]"),
+    ("Optional[Annotated[list[int], FixedSize(3)]]", "Optional[List[int[3]]]"),
+    ("typing.SupportsFloat | typing.SupportsIndex", "float"),
+    ("typing.SupportsInt | typing.SupportsIndex", "int"),
+    ("collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None", "Optional[List[float]]"),
+    ("hapticfluid._core.Simulation", "hapticfluid._core.Simulation"),
+])
+def test_annotations_read_alike_from_every_pybind11(written, meant):
+    assert _arguments.canonical(written) == meant
