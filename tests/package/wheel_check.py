@@ -1,9 +1,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Run by test_wheel_install.sh with `python -I` in an empty environment: the installed wheel
-imports from the venv, steps a 16^3 simulation, writes a VDB, and uses its vendored libraries."""
+imports from the venv, steps a 16^3 simulation and writes a VDB; its module holds OpenVDB, TBB,
+blosc, Imath and libusb inside itself, exports only its init function, and needs nothing of the
+system beyond glibc 2.28 and libglvnd (read from its ELF tables with binutils)."""
 
+import glob
 import importlib.metadata
 import os
+import re
+import subprocess
 
 import numpy as np
 
@@ -34,10 +39,26 @@ vdb = os.path.join(RUN_DIR, "density.vdb")
 hf.write_vdb(vdb, density, voxel_size=1.0 / 16)
 check(os.path.getsize(vdb) > 0, f"wrote a VDB with OpenVDB {hf.openvdb_version()}")
 
+# The module's ELF tables (binutils' readelf and objdump, Debian's binutils).
+core = glob.glob(os.path.join(os.path.dirname(hf.__file__), "_core.*.so"))[0]
+dynamic = subprocess.run(["readelf", "-dW", core], capture_output=True, text=True, check=True).stdout
+symbols = subprocess.run(["objdump", "-T", core], capture_output=True, text=True, check=True).stdout
+needed = set(re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]", dynamic))
+SYSTEM = {"libc.so.6", "libm.so.6", "libpthread.so.0", "libdl.so.2", "librt.so.1", "ld-linux-x86-64.so.2",
+          "libEGL.so.1", "libOpenGL.so.0"}  # glibc's, and libglvnd's (left to the system on purpose)
+check(needed and needed <= SYSTEM, f"_core needs only glibc and libglvnd: {sorted(needed)}")
+glibc = sorted({tuple(map(int, v.split("."))) for v in re.findall(r"\bGLIBC_([0-9.]+)", symbols)})
+check(glibc and glibc[-1] <= (2, 28), f"_core's newest glibc symbol version is {'.'.join(map(str, glibc[-1]))} (<= 2.28)")
+cxx = sorted(set(re.findall(r"\b(GLIBCXX_[0-9.]+|CXXABI_[0-9.]+|GCC_[0-9.]+)", symbols)))
+check(not cxx, f"_core needs no libstdc++ or libgcc_s versions (its C++ runtime is inside): {cxx}")
+exported = [line.split()[-1] for line in symbols.splitlines()
+            if " g " in line and "*UND*" not in line and re.match(r"^[0-9a-f]{8,}", line)]
+check(exported == ["PyInit__core"], f"_core exports only its init function: {exported[:5]}")
+undefined = [line.split()[-1] for line in symbols.splitlines() if "*UND*" in line]
+foreign = [u for u in undefined if re.search(r"openvdb|tbb|blosc|Imath|libusb", u)]
+check(undefined and not foreign, f"_core binds none of OpenVDB/TBB/blosc/Imath/libusb outside itself: {foreign[:5]}")
 with open("/proc/self/maps") as f:
     mapped = sorted({line.split()[-1] for line in f if ".so" in line and "/" in line})
 keys = ("openvdb", "tbb", "blosc", "boost", "imath", "usb")
 native = [p for p in mapped if any(k in os.path.basename(p).lower() for k in keys)]
-print("vendored libraries in use:\n  " + "\n  ".join(native), flush=True)
-outside = [p for p in native if not p.startswith(os.path.join(VENV, ""))]
-check(native and not outside, f"all of OpenVDB/TBB/blosc/boost/Imath/libusb come from the venv (outside: {outside})")
+check(not native, f"no OpenVDB/TBB/blosc/boost/Imath/libusb library was loaded beside _core: {native}")

@@ -13,8 +13,10 @@ from .ui_text import wrapped_label
 
 
 def _glibc_floor(wheel_names):
-    """The newest glibc any manylinux_2_NN wheel in the list needs, as (2, NN), or None."""
-    floors = [(2, int(m.group(1))) for n in wheel_names for m in [re.search(r"manylinux_2_(\d+)_", n)] if m]
+    """The newest glibc any manylinux_2_NN wheel in the list needs, as (2, NN), or None. A wheel
+    tagged for several (``manylinux_2_24_x86_64.manylinux_2_28_x86_64``) needs the oldest of them."""
+    floors = [min((2, int(v)) for v in found) for n in wheel_names
+              for found in [re.findall(r"manylinux_2_(\d+)_", n)] if found]
     return max(floors) if floors else None
 
 
