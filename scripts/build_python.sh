@@ -67,8 +67,8 @@ apt_opts=(-q -o Dir::Etc::SourceList="$SRC/sources.list" -o Dir::Etc::SourcePart
           -o Dir::State::Lists="$SRC/lists" -o Dir::Cache="$SRC/cache" -o APT::Sandbox::User=root)
 ( cd "$SRC" && apt-get "${apt_opts[@]}" update && apt-get "${apt_opts[@]}" source --download-only "python$VERSION" ) >"$LOG" 2>&1 \
   || { tail -n 5 "$LOG" >&2; cannot "could not fetch Debian $SUITE's python$VERSION source (is the Debian archive reachable?)"; }
-orig=("$SRC"/python"$VERSION"_*.orig.tar.xz)
-[ -f "${orig[0]}" ] || { say "error: no python${VERSION}_*.orig.tar.xz came with the source package (see $LOG)"; exit 1; }
+orig=("$SRC"/python"$VERSION"_*.orig.tar.[gx]z)  # trixie's python3.13 is .xz, bookworm's python3.11 .gz
+[ -f "${orig[0]}" ] || { say "error: no python${VERSION}_*.orig.tar.gz/.xz came with the source package (see $LOG)"; exit 1; }
 tar -C "$SRC" -xf "${orig[0]}"
 tree=("$SRC"/Python-"$VERSION".*/)
 say "== python $VERSION: building $(basename "${tree[0]}") into $PREFIX (nice -n 19, about 5 minutes on 2 free cores)"
