@@ -105,6 +105,9 @@ if compgen -G "/usr/local/share/ca-certificates/*.crt" >/dev/null && [ -x "$ROOT
   mkdir -p "$ROOT/usr/local/share/ca-certificates"
   cp /usr/local/share/ca-certificates/*.crt "$ROOT/usr/local/share/ca-certificates/"
   chroot "$ROOT" update-ca-certificates >/dev/null 2>&1 || echo "warning: update-ca-certificates failed in $ROOT" >&2
+  # pip trusts its own bundle (certifi), not the system's: point it at the system's, which now
+  # holds them (a CPython built in the tree, Debian 11's for the old-glibc wheel test, runs pip).
+  [ -e "$ROOT/etc/pip.conf" ] || printf '[global]\ncert = /etc/ssl/certs/ca-certificates.crt\n' >"$ROOT/etc/pip.conf"
 fi
 
 # ---- 3. a fresh clone, ../shared beside it ---------------------------------------------------
