@@ -29,18 +29,21 @@ _GENERIC = ("incompatible function arguments", "incompatible constructor argumen
 _SIGNATURE = re.compile(r"^(?:\d+\. )?(\w+)\((.*)\)(?: -> .*)?$")
 
 
-def _split_union(text: str) -> List[str]:
-    """Split ``A | B`` at the bars outside brackets."""
+def _split_top_level(text: str, sep: str = ",") -> List[str]:
+    """Split at the seps outside brackets: the commas of List[float[3]], Dict[str, int]; the bars
+    of ``A | B[C | D]``."""
     parts, depth, start = [], 0, 0
     for i, ch in enumerate(text):
         if ch in "[(":
             depth += 1
         elif ch in "])":
             depth -= 1
-        elif ch == "|" and depth == 0:
-            parts.append(text[start:i].strip())
+        elif ch == sep and depth == 0:
+            parts.append(text[start:i])
             start = i + 1
-    return parts + [text[start:].strip()]
+    if text[start:].strip():
+        parts.append(text[start:])
+    return [p.strip() for p in parts]
 
 
 def canonical(annotation: str) -> str:
@@ -49,7 +52,7 @@ def canonical(annotation: str) -> str:
     FixedSize(3)]``, and 3.x ``typing.SupportsFloat | typing.SupportsIndex`` for ``float``,
     ``collections.abc.Sequence[...]`` for an argument's list and ``X | None`` for ``Optional[X]``."""
     a = re.sub(r"\b(?:typing|collections\.abc)\.", "", annotation.strip())
-    union = _split_union(a)
+    union = _split_top_level(a, "|")
     if len(union) > 1:
         if "None" in union:
             return f"Optional[{canonical(' | '.join(u for u in union if u != 'None'))}]"
@@ -79,22 +82,6 @@ class Param:
         self.annotation = canonical(annotation)
         self.has_default = bool(_.strip() or default.strip())
         self.star = self.name.startswith("*")
-
-
-def _split_top_level(text: str) -> List[str]:
-    """Split at the commas outside brackets (List[float[3]], Dict[str, int])."""
-    parts, depth, start = [], 0, 0
-    for i, ch in enumerate(text):
-        if ch in "[(":
-            depth += 1
-        elif ch in "])":
-            depth -= 1
-        elif ch == "," and depth == 0:
-            parts.append(text[start:i])
-            start = i + 1
-    if text[start:].strip():
-        parts.append(text[start:])
-    return [p.strip() for p in parts]
 
 
 def signatures(doc: Optional[str]) -> List[List[Param]]:
