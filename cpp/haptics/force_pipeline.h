@@ -105,6 +105,11 @@ struct TickOutput {
   double force_age_s = 0.0;
   double stale_after_s = 0.0;         // the age at which this force starts fading (staleAfterS), s
   bool coupled = false;               // rendered through the virtual coupling
+  // The grip's velocity the simulation's probe is given, device frame, m/s: fitted within the
+  // device's position resolution (grip_motion.h, the coupling damper's velocity) where the device
+  // reports one; else the device's own estimate (a host device's is the slope between its pushes,
+  // which a finite difference of its extrapolated readings would turn into spikes at each push).
+  glm::vec3 grip_velocity_m_s{0.0f};
   glm::vec3 proxy_m{0.0f};            // the coupling's proxy, device frame, m (coupled only)
   glm::vec3 drag_n_s_m{0.0f};         // the local model's drag, fluid N s/m (<= 0; coupled only)
   // Haptic playback (playback_guide.h): the guide's force (device N, in passive_n and so in

@@ -11,6 +11,7 @@
 #include "common/error.h"
 #include "haptics/fluid_model.h"
 #include "haptics/force_pipeline.h"
+#include "haptics/grip_motion.h"
 #include "haptics/rendering_limits.h"
 #include "haptics/virtual_coupling.h"
 
@@ -463,6 +464,45 @@ TEST(HapticCoupling, TheRampsHeldForceNeverPushesAHandAlongItsMotion) {
   EXPECT_LE(work, 0.3e-3) << "the held force did work on the falling hand";
   EXPECT_GT(most_down, -1e-3f) << "it pushed the falling hand down";
   EXPECT_LT(commanded.z, -0.1f) << "at rest again the hand feels the steady part, ramping in";
+}
+
+TEST(HapticCoupling, TheSimulationsProbeGetsTheGripsFittedVelocity) {
+  // A slow push (12 mm/s) read through 0.04 mm encoder counts, the driver's velocity a 15 ms
+  // low-pass of the reading's differences (the Falcon's): with the device's resolution the pipeline
+  // hands the simulation the fitted velocity, quiet within a count over the window; without one,
+  // the device's own estimate unchanged (a host device's slope between its pushes).
+  constexpr double kStep = 4e-5, kSpeed = 0.012, kFilterS = 0.015;
+  for (const double resolution : {1.4e-4, 0.0}) {
+    PipelineSettings p = coupledSettings(true);
+    p.position_resolution_m = resolution;
+    ForcePipeline pipe(p);
+    glm::vec3 last(0.0f), driver(0.0f);
+    double worst_driver = 0.0, worst_given = 0.0;
+    for (int i = 0; i < 1000; ++i) {
+      const double x = std::round(kSpeed * kDt * i / kStep) * kStep;
+      const glm::vec3 reading(static_cast<float>(x), 0.0f, 0.0f);
+      if (i > 0) driver += static_cast<float>(kDt / (kFilterS + kDt)) * ((reading - last) / static_cast<float>(kDt) - driver);
+      last = reading;
+      TickInput in;
+      in.now_s = kDt * i;
+      in.dt_s = kDt;
+      in.state.homed = true;
+      in.state.position_m = reading;
+      in.state.velocity_m_s = driver;
+      const TickOutput out = pipe.tick(in);
+      if (resolution == 0.0) {
+        ASSERT_EQ(out.grip_velocity_m_s, driver) << i;
+        continue;
+      }
+      if (i < 200) continue;  // past the longest window
+      worst_driver = std::max(worst_driver, std::fabs(static_cast<double>(driver.x) - kSpeed));
+      worst_given = std::max(worst_given, std::fabs(static_cast<double>(out.grip_velocity_m_s.x) - kSpeed));
+    }
+    if (resolution == 0.0) continue;
+    // A count over the 80 ms window (0.5 mm/s), under half the driver's worst (1.3 mm/s here).
+    EXPECT_LE(worst_given, kStep / (kGripVelocityMaxSpan * kDt) + 1e-5);
+    EXPECT_LT(worst_given, 0.5 * worst_driver);
+  }
 }
 
 TEST(HapticCoupling, TheGainIsNoLongerCappedAtOneAndKeepsItsMargin) {

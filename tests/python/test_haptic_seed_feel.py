@@ -11,8 +11,8 @@ no smoke source. The simulated Falcon's hand (0.15 kg on 300 N/m) rests, pushes 
 does the same back along -x, and rests.
 
 What "the engine's own fluid force" is. The simulation runs in real time (min_sim_dt 0.5 s,
-max_sim_dt 2 s: each step advances the wall time since the last one, about 1 s at 48^3 here), so
-the engine sees the hand's motion as it happens: the probe velocity a step uses is the hand's,
+max_sim_dt 2 s: each step advances the wall time since the last one, 0.5 s; the 48^3 step itself
+takes 0.12 s here, 0.23 s with a core busy), so the engine sees the hand's motion as it happens: the probe velocity a step uses is the hand's,
 and the step's velocity change happens over its own dt. (With the default max_sim_dt, 0.05 s,
 a 1 s step sees the probe jump 20 times further than its velocity says: at 0.13 m/s the engine
 then reports 2 N along the motion where in real time it reports 0.15 N, an artefact of the
@@ -24,7 +24,8 @@ about the step's pose time. So the hand's force is compared with the engine's fo
 same motion, like with like, and what produced the hand's force is the haptic path (the local
 model identified from the earlier steps, evaluated at 1 kHz on the hand's own motion, the
 proxy and the coupling, the passivity controller, the safety stage), not the step itself: the
-step that computes F_k publishes it about a second after that pose was read. Per phase the
+step that computes F_k publishes it 0.12-0.23 s after that pose was read, and the hand's force at
+the pose comes from the steps before it (0.5 s and more earlier). Per phase the
 steps of that phase are averaged:
 - rest (the last 2.5 s): the z component (buoyancy, up);
 - steady push (from 0.3 s into the steady segment): the component along the motion (drag,
@@ -34,10 +35,18 @@ steps of that phase are averaged:
   the step's velocity (the steady push's force scaled by (v / V)^2), against the motion's
   acceleration.
 
-Result: at rest the hand feels gain x the engine's buoyancy within 0.3%; pushed steadily the drag
-against the motion within 10% in 8 runs of 8 (asserted at 15%); accelerated, the force against the
-motion within 21% (5 runs of 8 within 10%; asserted at 30%), its added-mass part against the
-acceleration. The haptic path adds nothing: the passivity controller does not act and the device
+Result (9 runs, 3 of them with a core busy): at rest the hand feels gain x
+the engine's buoyancy within 0.3%; pushed steadily, the drag against the motion within 4.1%
+(-0.4% to -4.1%); accelerated, the force against the motion within 6.8% (+3.2% to +6.8%: the hand
+feels a little less than the engine gives), its added-mass part against the acceleration. The
+probe's velocity the steps use is the grip's fitted within the encoder's resolution
+(haptic_loop.cpp); with the device's low-passed velocity, whose encoder jitter is 0.007-0.010 m/s
+rms of probe velocity here against 0.005-0.006 m/s fitted, every step's acceleration (the change of
+that velocity over its 0.5 s) carried a quarter of the push's real acceleration in noise, and the
+engine's added-mass reaction to it: accelerating +7.5% to +7.9% in 3 runs side by side, and -21% to
++2.3% (5 of 8 within 10%) in round 3's fourth session. Steps 4 a second (min_sim_dt 0.25) halve the
+model's horizon but double that noise: -15% to +0.7% accelerating, -9.1% to -4.3% steady, in 8 runs.
+The haptic path adds nothing: the passivity controller does not act and the device
 force is the coupling's output. It used to damp the slow push at up to 20 N s/m (the hand got 0.2 N
 where gain x the fluid's drag is 0.015 N): the grip's velocity from the last 4 readings jittered by
 an encoder count, the coupling's damper on it made energy in the observer's books, and the
@@ -65,14 +74,7 @@ START_S = 3.5        # hand clock: rest (the force ramps in over 2 s after the f
 X0 = 0.0             # device m: the first push runs +x from here (domain x 0.3: workspace_offset)
 REST_S = 3.5         # after the way back
 WINDOW_S = 0.1       # the device force is averaged over +- this about a step's pose time
-TOLERANCE = 0.10
-# Moving, the hand's force is the local model's, identified from the steps published before the pose
-# (one step, 0.5 s, earlier): it cannot see the engine's own step-to-step change of the wake. Over 8
-# runs the device force was within 9.6% of gain x the engine's pushed steadily (-7.3% to +9.6%) and
-# within 21% accelerating (-21% to +2.3%; 5 of 8 within 10%); the replay of the same steps through
-# the model with a shorter window or a quadratic drag did no better. So: steady 15%, accelerating 30%.
-STEADY_TOLERANCE = 0.15
-ACCELERATING_TOLERANCE = 0.30
+TOLERANCE = 0.10     # the issue's, for every phase
 SESSION = {"min_sim_dt": 0.5, "max_sim_dt": 2.0, "workspace_offset": (0.3, 0.5, 0.5)}
 
 
@@ -210,7 +212,7 @@ def test_pushed_steadily_the_hand_feels_the_drag_against_the_motion(seed):
     steady = fig["steady"]
     assert steady["steps"] >= 2, fig
     assert steady["reference_n"] < 0.0 and steady["measured_n"] < 0.0, fig  # against the motion
-    assert within(steady, tolerance=STEADY_TOLERANCE), fig
+    assert within(steady), fig
 
 
 def test_accelerated_the_hand_feels_the_added_mass(seed):
@@ -218,6 +220,6 @@ def test_accelerated_the_hand_feels_the_added_mass(seed):
     acc = fig["accelerating"]
     assert acc["steps"] >= 2, fig
     assert acc["reference_n"] < 0.0 and acc["measured_n"] < 0.0, fig  # against the motion
-    assert within(acc, tolerance=ACCELERATING_TOLERANCE), fig
+    assert within(acc), fig
     part = fig["added_mass_part"]
     assert part["reference_n"] < 0.0 and part["measured_n"] < 0.0, fig  # against the acceleration
