@@ -141,7 +141,8 @@ class ForcePipeline {
   VirtualCoupling coupling_;
   LowPassFilter filter_;
   // The grip's velocity (grip_motion.h): fitted within the device's resolution for the coupling's
-  // damper (quiet at a slow push, where a damper on a count's jitter makes energy), over the
+  // damper (quiet at a slow push, where a damper on a count's jitter makes energy) and the
+  // simulation's probe (TickOutput::grip_velocity_m_s), over the
   // shortest span for the passivity controller and the playback guide (2 ms of lag at the hand's
   // turns, where a damper must not push: with the fitted velocity the controller let gain 1 on a
   // 1500 N/m hand swing 37 mm, a 0.25 J window, test_haptic_passivity.py).

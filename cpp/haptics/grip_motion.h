@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // GripMotion: the grip's velocity from the positions the loop reads (the coupling's damper, the
-// passivity controller and its dead-band: force_pipeline.h says which estimate each uses), by
+// simulation's probe, the passivity controller and its dead-band: force_pipeline.h says which
+// estimate each uses), by
 // first-order adaptive windowing (end-fit FOAW, Janabi-Sharifi,
 // Hayward and Chen 2000). Per axis, the velocity is the slope of the line through the newest
 // reading and the one n periods back, n the longest window (kGripVelocitySpan <= n <=
