@@ -86,7 +86,8 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
   }
   const glm::vec3 grip_velocity = grip_.update(in.state.position_m, in.dt_s);
   const glm::vec3 grip_velocity_now = grip_now_.update(in.state.position_m, in.dt_s);
-  out.grip_velocity_m_s = s_.position_resolution_m > 0.0 ? grip_velocity : in.state.velocity_m_s;
+  out.grip_velocity_m_s =
+      s_.position_resolution_m > 0.0 && allFinite(grip_velocity) ? grip_velocity : in.state.velocity_m_s;
   const bool output_off = !in.state.homed || (!(in.enabled && in.have_force) && safety_.last() == glm::vec3(0.0f));
   // Haptic playback: while the guide is engaged (weight w > 0) the fluid's probe follows the played
   // pose, not the hand, so the fluid is not an impedance the hand moves (a proxy whose mass and drag

@@ -107,8 +107,13 @@ struct TickOutput {
   bool coupled = false;               // rendered through the virtual coupling
   // The grip's velocity the simulation's probe is given, device frame, m/s: fitted within the
   // device's position resolution (grip_motion.h, the coupling damper's velocity) where the device
-  // reports one; else the device's own estimate (a host device's is the slope between its pushes,
-  // which a finite difference of its extrapolated readings would turn into spikes at each push).
+  // reports one and the reading is finite; else the device's own estimate (a host device's is the
+  // slope between its pushes, which a finite difference of its extrapolated readings would turn
+  // into spikes at each push). Not the Falcon driver's low-passed estimate: a step takes the
+  // probe's acceleration from the change of this velocity over its own time step, and that
+  // estimate's jitter (0.007-0.010 m/s rms of probe velocity in the seed's push at scale 12.5,
+  // against 0.005-0.006 fitted) was a noise of a quarter of the push's acceleration in each 0.5 s
+  // step, with the fluid's added-mass reaction to it (test_haptic_seed_feel.py).
   glm::vec3 grip_velocity_m_s{0.0f};
   glm::vec3 proxy_m{0.0f};            // the coupling's proxy, device frame, m (coupled only)
   glm::vec3 drag_n_s_m{0.0f};         // the local model's drag, fluid N s/m (<= 0; coupled only)

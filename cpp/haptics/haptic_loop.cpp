@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "common/finite.h"
 #include "common/log_sink.h"
 #include "haptics/clock.h"
 #include "haptics/device_claim.h"
@@ -235,15 +234,8 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   // played pose, blended by w so the probe is handed over between them without a step.
   PoseFrame pose;
   pose.position_m = map.positionToDomain(state.position_m);
-  // Its velocity is the grip's fitted within the encoder's resolution where the device reports
-  // one (TickOutput::grip_velocity_m_s), not the driver's estimate: a step takes the probe's
-  // acceleration from the change of this velocity over its own time step, so the jitter of a
-  // low-passed estimate (the Falcon driver's: 0.007-0.010 m/s rms of probe velocity in the seed's
-  // push at scale 12.5, against 0.005-0.006 fitted) became a noise of a quarter of the push's
-  // acceleration in each 0.5 s step, and the fluid's added-mass reaction to it
-  // (test_haptic_seed_feel.py).
-  pose.velocity_m_s = map.velocityToDomain(allFinite(out.grip_velocity_m_s) ? out.grip_velocity_m_s
-                                                                            : state.velocity_m_s);
+  // Its velocity: the grip's the pipeline chose for the simulation (TickOutput::grip_velocity_m_s).
+  pose.velocity_m_s = map.velocityToDomain(out.grip_velocity_m_s);
   if (out.guide_weight > 0.0f) {
     const float w = out.guide_weight;
     // The played pose itself as the host gave it, carried forward as the guide carries it (not the

@@ -12,8 +12,8 @@ does the same back along -x, and rests.
 
 What "the engine's own fluid force" is. The simulation runs in real time (min_sim_dt 0.5 s,
 max_sim_dt 2 s: each step advances the wall time since the last one, 0.5 s; the 48^3 step itself
-takes 0.12 s here, 0.23 s with a core busy), so the engine sees the hand's motion as it happens: the probe velocity a step uses is the hand's,
-and the step's velocity change happens over its own dt. (With the default max_sim_dt, 0.05 s,
+takes 0.12 s here, 0.23 s with a core busy), so the engine sees the hand's motion as it happens:
+the probe velocity a step uses is the hand's, and the step's velocity change happens over its own dt. (With the default max_sim_dt, 0.05 s,
 a 1 s step sees the probe jump 20 times further than its velocity says: at 0.13 m/s the engine
 then reports 2 N along the motion where in real time it reports 0.15 N, an artefact of the
 clamp, not a fluid force to feel.) Each step k reports F_k, the fluid's force on the probe in
@@ -40,7 +40,7 @@ the engine's buoyancy within 0.3%; pushed steadily, the drag against the motion 
 (-0.4% to -4.1%); accelerated, the force against the motion within 6.8% (+3.2% to +6.8%: the hand
 feels a little less than the engine gives), its added-mass part against the acceleration. The
 probe's velocity the steps use is the grip's fitted within the encoder's resolution
-(haptic_loop.cpp); with the device's low-passed velocity, whose encoder jitter is 0.007-0.010 m/s
+(TickOutput::grip_velocity_m_s, force_pipeline.h); with the device's low-passed velocity, whose encoder jitter is 0.007-0.010 m/s
 rms of probe velocity here against 0.005-0.006 m/s fitted, every step's acceleration (the change of
 that velocity over its 0.5 s) carried a quarter of the push's real acceleration in noise, and the
 engine's added-mass reaction to it: accelerating +7.5% to +7.9% in 3 runs side by side, and -21% to
