@@ -8,25 +8,25 @@
 // where it is an average of 1, 2 or 4 texels per component instead of a full trilinear lookup.
 // Trilinear interpolation is done from imageLoad()s rather than by texture(): on llvmpipe the
 // eight loads and seven lerps cost less than one filtered texture().
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 2) readonly uniform image3D u_vel_x;
-layout(r32f, binding = 3) readonly uniform image3D u_vel_y;
-layout(r32f, binding = 4) readonly uniform image3D u_vel_z;
-layout(r32f, binding = 5) readonly uniform image3D u_src;
-layout(r8ui, binding = 1) readonly uniform uimage3D u_nbmask;
-layout(r32f, binding = 0) uniform writeonly image3D u_dst;
+IMAGE_RO(r32f, 2, u_vel_x);
+IMAGE_RO(r32f, 3, u_vel_y);
+IMAGE_RO(r32f, 4, u_vel_z);
+IMAGE_RO(r32f, 5, u_src);
+UIMAGE_RO(r8ui, 1, u_nbmask);
+IMAGE_WO(r32f, 0, u_dst);
 #ifdef PAIR
-layout(r32f, binding = 6) readonly uniform image3D u_src2;
-layout(r32f, binding = 7) uniform writeonly image3D u_dst2;
-uniform float u_decay2;       // multiplier applied to the second result
+IMAGE_RO(r32f, 6, u_src2);
+IMAGE_WO(r32f, 7, u_dst2);
+UNIFORM(float, u_decay2);       // multiplier applied to the second result
 #endif
 
-uniform ivec3 u_field_size;   // texels of this field
-uniform vec3 u_field_offset;  // grid-unit offset of texel (0,0,0)
-uniform float u_dt_over_h;    // time step / cell size (s/m); negative traces forward
-uniform float u_decay;        // multiplier applied to the result (dissipation), 1 for none
-uniform int u_zero_in_solid;  // 1: cells covered by the solid get 0 (scalars only)
+UNIFORM(ivec3, u_field_size);   // texels of this field
+UNIFORM(vec3, u_field_offset);  // grid-unit offset of texel (0,0,0)
+UNIFORM(float, u_dt_over_h);    // time step / cell size (s/m); negative traces forward
+UNIFORM(float, u_decay);        // multiplier applied to the result (dissipation), 1 for none
+UNIFORM(int, u_zero_in_solid);  // 1: cells covered by the solid get 0 (scalars only)
 
 DEFINE_VELOCITY_AT(u_vel_x, u_vel_y, u_vel_z)  // velocityAt(X), common.glsl
 DEFINE_TRILINEAR(sampleSrc, u_src)
@@ -37,9 +37,9 @@ DEFINE_TRILINEAR(sampleSrc2, u_src2)
 #if FIELD_AT == 3
 // Velocity at the centre of cell idx: each component is the mean of the cell's two faces.
 vec3 velocityHere(ivec3 idx) {
-  return 0.5 * vec3(imageLoad(u_vel_x, idx).r + imageLoad(u_vel_x, idx + ivec3(1, 0, 0)).r,
-                    imageLoad(u_vel_y, idx).r + imageLoad(u_vel_y, idx + ivec3(0, 1, 0)).r,
-                    imageLoad(u_vel_z, idx).r + imageLoad(u_vel_z, idx + ivec3(0, 0, 1)).r);
+  return 0.5f * vec3(imageLoad(u_vel_x, idx).x + imageLoad(u_vel_x, idx + ivec3(1, 0, 0)).x,
+                    imageLoad(u_vel_y, idx).x + imageLoad(u_vel_y, idx + ivec3(0, 1, 0)).x,
+                    imageLoad(u_vel_z, idx).x + imageLoad(u_vel_z, idx + ivec3(0, 0, 1)).x);
 }
 #else
 // Component B (on B-faces) at the point of A-face idx (A = FIELD_AT): the mean of the four
@@ -53,38 +53,38 @@ vec3 velocityHere(ivec3 idx) {
     hi[FIELD_AT] = min(idx[FIELD_AT], u_res[FIELD_AT] - 1);                                \
     ivec3 e = ivec3(0);                                                                    \
     e[B] = 1;                                                                              \
-    return 0.25 * (imageLoad(IMG, lo).r + imageLoad(IMG, hi).r + imageLoad(IMG, lo + e).r + \
-                   imageLoad(IMG, hi + e).r);                                              \
+    return 0.25f * (imageLoad(IMG, lo).x + imageLoad(IMG, hi).x + imageLoad(IMG, lo + e).x + \
+                   imageLoad(IMG, hi + e).x);                                              \
   }
 #if FIELD_AT == 0
 DEFINE_CROSS_MEAN(crossY, u_vel_y, 1)
 DEFINE_CROSS_MEAN(crossZ, u_vel_z, 2)
-vec3 velocityHere(ivec3 idx) { return vec3(imageLoad(u_vel_x, idx).r, crossY(idx), crossZ(idx)); }
+vec3 velocityHere(ivec3 idx) { return vec3(imageLoad(u_vel_x, idx).x, crossY(idx), crossZ(idx)); }
 #elif FIELD_AT == 1
 DEFINE_CROSS_MEAN(crossX, u_vel_x, 0)
 DEFINE_CROSS_MEAN(crossZ, u_vel_z, 2)
-vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), imageLoad(u_vel_y, idx).r, crossZ(idx)); }
+vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), imageLoad(u_vel_y, idx).x, crossZ(idx)); }
 #else
 DEFINE_CROSS_MEAN(crossX, u_vel_x, 0)
 DEFINE_CROSS_MEAN(crossY, u_vel_y, 1)
-vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), crossY(idx), imageLoad(u_vel_z, idx).r); }
+vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), crossY(idx), imageLoad(u_vel_z, idx).x); }
 #endif
 #endif
 
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(idx, u_field_size))) return;
-  if (u_zero_in_solid != 0 && (imageLoad(u_nbmask, idx).r & NB_SOLID) != 0u) {
-    imageStore(u_dst, idx, vec4(0.0));
+  if (u_zero_in_solid != 0 && (imageLoad(u_nbmask, idx).x & NB_SOLID) != 0u) {
+    imageStore(u_dst, idx, vec4(0.0f));
 #ifdef PAIR
-    imageStore(u_dst2, idx, vec4(0.0));
+    imageStore(u_dst2, idx, vec4(0.0f));
 #endif
     return;
   }
   vec3 X = vec3(idx) + u_field_offset;
-  vec3 mid = X - 0.5 * u_dt_over_h * velocityHere(idx);
+  vec3 mid = X - 0.5f * u_dt_over_h * velocityHere(idx);
   vec3 back = X - u_dt_over_h * velocityAt(mid);
-  back = clamp(back, vec3(0.0), vec3(u_res));
+  back = clamp(back, vec3(0.0f), vec3(u_res));
   vec3 t = back - u_field_offset;
   imageStore(u_dst, idx, vec4(sampleSrc(u_field_size, t) * u_decay));
 #ifdef PAIR

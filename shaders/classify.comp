@@ -3,17 +3,17 @@
 // and, for the pressure stages, each cell's neighbour mask (see common.glsl) from the face
 // fractions: cells are linked across a face with an open part, and a cell with no open face
 // has no pressure unknown (NB_SOLID). With binary fractions this is the solid mask's own rule.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r8ui, binding = 2) readonly uniform uimage3D u_solid;
-layout(r8ui, binding = 0) uniform writeonly uimage3D u_class;
-layout(r8ui, binding = 1) uniform writeonly uimage3D u_nbmask;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
+UIMAGE_RO(r8ui, 2, u_solid);
+UIMAGE_WO(r8ui, 0, u_class);
+UIMAGE_WO(r8ui, 1, u_nbmask);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
 
-uniform int u_open_top;  // 1: the +z wall is open (pressure 0 beyond it)
-uniform ivec3 u_origin;  // first cell of the region dispatched (StepPipeline: the probe's move)
+UNIFORM(int, u_open_top);  // 1: the +z wall is open (pressure 0 beyond it)
+UNIFORM(ivec3, u_origin);  // first cell of the region dispatched (StepPipeline: the probe's move)
 
-bool solidAt(ivec3 c) { return imageLoad(u_solid, c).r != 0u; }
+bool solidAt(ivec3 c) { return imageLoad(u_solid, c).x != 0u; }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID) + u_origin;
@@ -22,9 +22,9 @@ void main() {
   uint mask = 0u;
   bool fluid_nb = false;
   bool solid_nb = false;
-  for (int d = 0; d < 6; ++d) {
+  UNROLL for (int d = 0; d < 6; ++d) {
     ivec3 q = c + NEIGHBOUR[d];
-    bool open = FACE_OPEN(u_face_open, c, d) > 0.0;
+    bool open = FACE_OPEN(u_face_open, c, d) > 0.0f;
     if (!inGrid(q)) {
       if (d == 5 && u_open_top != 0 && open) mask |= NB_OPEN_TOP;
       continue;

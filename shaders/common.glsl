@@ -1,21 +1,42 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Shared by every stage; prepended after the #version line and the stage's #defines.
+// Shared by every stage; prepended after the #version line and the stage's #defines, and
+// included by the C++ kernels (cpu/glsl.h, which defines HF_CPU and its own versions of the
+// declaration macros below: the GLSL/C++ common subset is described there).
 // Grid units: cell (i,j,k) spans [i,i+1]x[j,j+1]x[k,k+1]; its centre is at (i,j,k)+0.5.
 // Staggered (MAC) velocity: u lives on x-faces, (nx+1,ny,nz) texels at offset (0,.5,.5);
 // v on y-faces, offset (.5,0,.5); w on z-faces, offset (.5,.5,0). Scalars sit at (.5,.5,.5).
 
+#ifndef HF_CPU
+// The declaration macros of the GLSL/C++ common subset (cpu/glsl.h defines the C++ side): images
+// by format and access, std430 storage buffers, uniforms and the workgroup shape.
+#define IMAGE_RW(fmt, unit, name) layout(fmt, binding = unit) uniform image3D name
+#define IMAGE_RO(fmt, unit, name) layout(fmt, binding = unit) readonly uniform image3D name
+#define IMAGE_WO(fmt, unit, name) layout(fmt, binding = unit) writeonly uniform image3D name
+#define UIMAGE_RW(fmt, unit, name) layout(fmt, binding = unit) uniform uimage3D name
+#define UIMAGE_RO(fmt, unit, name) layout(fmt, binding = unit) readonly uniform uimage3D name
+#define UIMAGE_WO(fmt, unit, name) layout(fmt, binding = unit) writeonly uniform uimage3D name
+#define BUFFER_RW(block, type, binding_, name) layout(std430, binding = binding_) buffer block { type name[]; }
+#define BUFFER_RO(block, type, binding_, name) layout(std430, binding = binding_) readonly buffer block { type name[]; }
+#define BUFFER_WO(block, type, binding_, name) layout(std430, binding = binding_) writeonly buffer block { type name[]; }
+#define UNIFORM(type, name) uniform type name
+#define LOCAL_SIZE(x, y, z) layout(local_size_x = x, local_size_y = y, local_size_z = z) in
+#define CONST const  // a constant at file scope (C++: static constexpr)
+#define UNROLL       // a short loop of constant count (C++: unrolled, so its index folds)
+#define OUT(T) out T  // an out parameter (C++: a reference)
+#endif
+
 // Cell classes of the seed paper (values shared with cpp/obstacle/cell_class.h).
-const uint CELL_OUTSIDE = 0u;      // fluid, no solid neighbour
-const uint CELL_SURROUNDING = 1u;  // fluid next to a boundary cell
-const uint CELL_BOUNDARY = 2u;     // solid with at least one fluid neighbour
-const uint CELL_INSIDE = 3u;       // solid, all neighbours solid
+CONST uint CELL_OUTSIDE = 0u;      // fluid, no solid neighbour
+CONST uint CELL_SURROUNDING = 1u;  // fluid next to a boundary cell
+CONST uint CELL_BOUNDARY = 2u;     // solid with at least one fluid neighbour
+CONST uint CELL_INSIDE = 3u;       // solid, all neighbours solid
 
 // Bits of the per-cell neighbour mask written by classify.comp.
 // Bit d (0..5, order -x,+x,-y,+y,-z,+z): that neighbour is a fluid cell inside the grid.
 // Bit 6: the +z neighbour is the open top (a Dirichlet ghost with pressure 0).
 // Bit 7: this cell is solid.
-const uint NB_OPEN_TOP = 64u;
-const uint NB_SOLID = 128u;
+CONST uint NB_OPEN_TOP = 64u;
+CONST uint NB_SOLID = 128u;
 
 // Cut cells (Batty, Bertails & Bridson 2007): the open (fluid) fraction of every MAC face, 1 =
 // fluid, 0 = covered by a solid, in an RGBA32F image of (nx+1, ny+1, nz+1) texels: texel (i,j,k)
@@ -41,14 +62,14 @@ const uint NB_SOLID = 128u;
 // w >= 2 min_open, 2 (w - min_open) between, 0 below (a nearly covered face would make its cell's
 // pressure row nearly singular; a hard cut-off would make the fraction jump as the body moves).
 float cutOffOpen(float w, float min_open) {
-  if (w >= 2.0 * min_open) return min(w, 1.0);
-  return max(2.0 * (w - min_open), 0.0);
+  if (w >= 2.0f * min_open) return min(w, 1.0f);
+  return max(2.0f * (w - min_open), 0.0f);
 }
 
-const ivec3 NEIGHBOUR[6] = ivec3[6](ivec3(-1, 0, 0), ivec3(1, 0, 0), ivec3(0, -1, 0),
-                                     ivec3(0, 1, 0), ivec3(0, 0, -1), ivec3(0, 0, 1));
+CONST ivec3 NEIGHBOUR[6] = {ivec3(-1, 0, 0), ivec3(1, 0, 0), ivec3(0, -1, 0),
+                            ivec3(0, 1, 0), ivec3(0, 0, -1), ivec3(0, 0, 1)};
 
-uniform ivec3 u_res;  // cells per axis
+UNIFORM(ivec3, u_res);  // cells per axis
 
 bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, u_res)); }
 
@@ -61,16 +82,16 @@ ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
 // A macro, because an image passed as a function argument loses its format.
 #define DEFINE_TRILINEAR(NAME, IMG)                                                        \
   float NAME(ivec3 size, vec3 t) {                                                         \
-    t = clamp(t, vec3(0.0), vec3(size - 1));                                               \
+    t = clamp(t, vec3(0.0f), vec3(size - 1));                                               \
     ivec3 i0 = ivec3(t);                                                                   \
     vec3 f = t - vec3(i0);                                                                 \
     ivec3 i1 = min(i0 + 1, size - 1);                                                      \
-    float c00 = mix(imageLoad(IMG, i0).r, imageLoad(IMG, ivec3(i1.x, i0.y, i0.z)).r, f.x); \
-    float c10 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i0.z)).r,                             \
-                    imageLoad(IMG, ivec3(i1.x, i1.y, i0.z)).r, f.x);                       \
-    float c01 = mix(imageLoad(IMG, ivec3(i0.x, i0.y, i1.z)).r,                             \
-                    imageLoad(IMG, ivec3(i1.x, i0.y, i1.z)).r, f.x);                       \
-    float c11 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i1.z)).r, imageLoad(IMG, i1).r, f.x); \
+    float c00 = mix(imageLoad(IMG, i0).x, imageLoad(IMG, ivec3(i1.x, i0.y, i0.z)).x, f.x); \
+    float c10 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i0.z)).x,                             \
+                    imageLoad(IMG, ivec3(i1.x, i1.y, i0.z)).x, f.x);                       \
+    float c01 = mix(imageLoad(IMG, ivec3(i0.x, i0.y, i1.z)).x,                             \
+                    imageLoad(IMG, ivec3(i1.x, i0.y, i1.z)).x, f.x);                       \
+    float c11 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(IMG, i1).x, f.x); \
     return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);                               \
   }
 
@@ -81,15 +102,15 @@ ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
   DEFINE_TRILINEAR(sampleVy, VY)                                          \
   DEFINE_TRILINEAR(sampleVz, VZ)                                          \
   vec3 velocityAt(vec3 X) {                                               \
-    return vec3(sampleVx(u_res + ivec3(1, 0, 0), X - vec3(0.0, 0.5, 0.5)), \
-                sampleVy(u_res + ivec3(0, 1, 0), X - vec3(0.5, 0.0, 0.5)), \
-                sampleVz(u_res + ivec3(0, 0, 1), X - vec3(0.5, 0.5, 0.0))); \
+    return vec3(sampleVx(u_res + ivec3(1, 0, 0), X - vec3(0.0f, 0.5f, 0.5f)), \
+                sampleVy(u_res + ivec3(0, 1, 0), X - vec3(0.5f, 0.0f, 0.5f)), \
+                sampleVz(u_res + ivec3(0, 0, 1), X - vec3(0.5f, 0.5f, 0.0f))); \
   }
 
 // Texel offset of face component `axis` (0=u, 1=v, 2=w).
 vec3 faceOffset(int axis) {
-  vec3 o = vec3(0.5);
-  o[axis] = 0.0;
+  vec3 o = vec3(0.5f);
+  o[axis] = 0.0f;
   return o;
 }
 
@@ -105,11 +126,11 @@ ivec3 unitAxis(int axis) {
   return e;
 }
 
-#ifdef GROUP_SUM
+#if defined(GROUP_SUM) && !defined(HF_CPU)  // C++: cpu/glsl.h sums a workgroup in order
 // First level of a parallel reduction: every invocation of a workgroup calls writeGroupSum with
 // its value; the workgroup's sum lands in partials[workgroup index] for reduce.comp.
 layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
-const uint GROUP = uint(WG_X * WG_Y * WG_Z);  // a power of two
+CONST uint GROUP = uint(WG_X * WG_Y * WG_Z);  // a power of two
 shared vec4 s_sum[GROUP];
 
 // Stages that reduce several vec4s call writeGroupSumAt(value, part) once per part, in the same

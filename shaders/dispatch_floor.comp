@@ -4,16 +4,16 @@
 // stages' workgroup shape. Without STORE the body stores nothing (its condition is never true,
 // but the compiler cannot know it): the cost of launching the invocations. With STORE each
 // cell's invocation writes one R32F texel: the cost of a stage's one mandatory output.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 0) writeonly uniform image3D u_out;
+IMAGE_WO(r32f, 0, u_out);
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
 #ifdef STORE
   if (!inGrid(c)) return;
-  imageStore(u_out, c, vec4(1.0));
+  imageStore(u_out, c, vec4(1.0f));
 #else
-  if (c.x < 0) imageStore(u_out, c, vec4(1.0));
+  if (c.x < 0) imageStore(u_out, c, vec4(1.0f));
 #endif
 }

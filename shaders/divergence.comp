@@ -4,43 +4,43 @@
 // a pressure unknown. A face's flux is its open fraction w times the fluid velocity plus the
 // covered part (1 - w) times the solid's velocity there (cut cells); a fully covered face already
 // holds the solid's velocity (enforce_boundaries).
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 1) readonly uniform image3D u_vel_x;
-layout(r32f, binding = 2) readonly uniform image3D u_vel_y;
-layout(r32f, binding = 3) readonly uniform image3D u_vel_z;
-layout(r8ui, binding = 4) readonly uniform uimage3D u_nbmask;
-layout(rgba32f, binding = 5) readonly uniform image3D u_solid_velocity;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
-layout(r32f, binding = 0) uniform writeonly image3D u_rhs;
+IMAGE_RO(r32f, 1, u_vel_x);
+IMAGE_RO(r32f, 2, u_vel_y);
+IMAGE_RO(r32f, 3, u_vel_z);
+UIMAGE_RO(r8ui, 4, u_nbmask);
+IMAGE_RO(rgba32f, 5, u_solid_velocity);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
+IMAGE_WO(r32f, 0, u_rhs);
 
-uniform float u_scale;  // rho * h / dt, kg/(m^2 s)
+UNIFORM(float, u_scale);  // rho * h / dt, kg/(m^2 s)
 
 float faceVelocity(ivec3 idx, int axis) {
-  if (axis == 0) return imageLoad(u_vel_x, idx).r;
-  if (axis == 1) return imageLoad(u_vel_y, idx).r;
-  return imageLoad(u_vel_z, idx).r;
+  if (axis == 0) return imageLoad(u_vel_x, idx).x;
+  if (axis == 1) return imageLoad(u_vel_y, idx).x;
+  return imageLoad(u_vel_z, idx).x;
 }
 
 // Flux (m/s) through the face with index idx on `axis`, the fluid and solid parts weighted.
 float faceFlux(ivec3 idx, int axis) {
   float u = faceVelocity(idx, axis);
   float w = imageLoad(u_face_open, idx)[axis];
-  if (w <= 0.0 || w >= 1.0) return u;
+  if (w <= 0.0f || w >= 1.0f) return u;
   // The rigid velocity is linear in position: the face's is the mean of its two cells'.
-  float us = 0.5 * (imageLoad(u_solid_velocity, clampCell(idx - unitAxis(axis)))[axis] +
+  float us = 0.5f * (imageLoad(u_solid_velocity, clampCell(idx - unitAxis(axis)))[axis] +
                     imageLoad(u_solid_velocity, clampCell(idx))[axis]);
-  return w * u + (1.0 - w) * us;
+  return w * u + (1.0f - w) * us;
 }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  if ((imageLoad(u_nbmask, c).r & NB_SOLID) != 0u) {
-    imageStore(u_rhs, c, vec4(0.0));
+  if ((imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) {
+    imageStore(u_rhs, c, vec4(0.0f));
     return;
   }
-  float flux = 0.0;
-  for (int a = 0; a < 3; ++a) flux += faceFlux(c + unitAxis(a), a) - faceFlux(c, a);
+  float flux = 0.0f;
+  UNROLL for (int a = 0; a < 3; ++a) flux += faceFlux(c + unitAxis(a), a) - faceFlux(c, a);
   imageStore(u_rhs, c, vec4(u_scale * flux));
 }

@@ -5,24 +5,24 @@
 // lengths above the hits in cell k); summed over the S^2 sub-columns and divided by S^2 that is
 // the fraction of the cell inside the mesh (for shells that do not overlap; an inside-out mesh
 // gives its negative). Writes |that| clamped to [0, 1] into every cell.
-layout(local_size_x = WG_X, local_size_y = WG_Y) in;
+LOCAL_SIZE(WG_X, WG_Y, 1);
 
-layout(std430, binding = 0) readonly buffer Crossings { int crossings[]; };  // per cell: count, length
-layout(r32f, binding = 0) uniform writeonly image3D u_coverage;
+BUFFER_RO(Crossings, int, 0, crossings);  // per cell: count, length
+IMAGE_WO(r32f, 0, u_coverage);
 
-uniform int u_samples;  // S
+UNIFORM(int, u_samples);  // S
 
-const float kLength = 65536.0;  // fixed-point units per cell of length (emit_mesh_crossings.comp)
+CONST float kLength = 65536.0f;  // fixed-point units per cell of length (emit_mesh_crossings.comp)
 
 void main() {
-  ivec2 col = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(col, u_res.xy))) return;
+  ivec2 col = ivec2(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(col, ivec2(u_res)))) return;
   float per_cell = float(u_samples * u_samples);
   int below = 0;  // crossings in the cells below, over the column's sub-columns
   for (int k = 0; k < u_res.z; ++k) {
     int cell = col.x + u_res.x * (col.y + u_res.y * k);
     float inside = float(below) + float(crossings[2 * cell + 1]) / kLength;
     below += crossings[2 * cell];
-    imageStore(u_coverage, ivec3(col, k), vec4(clamp(abs(inside) / per_cell, 0.0, 1.0)));
+    imageStore(u_coverage, ivec3(col, k), vec4(clamp(abs(inside) / per_cell, 0.0f, 1.0f)));
   }
 }

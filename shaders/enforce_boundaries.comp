@@ -4,15 +4,15 @@
 // fraction 0) gets the solid's velocity (the average over the solid cells on its two sides; at
 // least one cell beside a covered face has its centre in the body). Partly open faces keep the
 // fluid's velocity: divergence.comp weights the two parts.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r8ui, binding = 1) readonly uniform uimage3D u_solid;
-layout(rgba32f, binding = 2) readonly uniform image3D u_solid_velocity;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
-layout(r32f, binding = 0) uniform image3D u_vel;
+UIMAGE_RO(r8ui, 1, u_solid);
+IMAGE_RO(rgba32f, 2, u_solid_velocity);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
+IMAGE_RW(r32f, 0, u_vel);
 
-uniform int u_axis;
-uniform int u_open_top;
+UNIFORM(int, u_axis);
+UNIFORM(int, u_open_top);
 
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
@@ -21,21 +21,21 @@ void main() {
   if (i == 0 || i == u_res[u_axis]) {
     bool open = u_open_top != 0 && u_axis == 2 && i == u_res.z;
     if (!open) {
-      imageStore(u_vel, idx, vec4(0.0));
+      imageStore(u_vel, idx, vec4(0.0f));
       return;
     }
   }
-  if (imageLoad(u_face_open, idx)[u_axis] > 0.0) return;
+  if (imageLoad(u_face_open, idx)[u_axis] > 0.0f) return;
   // Clamping makes both sides of an open-top face the cell below it.
   ivec3 lo = clampCell(idx - unitAxis(u_axis));
   ivec3 hi = clampCell(idx);
-  bool slo = imageLoad(u_solid, lo).r != 0u;
-  bool shi = imageLoad(u_solid, hi).r != 0u;
+  bool slo = imageLoad(u_solid, lo).x != 0u;
+  bool shi = imageLoad(u_solid, hi).x != 0u;
   if (!slo && !shi) {  // not reached for a sphere or a voxelized body; the mean of both sides
     slo = true;
     shi = true;
   }
-  float sum = 0.0;
+  float sum = 0.0f;
   if (slo) sum += imageLoad(u_solid_velocity, lo)[u_axis];
   if (shi) sum += imageLoad(u_solid_velocity, hi)[u_axis];
   imageStore(u_vel, idx, vec4(sum / float(int(slo) + int(shi))));

@@ -13,54 +13,54 @@
 // one over the faces between boundary and fluid cells. Each workgroup
 // writes three sums: part 0 (force, faces with a covered part beside an unknown), part 1
 // (torque, 0), part 2 (sum of x_c - p0, solid cells).
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 0) readonly uniform image3D u_pressure;
-layout(r8ui, binding = 1) readonly uniform uimage3D u_class;
-layout(r8ui, binding = 2) readonly uniform uimage3D u_nbmask;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
+IMAGE_RO(r32f, 0, u_pressure);
+UIMAGE_RO(r8ui, 1, u_class);
+UIMAGE_RO(r8ui, 2, u_nbmask);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
 
-uniform ivec3 u_origin;         // first cell of the box
-uniform ivec3 u_extent;         // cells in the box
-uniform float u_face_area;      // h^2, m^2
-uniform float u_cell_size;      // h, m
-uniform vec3 u_rho_g;           // fluid density times gravity, N/m^3
-uniform int u_cut_cells;        // 1: geometric face fractions; 0: binary (voxels)
-uniform vec3 u_p0;              // grid-unit point the torque and centroid are summed about
+UNIFORM(ivec3, u_origin);         // first cell of the box
+UNIFORM(ivec3, u_extent);         // cells in the box
+UNIFORM(float, u_face_area);      // h^2, m^2
+UNIFORM(float, u_cell_size);      // h, m
+UNIFORM(vec3, u_rho_g);           // fluid density times gravity, N/m^3
+UNIFORM(int, u_cut_cells);        // 1: geometric face fractions; 0: binary (voxels)
+UNIFORM(vec3, u_p0);              // grid-unit point the torque and centroid are summed about
 
-bool unknownAt(ivec3 c) { return (imageLoad(u_nbmask, c).r & NB_SOLID) == 0u; }
+bool unknownAt(ivec3 c) { return (imageLoad(u_nbmask, c).x & NB_SOLID) == 0u; }
 
 void main() {
   ivec3 local = ivec3(gl_GlobalInvocationID);
   ivec3 c = u_origin + local;
-  vec4 force = vec4(0.0);
-  vec3 torque = vec3(0.0);
-  vec4 cells = vec4(0.0);
+  vec4 force = vec4(0.0f);
+  vec3 torque = vec3(0.0f);
+  vec4 cells = vec4(0.0f);
   bool inside = all(lessThan(local, u_extent)) && inGrid(c);
-  uint cls = inside ? imageLoad(u_class, c).r : CELL_OUTSIDE;
-  vec3 centre = vec3(c) + 0.5;
-  if (cls == CELL_BOUNDARY || cls == CELL_INSIDE) cells = vec4((centre - u_p0) * u_cell_size, 1.0);
+  uint cls = inside ? imageLoad(u_class, c).x : CELL_OUTSIDE;
+  vec3 centre = vec3(c) + 0.5f;
+  if (cls == CELL_BOUNDARY || cls == CELL_INSIDE) cells = vec4((centre - u_p0) * u_cell_size, 1.0f);
   if (inside) {
     bool here = unknownAt(c);
-    float p_here = here ? imageLoad(u_pressure, c).r : 0.0;
-    for (int a = 0; a < 3; ++a) {
+    float p_here = here ? imageLoad(u_pressure, c).x : 0.0f;
+    UNROLL for (int a = 0; a < 3; ++a) {
       if (c[a] == 0) continue;  // a domain wall: no cell below
-      float covered = 1.0 - imageLoad(u_face_open, c)[a];
-      if (covered <= 0.0) continue;
+      float covered = 1.0f - imageLoad(u_face_open, c)[a];
+      if (covered <= 0.0f) continue;
       ivec3 lo = c - unitAxis(a);
       bool below = unknownAt(lo);
-      float p_lo = below ? imageLoad(u_pressure, lo).r : 0.0;
-      float hydro = (u_cut_cells == 0 && here != below) ? 0.5 : 1.0;
+      float p_lo = below ? imageLoad(u_pressure, lo).x : 0.0f;
+      float hydro = (u_cut_cells == 0 && here != below) ? 0.5f : 1.0f;
       float dp = p_here - p_lo + hydro * u_rho_g[a] * u_cell_size;
-      vec3 f = vec3(0.0);
+      vec3 f = vec3(0.0f);
       f[a] = -covered * u_face_area * dp;
       vec3 face = centre;
       face[a] = float(c[a]);
-      force += vec4(f, (here || below) ? 1.0 : 0.0);
+      force += vec4(f, (here || below) ? 1.0f : 0.0f);
       torque += cross((face - u_p0) * u_cell_size, f);
     }
   }
   writeGroupSumAt(force, 0u);
-  writeGroupSumAt(vec4(torque, 0.0), 1u);
+  writeGroupSumAt(vec4(torque, 0.0f), 1u);
   writeGroupSumAt(cells, 2u);
 }

@@ -3,26 +3,26 @@
 // unknown (Pa), w the open fraction of the face to that neighbour (cut cells). Solid neighbours
 // and closed walls are Neumann (left out of the sum); the open top is a Dirichlet ghost at 0 Pa
 // (counted with its face's fraction, contributing nothing). Cells without an unknown hold 0.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 1) readonly uniform image3D u_pressure;
-layout(r32f, binding = 2) readonly uniform image3D u_rhs;
-layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
-layout(r32f, binding = 0) uniform writeonly image3D u_out;
+IMAGE_RO(r32f, 1, u_pressure);
+IMAGE_RO(r32f, 2, u_rhs);
+UIMAGE_RO(r8ui, 3, u_nbmask);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
+IMAGE_WO(r32f, 0, u_out);
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  uint m = imageLoad(u_nbmask, c).r;
-  float sum = 0.0;
-  float n = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_face_open, c, 5) : 0.0;
-  for (int d = 0; d < 6; ++d) {
+  uint m = imageLoad(u_nbmask, c).x;
+  float sum = 0.0f;
+  float n = (m & NB_OPEN_TOP) != 0u ? FACE_OPEN(u_face_open, c, 5) : 0.0f;
+  UNROLL for (int d = 0; d < 6; ++d) {
     if (((m >> uint(d)) & 1u) == 0u) continue;
     float w = FACE_OPEN(u_face_open, c, d);
-    sum += w * imageLoad(u_pressure, c + NEIGHBOUR[d]).r;
+    sum += w * imageLoad(u_pressure, c + NEIGHBOUR[d]).x;
     n += w;
   }
-  float p = ((m & NB_SOLID) != 0u || n == 0.0) ? 0.0 : (sum - imageLoad(u_rhs, c).r) / n;
+  float p = ((m & NB_SOLID) != 0u || n == 0.0f) ? 0.0f : (sum - imageLoad(u_rhs, c).x) / n;
   imageStore(u_out, c, vec4(p));
 }

@@ -6,22 +6,22 @@
 // centred on the face (half of each cell beside it): the fluid volume weights of Batty, Bertails
 // and Bridson 2007. Fractions under u_min_open go to 0 continuously (cutOffOpen); faces whose box
 // lies outside the fine grid are open.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(std430, binding = 0) readonly buffer Winding { int winding[]; };
-layout(rgba32f, binding = 0) uniform writeonly image3D u_face_open;
+BUFFER_RO(Winding, int, 0, winding);
+IMAGE_WO(rgba32f, 0, u_face_open);
 
-uniform ivec3 u_box_origin;  // first cell of the fine grid's box
-uniform ivec3 u_fine_res;    // fine cells per axis (u_fine x the box's cells)
-uniform int u_fine;          // fine cells per cell and axis (even)
-uniform float u_min_open;    // obstacle::kMinOpenFraction
-uniform ivec3 u_first;       // the dispatch's first face texel (StepPipeline: the probe's move)
+UNIFORM(ivec3, u_box_origin);  // first cell of the fine grid's box
+UNIFORM(ivec3, u_fine_res);    // fine cells per axis (u_fine x the box's cells)
+UNIFORM(int, u_fine);          // fine cells per cell and axis (even)
+UNIFORM(float, u_min_open);    // obstacle::kMinOpenFraction
+UNIFORM(ivec3, u_first);       // the dispatch's first face texel (StepPipeline: the probe's move)
 
 float openFraction(ivec3 idx, int axis) {
   ivec3 lo = (idx - u_box_origin) * u_fine;  // fine index of the face's corner
   lo[axis] -= u_fine / 2;
   ivec3 hi = lo + u_fine;  // exclusive
-  if (any(lessThanEqual(hi, ivec3(0))) || any(greaterThanEqual(lo, u_fine_res))) return 1.0;
+  if (any(lessThanEqual(hi, ivec3(0))) || any(greaterThanEqual(lo, u_fine_res))) return 1.0f;
   ivec3 a = max(lo, ivec3(0)), b = min(hi, u_fine_res);
   int solid = 0;
   for (int k = a.z; k < b.z; ++k)
@@ -29,14 +29,14 @@ float openFraction(ivec3 idx, int axis) {
       for (int i = a.x; i < b.x; ++i) {
         if (winding[i + u_fine_res.x * (j + u_fine_res.y * k)] != 0) ++solid;
       }
-  return cutOffOpen(1.0 - float(solid) / float(u_fine * u_fine * u_fine), u_min_open);
+  return cutOffOpen(1.0f - float(solid) / float(u_fine * u_fine * u_fine), u_min_open);
 }
 
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID) + u_first;
   if (any(greaterThan(idx, u_res))) return;
-  vec4 w = vec4(1.0);
-  for (int a = 0; a < 3; ++a) {
+  vec4 w = vec4(1.0f);
+  UNROLL for (int a = 0; a < 3; ++a) {
     if (all(lessThan(idx, faceSize(a)))) w[a] = openFraction(idx, a);
   }
   imageStore(u_face_open, idx, w);

@@ -4,22 +4,22 @@
 // four) fine faces it is made of, over four. With piecewise-constant transfer this is the
 // Galerkin coarse operator up to the level's fixed scale (mg_restrict.comp), so the coarse levels
 // see the cut cells' partly open faces. Dispatched over (coarse resolution + 1).
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(rgba32f, binding = 1) readonly uniform image3D u_fine_faces;
-layout(rgba32f, binding = 0) uniform writeonly image3D u_coarse_faces;
+IMAGE_RO(rgba32f, 1, u_fine_faces);
+IMAGE_WO(rgba32f, 0, u_coarse_faces);
 
-uniform ivec3 u_fine_size;  // fine cells per axis
+UNIFORM(ivec3, u_fine_size);  // fine cells per axis
 
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
   if (any(greaterThan(idx, u_res))) return;
-  vec4 w = vec4(1.0);
-  for (int a = 0; a < 3; ++a) {
+  vec4 w = vec4(1.0f);
+  UNROLL for (int a = 0; a < 3; ++a) {
     if (any(greaterThanEqual(idx, faceSize(a)))) continue;
     int b = (a + 1) % 3;
     int c = (a + 2) % 3;
-    float sum = 0.0;
+    float sum = 0.0f;
     for (int o = 0; o < 4; ++o) {
       ivec3 f = 2 * idx;
       f[a] = min(2 * idx[a], u_fine_size[a]);  // the far wall of an odd fine size
@@ -28,7 +28,7 @@ void main() {
       if (f[b] >= u_fine_size[b] || f[c] >= u_fine_size[c]) continue;
       sum += imageLoad(u_fine_faces, f)[a];
     }
-    w[a] = 0.25 * sum;
+    w[a] = 0.25f * sum;
   }
   imageStore(u_coarse_faces, idx, w);
 }

@@ -4,34 +4,34 @@
 // mg_residual.comp) summed and scaled as mg_restrict.comp does: b_c = u_scale * sum. The fine
 // residual is never stored (one full-grid write and read and one dispatch fewer per level).
 // Dispatched over the coarse grid (u_res is the coarse resolution).
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 1) readonly uniform image3D u_x;
-layout(r32f, binding = 2) readonly uniform image3D u_b;
-layout(r8ui, binding = 3) readonly uniform uimage3D u_mask;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_faces;
-layout(r32f, binding = 0) uniform writeonly image3D u_coarse_b;
+IMAGE_RO(r32f, 1, u_x);
+IMAGE_RO(r32f, 2, u_b);
+UIMAGE_RO(r8ui, 3, u_mask);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_faces);
+IMAGE_WO(r32f, 0, u_coarse_b);
 
-uniform ivec3 u_fine_size;  // fine cells per axis
-uniform float u_scale;      // coarse operator scaling (see MultigridVCycle::kCoarseScale)
+UNIFORM(ivec3, u_fine_size);  // fine cells per axis
+UNIFORM(float, u_scale);      // coarse operator scaling (see MultigridVCycle::kCoarseScale)
 
 void main() {
   ivec3 C = ivec3(gl_GlobalInvocationID);
   if (!inGrid(C)) return;
-  float sum = 0.0;
-  for (int o = 0; o < 8; ++o) {
+  float sum = 0.0f;
+  UNROLL for (int o = 0; o < 8; ++o) {
     ivec3 c = 2 * C + ivec3(o & 1, (o >> 1) & 1, (o >> 2) & 1);
     if (any(greaterThanEqual(c, u_fine_size))) continue;
-    uint m = imageLoad(u_mask, c).r;
+    uint m = imageLoad(u_mask, c).x;
     if ((m & NB_SOLID) != 0u) continue;
-    float x = imageLoad(u_x, c).r;
+    float x = imageLoad(u_x, c).x;
     float w[6];
     FACE_OPEN_ALL(u_faces, c, w);
-    float ax = (m & NB_OPEN_TOP) != 0u ? w[5] * x : 0.0;
-    for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).r);
+    float ax = (m & NB_OPEN_TOP) != 0u ? w[5] * x : 0.0f;
+    UNROLL for (int d = 0; d < 6; ++d) {
+      if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).x);
     }
-    sum += imageLoad(u_b, c).r - ax;
+    sum += imageLoad(u_b, c).x - ax;
   }
   imageStore(u_coarse_b, C, vec4(u_scale * sum));
 }

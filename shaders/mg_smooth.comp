@@ -10,43 +10,43 @@
 // the sweep. The cells this sweep writes need no correction (their update does not read their
 // own x), and the other colour's cells are rewritten by the next sweep from this one's values,
 // so the result is that of mg_prolong then mg_smooth, without the prolongation's full-grid pass.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 0) uniform image3D u_x;
-layout(r32f, binding = 1) readonly uniform image3D u_b;
-layout(r8ui, binding = 2) readonly uniform uimage3D u_mask;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_faces;
+IMAGE_RW(r32f, 0, u_x);
+IMAGE_RO(r32f, 1, u_b);
+UIMAGE_RO(r8ui, 2, u_mask);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_faces);
 
 #ifdef PROLONG
-layout(r32f, binding = 3) readonly uniform image3D u_coarse_x;
-#define NEIGHBOUR_X(q) (imageLoad(u_x, q).r + imageLoad(u_coarse_x, (q) / 2).r)
+IMAGE_RO(r32f, 3, u_coarse_x);
+#define NEIGHBOUR_X(q) (imageLoad(u_x, q).x + imageLoad(u_coarse_x, (q) / 2).x)
 #else
-#define NEIGHBOUR_X(q) imageLoad(u_x, q).r
+#define NEIGHBOUR_X(q) imageLoad(u_x, q).x
 #endif
 
-uniform int u_colour;      // 0 or 1
-uniform int u_zero_guess;  // 1: x starts at 0, so the other colour's values are taken as 0
+UNIFORM(int, u_colour);      // 0 or 1
+UNIFORM(int, u_zero_guess);  // 1: x starts at 0, so the other colour's values are taken as 0
 
 void main() {
   ivec3 g = ivec3(gl_GlobalInvocationID);
   ivec3 c = ivec3(2 * g.x + ((g.y + g.z + u_colour) & 1), g.y, g.z);
   if (!inGrid(c)) return;
-  uint m = imageLoad(u_mask, c).r;
+  uint m = imageLoad(u_mask, c).x;
   float w[6];
   FACE_OPEN_ALL(u_faces, c, w);
-  float n = (m & NB_OPEN_TOP) != 0u ? w[5] : 0.0;
-  for (int d = 0; d < 6; ++d) {
+  float n = (m & NB_OPEN_TOP) != 0u ? w[5] : 0.0f;
+  UNROLL for (int d = 0; d < 6; ++d) {
     if (((m >> uint(d)) & 1u) != 0u) n += w[d];
   }
-  if ((m & NB_SOLID) != 0u || n == 0.0) {
-    imageStore(u_x, c, vec4(0.0));
+  if ((m & NB_SOLID) != 0u || n == 0.0f) {
+    imageStore(u_x, c, vec4(0.0f));
     return;
   }
-  float sum = 0.0;
+  float sum = 0.0f;
   if (u_zero_guess == 0) {
-    for (int d = 0; d < 6; ++d) {
+    UNROLL for (int d = 0; d < 6; ++d) {
       if (((m >> uint(d)) & 1u) != 0u) sum += w[d] * NEIGHBOUR_X(c + NEIGHBOUR[d]);
     }
   }
-  imageStore(u_x, c, vec4((imageLoad(u_b, c).r + sum) / n));
+  imageStore(u_x, c, vec4((imageLoad(u_b, c).x + sum) / n));
 }

@@ -8,36 +8,36 @@
 // partials[ny nz + row] for the predictor (pcg_predict.comp). 0 in solid cells.
 // One invocation per row of cells along x (j, k), summing into partials[j + ny k]: llvmpipe
 // runs workgroup barriers slowly, and a row loop needs none (see PressureMultigrid).
-layout(local_size_x = ROW_X, local_size_y = ROW_Y) in;
+LOCAL_SIZE(ROW_X, ROW_Y, 1);
 
-layout(r32f, binding = 1) readonly uniform image3D u_pressure;
-layout(r32f, binding = 2) readonly uniform image3D u_rhs;
-layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
-layout(rgba32f, binding = FACE_OPEN_UNIT) readonly uniform image3D u_face_open;
-layout(r32f, binding = 0) uniform writeonly image3D u_r;
-layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
+IMAGE_RO(r32f, 1, u_pressure);
+IMAGE_RO(r32f, 2, u_rhs);
+UIMAGE_RO(r8ui, 3, u_nbmask);
+IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
+IMAGE_WO(r32f, 0, u_r);
+BUFFER_WO(Partials, vec4, 0, partials);
 
 void main() {
-  ivec2 row = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
-  vec4 acc = vec4(0.0);
-  vec4 acc_ap = vec4(0.0);
+  vec4 acc = vec4(0.0f);
+  vec4 acc_ap = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    uint m = imageLoad(u_nbmask, c).r;
-    float r = 0.0;
+    uint m = imageLoad(u_nbmask, c).x;
+    float r = 0.0f;
     if ((m & NB_SOLID) == 0u) {
-      float p = imageLoad(u_pressure, c).r;
+      float p = imageLoad(u_pressure, c).x;
       float w[6];
       FACE_OPEN_ALL(u_face_open, c, w);
-      float ap = (m & NB_OPEN_TOP) != 0u ? w[5] * p : 0.0;  // differences, not n p - sum: exact near 0
-      for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) ap += w[d] * (p - imageLoad(u_pressure, c + NEIGHBOUR[d]).r);
+      float ap = (m & NB_OPEN_TOP) != 0u ? w[5] * p : 0.0f;  // differences, not n p - sum: exact near 0
+      UNROLL for (int d = 0; d < 6; ++d) {
+        if (((m >> uint(d)) & 1u) != 0u) ap += w[d] * (p - imageLoad(u_pressure, c + NEIGHBOUR[d]).x);
       }
-      float b = -imageLoad(u_rhs, c).r;
+      float b = -imageLoad(u_rhs, c).x;
       r = b - ap;
-      acc += vec4(r, 1.0, r * r, b * b);
-      acc_ap += vec4(b * r, ap * ap, b * ap, 0.0);
+      acc += vec4(r, 1.0f, r * r, b * b);
+      acc_ap += vec4(b * r, ap * ap, b * ap, 0.0f);
     }
     imageStore(u_r, c, vec4(r));
   }

@@ -12,37 +12,37 @@
 // to cancellation.
 // One invocation per row of cells along x (j, k), summing into partials[j + ny k]: llvmpipe
 // runs workgroup barriers slowly, and a row loop needs none (see PressureMultigrid).
-layout(local_size_x = ROW_X, local_size_y = ROW_Y) in;
+LOCAL_SIZE(ROW_X, ROW_Y, 1);
 
-layout(r32f, binding = 0) uniform image3D u_pressure;
-layout(r32f, binding = 1) uniform image3D u_r;
-layout(r32f, binding = 2) readonly uniform image3D u_rhs;
-layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
-layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
-layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
+IMAGE_RW(r32f, 0, u_pressure);
+IMAGE_RW(r32f, 1, u_r);
+IMAGE_RO(r32f, 2, u_rhs);
+UIMAGE_RO(r8ui, 3, u_nbmask);
+BUFFER_WO(Partials, vec4, 0, partials);
+BUFFER_RO(Results, vec4, 1, results);
 
-uniform uint u_slot_ap;
+UNIFORM(uint, u_slot_ap);
 
 void main() {
-  ivec2 row = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
   vec4 ap = results[u_slot_ap];
-  float alpha = ap.y > 0.0 ? ap.z / ap.y : 0.0;
-  if (isinf(alpha) || isnan(alpha)) alpha = 0.0;
-  vec4 acc = vec4(0.0);
+  float alpha = ap.y > 0.0f ? ap.z / ap.y : 0.0f;
+  if (isinf(alpha) || isnan(alpha)) alpha = 0.0f;
+  vec4 acc = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    if ((imageLoad(u_nbmask, c).r & NB_SOLID) != 0u) continue;
-    float b = -imageLoad(u_rhs, c).r;
+    if ((imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) continue;
+    float b = -imageLoad(u_rhs, c).x;
     float r = b;
-    if (alpha == 0.0) {  // p = 0: written, not scaled, so a huge old r cannot leave 0 * inf behind
-      imageStore(u_pressure, c, vec4(0.0));
+    if (alpha == 0.0f) {  // p = 0: written, not scaled, so a huge old r cannot leave 0 * inf behind
+      imageStore(u_pressure, c, vec4(0.0f));
     } else {
-      r = (1.0 - alpha) * b + alpha * imageLoad(u_r, c).r;
-      imageStore(u_pressure, c, vec4(alpha * imageLoad(u_pressure, c).r));
+      r = (1.0f - alpha) * b + alpha * imageLoad(u_r, c).x;
+      imageStore(u_pressure, c, vec4(alpha * imageLoad(u_pressure, c).x));
     }
     imageStore(u_r, c, vec4(r));
-    acc += vec4(r, 1.0, r * r, b * b);
+    acc += vec4(r, 1.0f, r * r, b * b);
   }
   partials[row.x + u_res.y * row.y] = acc;
 }

@@ -3,18 +3,18 @@
 // rounding makes that constant drift from step to step; this subtracts the mean over fluid cells
 // (summed by pressure_sum + reduce into results[u_slot]) so it stays at 0. The same removes the
 // rhs's mean before the solve (the closed box's compatibility condition). Per-texel update.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 0) uniform image3D u_pressure;
-layout(r8ui, binding = 2) readonly uniform uimage3D u_nbmask;
-layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
+IMAGE_RW(r32f, 0, u_pressure);
+UIMAGE_RO(r8ui, 2, u_nbmask);
+BUFFER_RO(Results, vec4, 1, results);
 
-uniform uint u_slot;
+UNIFORM(uint, u_slot);
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
-  if (!inGrid(c) || (imageLoad(u_nbmask, c).r & NB_SOLID) != 0u) return;
+  if (!inGrid(c) || (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) return;
   vec4 sum = results[u_slot];
-  float mean = sum.y > 0.0 ? sum.x / sum.y : 0.0;
-  imageStore(u_pressure, c, vec4(imageLoad(u_pressure, c).r - mean));
+  float mean = sum.y > 0.0f ? sum.x / sum.y : 0.0f;
+  imageStore(u_pressure, c, vec4(imageLoad(u_pressure, c).x - mean));
 }

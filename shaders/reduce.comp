@@ -1,21 +1,27 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "reduce": one workgroup sums u_count vec4 partials, from partials[u_first], into results[u_slot]
 // (the second level of the parallel reductions of force and residual).
-layout(local_size_x = REDUCE_SIZE) in;
+LOCAL_SIZE(REDUCE_SIZE, 1, 1);
 
-layout(std430, binding = 0) readonly buffer Partials { vec4 partials[]; };
-layout(std430, binding = 1) buffer Results { vec4 results[]; };
+BUFFER_RO(Partials, vec4, 0, partials);
+BUFFER_RW(Results, vec4, 1, results);
 
-uniform uint u_count;
-uniform uint u_slot;
-uniform uint u_first;
+UNIFORM(uint, u_count);
+UNIFORM(uint, u_slot);
+UNIFORM(uint, u_first);
 
 shared vec4 s_sum[REDUCE_SIZE];
 
+// Invocation `lane`'s share: every REDUCE_SIZE-th partial from its own.
+vec4 laneSum(uint lane) {
+  vec4 acc = vec4(0.0f);
+  for (uint i = lane; i < u_count; i += uint(REDUCE_SIZE)) acc += partials[u_first + i];
+  return acc;
+}
+
+// Then a tree over the lanes (the CPU's runner, cpu/kernels/reduce.cpp, adds in the same order).
 void main() {
-  vec4 acc = vec4(0.0);
-  for (uint i = gl_LocalInvocationIndex; i < u_count; i += uint(REDUCE_SIZE)) acc += partials[u_first + i];
-  s_sum[gl_LocalInvocationIndex] = acc;
+  s_sum[gl_LocalInvocationIndex] = laneSum(gl_LocalInvocationIndex);
   barrier();
   for (uint stride = uint(REDUCE_SIZE) / 2u; stride > 0u; stride >>= 1u) {
     if (gl_LocalInvocationIndex < stride) {

@@ -7,32 +7,32 @@
 // surplus is taken in proportion to the room to fall, phi -= a (phi - min_local). Each value
 // stays within its neighbours' range, so the correction makes no new extremum (and nothing
 // negative from non-negative data). Reads the advected fields, writes the corrected ones.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 1) readonly uniform image3D u_density;
-layout(r32f, binding = 2) readonly uniform image3D u_temperature;
-layout(r8ui, binding = 3) readonly uniform uimage3D u_nbmask;
-layout(r32f, binding = 4) uniform writeonly image3D u_density_out;
-layout(r32f, binding = 5) uniform writeonly image3D u_temperature_out;
-layout(std430, binding = 1) readonly buffer Results { vec4 results[]; };
+IMAGE_RO(r32f, 1, u_density);
+IMAGE_RO(r32f, 2, u_temperature);
+UIMAGE_RO(r8ui, 3, u_nbmask);
+IMAGE_WO(r32f, 4, u_density_out);
+IMAGE_WO(r32f, 5, u_temperature_out);
+BUFFER_RO(Results, vec4, 1, results);
 
-uniform float u_decay;   // smoke's dissipation multiplier of this step
-uniform float u_decay2;  // heat's
+UNIFORM(float, u_decay);   // smoke's dissipation multiplier of this step
+UNIFORM(float, u_decay2);  // heat's
 
 // The fractions of the rise room (x) and fall room (y) to apply for a field whose target total
 // is `target` and whose advected sums are s (total, rise room, fall room).
 vec2 fractions(float target, vec4 s) {
   float deficit = target - s.x;
-  if (deficit > 0.0 && s.y > 0.0) return vec2(min(deficit / s.y, 1.0), 0.0);
-  if (deficit < 0.0 && s.z > 0.0) return vec2(0.0, min(-deficit / s.z, 1.0));
-  return vec2(0.0);
+  if (deficit > 0.0f && s.y > 0.0f) return vec2(min(deficit / s.y, 1.0f), 0.0f);
+  if (deficit < 0.0f && s.z > 0.0f) return vec2(0.0f, min(-deficit / s.z, 1.0f));
+  return vec2(0.0f);
 }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  vec2 v = vec2(imageLoad(u_density, c).r, imageLoad(u_temperature, c).r);
-  uint nb = imageLoad(u_nbmask, c).r;
+  vec2 v = vec2(imageLoad(u_density, c).x, imageLoad(u_temperature, c).x);
+  uint nb = imageLoad(u_nbmask, c).x;
   if ((nb & NB_SOLID) == 0u) {
     vec4 before = results[0];
     vec2 fd = fractions((before.x - before.z) * u_decay, results[1]);
@@ -42,7 +42,7 @@ void main() {
     for (int n = 0; n < 6; ++n) {
       if ((nb & (1u << uint(n))) == 0u) continue;
       ivec3 q = c + NEIGHBOUR[n];
-      vec2 w = vec2(imageLoad(u_density, q).r, imageLoad(u_temperature, q).r);
+      vec2 w = vec2(imageLoad(u_density, q).x, imageLoad(u_temperature, q).x);
       hi = max(hi, w);
       lo = min(lo, w);
     }

@@ -1,20 +1,20 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "vorticity": curl of the cell-centred velocity (1/s) by central differences;
 // w holds its magnitude for the confinement stage.
-layout(local_size_x = WG_X, local_size_y = WG_Y, local_size_z = WG_Z) in;
+LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
-layout(r32f, binding = 1) readonly uniform image3D u_vel_x;
-layout(r32f, binding = 2) readonly uniform image3D u_vel_y;
-layout(r32f, binding = 3) readonly uniform image3D u_vel_z;
-layout(rgba32f, binding = 0) uniform writeonly image3D u_vorticity;
+IMAGE_RO(r32f, 1, u_vel_x);
+IMAGE_RO(r32f, 2, u_vel_y);
+IMAGE_RO(r32f, 3, u_vel_z);
+IMAGE_WO(rgba32f, 0, u_vorticity);
 
-uniform float u_cell_size;  // m
+UNIFORM(float, u_cell_size);  // m
 
 // One component of the cell-centred velocity (m/s) at cell c, clamped into the grid. The curl
 // needs each component only along the two other axes: 24 loads instead of 36 for whole vectors.
-float centredU(ivec3 c) { c = clampCell(c); return 0.5 * (imageLoad(u_vel_x, c).r + imageLoad(u_vel_x, c + ivec3(1, 0, 0)).r); }
-float centredV(ivec3 c) { c = clampCell(c); return 0.5 * (imageLoad(u_vel_y, c).r + imageLoad(u_vel_y, c + ivec3(0, 1, 0)).r); }
-float centredW(ivec3 c) { c = clampCell(c); return 0.5 * (imageLoad(u_vel_z, c).r + imageLoad(u_vel_z, c + ivec3(0, 0, 1)).r); }
+float centredU(ivec3 c) { c = clampCell(c); return 0.5f * (imageLoad(u_vel_x, c).x + imageLoad(u_vel_x, c + ivec3(1, 0, 0)).x); }
+float centredV(ivec3 c) { c = clampCell(c); return 0.5f * (imageLoad(u_vel_y, c).x + imageLoad(u_vel_y, c + ivec3(0, 1, 0)).x); }
+float centredW(ivec3 c) { c = clampCell(c); return 0.5f * (imageLoad(u_vel_z, c).x + imageLoad(u_vel_z, c + ivec3(0, 0, 1)).x); }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);

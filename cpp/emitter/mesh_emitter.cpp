@@ -7,7 +7,7 @@
 #include <string>
 
 #include "common/error.h"
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::emitter {
 namespace {
@@ -18,7 +18,7 @@ namespace {
 // difference in int32; edge functions (products) are computed in double, exact below 2^53.
 constexpr int kLatticeRange = 1 << 22;
 
-static_assert(obstacle::kMaxMeshElements <= std::size_t{65535} * gl::kLinearGroup,
+static_assert(obstacle::kMaxMeshElements <= std::size_t{65535} * compute::kLinearGroup,
               "kMaxMeshElements exceeds one linear dispatch (65535 groups of kLinearGroup)");
 
 std::string gridText(const glm::ivec3& r) {
@@ -31,10 +31,10 @@ MeshEmitter::MeshEmitter(const fluid::Grid& grid)
     : grid_(grid),
       crossings_(grid.cells() * 2 * sizeof(std::int32_t),
                  "smoke source crossings of the " + gridText(grid.res) + " grid (8 bytes per cell)"),
-      coverage_(grid.res, gl::TexelFormat::R32F, "smoke source coverage"),
-      crossings_program_("emit_mesh_crossings.comp", gl::linearGroupDefines()),
-      coverage_program_("emit_mesh_coverage.comp", gl::cellGroupDefines()),
-      emit_("emit_coverage.comp", gl::cellGroupDefines()) {
+      coverage_(grid.res, compute::TexelFormat::R32F, "smoke source coverage"),
+      crossings_program_("emit_mesh_crossings.comp", compute::linearGroupDefines()),
+      coverage_program_("emit_mesh_coverage.comp", compute::cellGroupDefines()),
+      emit_("emit_coverage.comp", compute::cellGroupDefines()) {
   const int widest = std::max(grid.res.x, grid.res.y);
   if (2 * widest * subcell_ > kLatticeRange) {
     throw InvalidArgument("mesh smoke sources support at most " + std::to_string(kLatticeRange / (2 * subcell_)) +
@@ -65,17 +65,17 @@ void MeshEmitter::voxelize() {
   gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
   crossings_.bind(0);
-  coverage_.bindImage(0, gl::Access::Write);
+  coverage_.bindImage(0, compute::Access::Write);
   coverage_program_.dispatch(glm::ivec3(grid_.res.x, grid_.res.y, 1));
 }
 
-void MeshEmitter::emit(gl::Texture3D& density, gl::Texture3D& temperature, const gl::Texture3D& nbmask, float dt_s) {
+void MeshEmitter::emit(compute::Texture3D& density, compute::Texture3D& temperature, const compute::Texture3D& nbmask, float dt_s) {
   const obstacle::CellBox box = bounds();
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) return;
-  density.bindImage(0, gl::Access::ReadWrite);
-  temperature.bindImage(1, gl::Access::ReadWrite);
-  nbmask.bindImage(2, gl::Access::Read);
-  coverage_.bindImage(3, gl::Access::Read);
+  density.bindImage(0, compute::Access::ReadWrite);
+  temperature.bindImage(1, compute::Access::ReadWrite);
+  nbmask.bindImage(2, compute::Access::Read);
+  coverage_.bindImage(3, compute::Access::Read);
   emit_.set("u_origin", box.origin);
   emit_.set("u_density_value", source_.density);
   emit_.set("u_temperature_value", source_.temperature_k);

@@ -20,9 +20,9 @@
 
 #include "emitter/mesh_source.h"
 #include "fluid/grid.h"
-#include "gl/compute_program.h"
-#include "gl/storage_buffer.h"
-#include "gl/texture3d.h"
+#include "compute/compute_program.h"
+#include "compute/storage_buffer.h"
+#include "compute/texture3d.h"
 #include "obstacle/obstacle.h"
 #include "obstacle/posed_mesh.h"
 
@@ -38,8 +38,8 @@ class MeshEmitter {
   void voxelize();
   // Raises or adds smoke and heat in the source's cells (not in cells with no open face:
   // fluid::NB_SOLID in `nbmask`), dt_s for SourceEmission::Rate.
-  void emit(gl::Texture3D& density, gl::Texture3D& temperature, const gl::Texture3D& nbmask, float dt_s);
-  const gl::Texture3D& coverage() const { return coverage_; }
+  void emit(compute::Texture3D& density, compute::Texture3D& temperature, const compute::Texture3D& nbmask, float dt_s);
+  const compute::Texture3D& coverage() const { return coverage_; }
   // Cells the posed source can cover (its conservative world box, padded by a cell, clamped).
   obstacle::CellBox bounds() const;
 
@@ -49,9 +49,9 @@ class MeshEmitter {
   MeshSource source_;
   std::shared_ptr<const obstacle::TriangleMesh> uploaded_;
   obstacle::PosedMesh gpu_mesh_;
-  gl::StorageBuffer crossings_;  // per cell: signed crossing count, signed fixed-point length
-  gl::Texture3D coverage_;
-  gl::ComputeProgram crossings_program_, coverage_program_, emit_;
+  compute::StorageBuffer crossings_;  // per cell: signed crossing count, signed fixed-point length
+  compute::Texture3D coverage_;
+  compute::ComputeProgram crossings_program_, coverage_program_, emit_;
 };
 
 }  // namespace hf::emitter

@@ -3,28 +3,28 @@
 
 namespace hf::fluid {
 
-PingPong::PingPong(const glm::ivec3& size, gl::TexelFormat f, const std::string& label)
-    : tex{gl::Texture3D(size, f, label + " A"), gl::Texture3D(size, f, label + " B")} {}
+PingPong::PingPong(const glm::ivec3& size, compute::TexelFormat f, const std::string& label)
+    : tex{compute::Texture3D(size, f, label + " A"), compute::Texture3D(size, f, label + " B")} {}
 
 FluidFields::FluidFields(const Grid& g)
-    : vel{PingPong(g.faceSize(0), gl::TexelFormat::R32F, "velocity x"),
-          PingPong(g.faceSize(1), gl::TexelFormat::R32F, "velocity y"),
-          PingPong(g.faceSize(2), gl::TexelFormat::R32F, "velocity z")},
-      density(g.res, gl::TexelFormat::R32F, "density"),
-      temperature(g.res, gl::TexelFormat::R32F, "temperature"),
-      pressure(g.res, gl::TexelFormat::R32F, "pressure"),
-      rhs(g.res, gl::TexelFormat::R32F, "pressure rhs"),
-      solid(g.res, gl::TexelFormat::R8UI, "solid mask"),
-      solid_velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity"),
-      cell_class(g.res, gl::TexelFormat::R8UI, "cell classes"),
-      nbmask(g.res, gl::TexelFormat::R8UI, "neighbour mask"),
-      face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face open fractions"),
-      vorticity(g.res, gl::TexelFormat::RGBA32F, "vorticity"),
-      cell_force(g.res, gl::TexelFormat::RGBA32F, "cell force") {}
+    : vel{PingPong(g.faceSize(0), compute::TexelFormat::R32F, "velocity x"),
+          PingPong(g.faceSize(1), compute::TexelFormat::R32F, "velocity y"),
+          PingPong(g.faceSize(2), compute::TexelFormat::R32F, "velocity z")},
+      density(g.res, compute::TexelFormat::R32F, "density"),
+      temperature(g.res, compute::TexelFormat::R32F, "temperature"),
+      pressure(g.res, compute::TexelFormat::R32F, "pressure"),
+      rhs(g.res, compute::TexelFormat::R32F, "pressure rhs"),
+      solid(g.res, compute::TexelFormat::R8UI, "solid mask"),
+      solid_velocity(g.res, compute::TexelFormat::RGBA32F, "solid velocity"),
+      cell_class(g.res, compute::TexelFormat::R8UI, "cell classes"),
+      nbmask(g.res, compute::TexelFormat::R8UI, "neighbour mask"),
+      face_open(g.res + 1, compute::TexelFormat::RGBA32F, "face open fractions"),
+      vorticity(g.res, compute::TexelFormat::RGBA32F, "vorticity"),
+      cell_force(g.res, compute::TexelFormat::RGBA32F, "cell force") {}
 
 PingPong& FluidFields::scratchFor(int field_kind, const glm::ivec3& size) {
   auto& s = scratch[static_cast<std::size_t>(field_kind)];
-  if (!s) s = std::make_unique<PingPong>(size, gl::TexelFormat::R32F, "MacCormack scratch");
+  if (!s) s = std::make_unique<PingPong>(size, compute::TexelFormat::R32F, "MacCormack scratch");
   return *s;
 }
 

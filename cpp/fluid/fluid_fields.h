@@ -6,17 +6,17 @@
 #include <memory>
 
 #include "fluid/grid.h"
-#include "gl/texture3d.h"
+#include "compute/texture3d.h"
 
 namespace hf::fluid {
 
 // Two textures of one field: read `cur()`, write `next()`, then swap().
 struct PingPong {
-  PingPong(const glm::ivec3& size, gl::TexelFormat f, const std::string& label);
-  gl::Texture3D& cur() { return tex[index]; }
-  gl::Texture3D& next() { return tex[1 - index]; }
+  PingPong(const glm::ivec3& size, compute::TexelFormat f, const std::string& label);
+  compute::Texture3D& cur() { return tex[index]; }
+  compute::Texture3D& next() { return tex[1 - index]; }
   void swap() { index = 1 - index; }
-  std::array<gl::Texture3D, 2> tex;
+  std::array<compute::Texture3D, 2> tex;
   int index = 0;
 };
 
@@ -30,14 +30,14 @@ struct FluidFields {
   PingPong density;             // smoke concentration
   PingPong temperature;         // K above ambient
   PingPong pressure;            // dynamic pressure, Pa
-  gl::Texture3D rhs;            // pressure equation right-hand side, Pa
-  gl::Texture3D solid;          // R8UI 1 = covered by the probe (written by the voxelizer)
-  gl::Texture3D solid_velocity; // RGBA32F rigid velocity at solid cell centres, m/s
-  gl::Texture3D cell_class;     // R8UI seed classes (obstacle/cell_class.h)
-  gl::Texture3D nbmask;         // R8UI neighbour mask (shaders/common.glsl)
-  gl::Texture3D face_open;      // RGBA32F open fraction of the x/y/z faces, res + 1 texels (common.glsl)
-  gl::Texture3D vorticity;      // RGBA32F curl (1/s) and its magnitude
-  gl::Texture3D cell_force;     // RGBA32F body acceleration at cells, m/s^2
+  compute::Texture3D rhs;            // pressure equation right-hand side, Pa
+  compute::Texture3D solid;          // R8UI 1 = covered by the probe (written by the voxelizer)
+  compute::Texture3D solid_velocity; // RGBA32F rigid velocity at solid cell centres, m/s
+  compute::Texture3D cell_class;     // R8UI seed classes (obstacle/cell_class.h)
+  compute::Texture3D nbmask;         // R8UI neighbour mask (shaders/common.glsl)
+  compute::Texture3D face_open;      // RGBA32F open fraction of the x/y/z faces, res + 1 texels (common.glsl)
+  compute::Texture3D vorticity;      // RGBA32F curl (1/s) and its magnitude
+  compute::Texture3D cell_force;     // RGBA32F body acceleration at cells, m/s^2
   // MacCormack scratch (forward and backward passes), made on first use.
   std::array<std::unique_ptr<PingPong>, 4> scratch;  // u, v, w, scalar
 

@@ -14,8 +14,8 @@
 #include "fluid/pressure_solver.h"
 #include "fluid/residual_meter.h"
 #include "fluid/scalar_conservation.h"
-#include "gl/compute_program.h"
-#include "gl/group_reducer.h"
+#include "compute/compute_program.h"
+#include "compute/group_reducer.h"
 
 namespace hf::fluid {
 
@@ -33,46 +33,46 @@ class FluidSolver {
   void computeDivergence(float dt_s, const FluidParams& p);
   // Closed box only: shifts the rhs so its mean over fluid cells is 0, the compatibility
   // condition of the pure-Neumann problem (sum in `slot`). Call after computeDivergence().
-  void removeRhsMean(gl::GroupReducer& reducer, std::size_t slot);
+  void removeRhsMean(compute::GroupReducer& reducer, std::size_t slot);
   // Runs the solver p.pressure_solver names (made on first use).
   SolveStats solvePressure(const FluidParams& p);
   // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`. This
   // and the mean removals write rowCount(res) partials (fluid/row_reduction.h).
-  void measureResidual(gl::GroupReducer& reducer, std::size_t slot);
+  void measureResidual(compute::GroupReducer& reducer, std::size_t slot);
   // Closed box only: shifts the pressure so its mean over fluid cells is 0 (sum into `slot`).
-  void removePressureMean(gl::GroupReducer& reducer, std::size_t slot);
+  void removePressureMean(compute::GroupReducer& reducer, std::size_t slot);
   void project(float dt_s, const FluidParams& p);
 
   // Zeroes velocity, smoke, heat and pressure.
   void reset();
 
  private:
-  void advectField(gl::Texture3D& src, gl::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
+  void advectField(compute::Texture3D& src, compute::Texture3D& dst, int scratch_kind, const glm::ivec3& size,
                    const glm::vec3& offset, float dt_s, float decay, bool zero_in_solid,
                    const FluidParams& p);
   // Smoke and heat in one semi-Lagrangian pass (advect_pair_).
   void advectScalarPair(float dt_s, float smoke_decay, float heat_decay);
   void bindVelocityImages(unsigned first);  // read-only image units first..first+2
-  void removeMean(gl::Texture3D& field, gl::GroupReducer& reducer, std::size_t slot);
+  void removeMean(compute::Texture3D& field, compute::GroupReducer& reducer, std::size_t slot);
 
   Grid grid_;
   FluidFields fields_;
   // advect.comp per field kind (0-2: velocity on that axis's faces, 3: a scalar), and the
   // variant that carries smoke and heat through one back-trace.
-  std::array<std::unique_ptr<gl::ComputeProgram>, 4> advect_;
-  gl::ComputeProgram advect_pair_;
-  gl::ComputeProgram maccormack_;
-  gl::ComputeProgram sources_;
-  gl::ComputeProgram vorticity_;
-  gl::ComputeProgram cell_forces_;
-  gl::ComputeProgram apply_forces_;
-  gl::ComputeProgram boundaries_;
-  gl::ComputeProgram divergence_;
+  std::array<std::unique_ptr<compute::ComputeProgram>, 4> advect_;
+  compute::ComputeProgram advect_pair_;
+  compute::ComputeProgram maccormack_;
+  compute::ComputeProgram sources_;
+  compute::ComputeProgram vorticity_;
+  compute::ComputeProgram cell_forces_;
+  compute::ComputeProgram apply_forces_;
+  compute::ComputeProgram boundaries_;
+  compute::ComputeProgram divergence_;
   ResidualMeter residual_;
   ScalarConservation conservation_;
-  gl::ComputeProgram project_;
-  gl::ComputeProgram pressure_sum_;
-  gl::ComputeProgram pressure_shift_;
+  compute::ComputeProgram project_;
+  compute::ComputeProgram pressure_sum_;
+  compute::ComputeProgram pressure_shift_;
   std::unique_ptr<PressureSolver> jacobi_;
   std::unique_ptr<PressureSolver> multigrid_;
 };

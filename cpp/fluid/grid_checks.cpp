@@ -62,7 +62,7 @@ Grid makeGrid(const glm::ivec3& resolution, const glm::vec3& domain_size_m, cons
   return g;
 }
 
-void checkFits(const Grid& g, const gl::ContextInfo& info) {
+void checkFits(const Grid& g, const compute::DeviceInfo& info) {
   const long long largest = static_cast<long long>(std::max(g.res.x, std::max(g.res.y, g.res.z))) + 1;  // faces: n+1
   if (info.max_3d_texture_size > 0 && largest > info.max_3d_texture_size) {
     throw InvalidArgument("resolution too large for this GPU: " + std::to_string(largest) +

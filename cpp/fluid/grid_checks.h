@@ -7,7 +7,7 @@
 
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
-#include "gl/egl_context.h"
+#include "compute/device.h"
 
 namespace hf::fluid {
 
@@ -18,7 +18,7 @@ void checkResolution(const glm::ivec3& resolution);
 // within kMinCellSize .. kMaxCellSize.
 Grid makeGrid(const glm::ivec3& resolution, const glm::vec3& domain_size_m, const glm::vec3& origin_m);
 // The grid's fields fit the device: its largest 3D texture and a share of its memory.
-void checkFits(const Grid& grid, const gl::ContextInfo& info);
+void checkFits(const Grid& grid, const compute::DeviceInfo& info);
 // A time step `dt_s` (s) within kMinTimeStep .. kMaxTimeStep whose derived scales with these
 // settings on this grid (rho h / dt, dt / (rho h)) are normal floats. In double, so a value
 // float cannot hold (1e-40, 1e300) is reported as given.

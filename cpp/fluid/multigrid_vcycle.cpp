@@ -6,12 +6,12 @@
 #include <string>
 
 #include "fluid/fluid_fields.h"
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::fluid {
 
 namespace {
-gl::Defines withProlong(gl::Defines d) {
+compute::Defines withProlong(compute::Defines d) {
   d.emplace_back("PROLONG", "1");
   return d;
 }
@@ -26,39 +26,39 @@ std::vector<glm::ivec3> MultigridVCycle::levelResolutions(const glm::ivec3& fine
 }
 
 MultigridVCycle::Coarse::Coarse(const glm::ivec3& r)
-    : mask(r, gl::TexelFormat::R8UI, "multigrid mask"),
-      faces(r + 1, gl::TexelFormat::RGBA32F, "multigrid face fractions"),
-      x(r, gl::TexelFormat::R32F, "multigrid x"),
-      b(r, gl::TexelFormat::R32F, "multigrid b") {}
+    : mask(r, compute::TexelFormat::R8UI, "multigrid mask"),
+      faces(r + 1, compute::TexelFormat::RGBA32F, "multigrid face fractions"),
+      x(r, compute::TexelFormat::R32F, "multigrid x"),
+      b(r, compute::TexelFormat::R32F, "multigrid b") {}
 
 MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
     : res_(levelResolutions(fine_res)),
-      coarsen_("mg_coarsen_mask.comp", gl::cellGroupDefines()),
-      coarsen_faces_("mg_coarsen_faces.comp", gl::cellGroupDefines()),
-      smooth_("mg_smooth.comp", gl::cellGroupDefines()),
-      residual_("mg_residual.comp", gl::cellGroupDefines()),
-      restrict_("mg_restrict.comp", gl::cellGroupDefines()),
-      prolong_("mg_prolong.comp", gl::cellGroupDefines()),
+      coarsen_("mg_coarsen_mask.comp", compute::cellGroupDefines()),
+      coarsen_faces_("mg_coarsen_faces.comp", compute::cellGroupDefines()),
+      smooth_("mg_smooth.comp", compute::cellGroupDefines()),
+      residual_("mg_residual.comp", compute::cellGroupDefines()),
+      restrict_("mg_restrict.comp", compute::cellGroupDefines()),
+      prolong_("mg_prolong.comp", compute::cellGroupDefines()),
       coarsest_("mg_coarsest.comp", {{"COARSEST", std::to_string(kCoarsestCells)}}),
-      smooth_prolong_("mg_smooth.comp", withProlong(gl::cellGroupDefines())),
-      residual_restrict_("mg_residual_restrict.comp", gl::cellGroupDefines()) {
+      smooth_prolong_("mg_smooth.comp", withProlong(compute::cellGroupDefines())),
+      residual_restrict_("mg_residual_restrict.comp", compute::cellGroupDefines()) {
   coarse_.reserve(res_.size());
   for (std::size_t l = 1; l < res_.size(); ++l) coarse_.emplace_back(res_[l]);
 }
 
-void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
-                                  const glm::ivec3& coarse_res, gl::Texture3D& coarse_mask) {
-  fine_mask.bindImage(1, gl::Access::Read);
-  coarse_mask.bindImage(0, gl::Access::Write);
+void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask,
+                                  const glm::ivec3& coarse_res, compute::Texture3D& coarse_mask) {
+  fine_mask.bindImage(1, compute::Access::Read);
+  coarse_mask.bindImage(0, compute::Access::Write);
   coarsen_.set("u_res", coarse_res);
   coarsen_.set("u_fine_size", fine_res);
   coarsen_.dispatch(coarse_res);
 }
 
-void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture3D& fine_faces,
-                                   const glm::ivec3& coarse_res, gl::Texture3D& coarse_faces) {
-  fine_faces.bindImage(1, gl::Access::Read);
-  coarse_faces.bindImage(0, gl::Access::Write);
+void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const compute::Texture3D& fine_faces,
+                                   const glm::ivec3& coarse_res, compute::Texture3D& coarse_faces) {
+  fine_faces.bindImage(1, compute::Access::Read);
+  coarse_faces.bindImage(0, compute::Access::Write);
   coarsen_faces_.set("u_res", coarse_res);
   coarsen_faces_.set("u_fine_size", fine_res);
   coarsen_faces_.dispatch(coarse_res + 1);
@@ -66,20 +66,20 @@ void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const gl::Texture
 
 // A level's images as mg_smooth and mg_coarsest bind them: faces, x at 0 (`x_access`), b at 1,
 // mask at 2.
-void MultigridVCycle::bindSmoothInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-                                       gl::Access x_access, const gl::Texture3D& b) {
-  faces.bindImage(kFaceOpenUnit, gl::Access::Read);
+void MultigridVCycle::bindSmoothInputs(const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
+                                       compute::Access x_access, const compute::Texture3D& b) {
+  faces.bindImage(kFaceOpenUnit, compute::Access::Read);
   x.bindImage(0, x_access);
-  b.bindImage(1, gl::Access::Read);
-  mask.bindImage(2, gl::Access::Read);
+  b.bindImage(1, compute::Access::Read);
+  mask.bindImage(2, compute::Access::Read);
 }
 
 // One red-black sweep of `colour` with mg_smooth.comp's program (plain or PROLONG): its images
 // (bindSmoothInputs) and uniforms; PROLONG's coarse x is bound by the caller.
-void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask,
-                            const gl::Texture3D& faces, gl::Texture3D& x, const gl::Texture3D& b, int colour,
+void MultigridVCycle::sweep(compute::ComputeProgram& program, const glm::ivec3& res, const compute::Texture3D& mask,
+                            const compute::Texture3D& faces, compute::Texture3D& x, const compute::Texture3D& b, int colour,
                             bool zero_guess) {
-  bindSmoothInputs(mask, faces, x, gl::Access::ReadWrite, b);
+  bindSmoothInputs(mask, faces, x, compute::Access::ReadWrite, b);
   program.set("u_res", res);
   program.set("u_colour", colour);
   program.set("u_zero_guess", zero_guess ? 1 : 0);
@@ -88,78 +88,78 @@ void MultigridVCycle::sweep(gl::ComputeProgram& program, const glm::ivec3& res, 
 
 // The residual's inputs, shared by mg_residual and mg_residual_restrict: faces, x at 1, b at 2,
 // mask at 3 (the output at 0 is the caller's).
-void MultigridVCycle::bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
-                                         const gl::Texture3D& b) {
-  faces.bindImage(kFaceOpenUnit, gl::Access::Read);
-  x.bindImage(1, gl::Access::Read);
-  b.bindImage(2, gl::Access::Read);
-  mask.bindImage(3, gl::Access::Read);
+void MultigridVCycle::bindResidualInputs(const compute::Texture3D& mask, const compute::Texture3D& faces, const compute::Texture3D& x,
+                                         const compute::Texture3D& b) {
+  faces.bindImage(kFaceOpenUnit, compute::Access::Read);
+  x.bindImage(1, compute::Access::Read);
+  b.bindImage(2, compute::Access::Read);
+  mask.bindImage(3, compute::Access::Read);
 }
 
-void MultigridVCycle::smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess) {
+void MultigridVCycle::smooth(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
+                             compute::Texture3D& x, const compute::Texture3D& b, int colour, bool zero_guess) {
   sweep(smooth_, res, mask, faces, x, b, colour, zero_guess);
 }
 
-void MultigridVCycle::residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                               const gl::Texture3D& x, const gl::Texture3D& b, gl::Texture3D& out) {
+void MultigridVCycle::residual(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
+                               const compute::Texture3D& x, const compute::Texture3D& b, compute::Texture3D& out) {
   bindResidualInputs(mask, faces, x, b);
-  out.bindImage(0, gl::Access::Write);
+  out.bindImage(0, compute::Access::Write);
   residual_.set("u_res", res);
   residual_.dispatch(res);
 }
 
-void MultigridVCycle::restrictResidual(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
-                                       const gl::Texture3D& fine_res_tex, const glm::ivec3& coarse_res,
-                                       gl::Texture3D& coarse_b, float scale) {
-  fine_res_tex.bindImage(1, gl::Access::Read);
-  fine_mask.bindImage(2, gl::Access::Read);
-  coarse_b.bindImage(0, gl::Access::Write);
+void MultigridVCycle::restrictResidual(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask,
+                                       const compute::Texture3D& fine_res_tex, const glm::ivec3& coarse_res,
+                                       compute::Texture3D& coarse_b, float scale) {
+  fine_res_tex.bindImage(1, compute::Access::Read);
+  fine_mask.bindImage(2, compute::Access::Read);
+  coarse_b.bindImage(0, compute::Access::Write);
   restrict_.set("u_res", coarse_res);
   restrict_.set("u_fine_size", fine_res);
   restrict_.set("u_scale", scale);
   restrict_.dispatch(coarse_res);
 }
 
-void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, gl::Texture3D& fine_x,
-                                 const gl::Texture3D& coarse_x) {
-  fine_x.bindImage(0, gl::Access::ReadWrite);
-  coarse_x.bindImage(1, gl::Access::Read);
-  fine_mask.bindImage(2, gl::Access::Read);
+void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, compute::Texture3D& fine_x,
+                                 const compute::Texture3D& coarse_x) {
+  fine_x.bindImage(0, compute::Access::ReadWrite);
+  coarse_x.bindImage(1, compute::Access::Read);
+  fine_mask.bindImage(2, compute::Access::Read);
   prolong_.set("u_res", fine_res);
   prolong_.dispatch(fine_res);
 }
 
-void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                                      gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x,
+void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
+                                      compute::Texture3D& x, const compute::Texture3D& b, const compute::Texture3D& coarse_x,
                                       int colour) {
-  coarse_x.bindImage(3, gl::Access::Read);
+  coarse_x.bindImage(3, compute::Access::Read);
   sweep(smooth_prolong_, res, mask, faces, x, b, colour, false);
 }
 
-void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask,
-                                       const gl::Texture3D& fine_faces, const gl::Texture3D& fine_x,
-                                       const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
-                                       gl::Texture3D& coarse_b, float scale) {
+void MultigridVCycle::residualRestrict(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask,
+                                       const compute::Texture3D& fine_faces, const compute::Texture3D& fine_x,
+                                       const compute::Texture3D& fine_b, const glm::ivec3& coarse_res,
+                                       compute::Texture3D& coarse_b, float scale) {
   bindResidualInputs(fine_mask, fine_faces, fine_x, fine_b);
-  coarse_b.bindImage(0, gl::Access::Write);
+  coarse_b.bindImage(0, compute::Access::Write);
   residual_restrict_.set("u_res", coarse_res);
   residual_restrict_.set("u_fine_size", fine_res);
   residual_restrict_.set("u_scale", scale);
   residual_restrict_.dispatch(coarse_res);
 }
 
-void MultigridVCycle::solveCoarsest(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                                    gl::Texture3D& x, const gl::Texture3D& b) {
-  bindSmoothInputs(mask, faces, x, gl::Access::Write, b);
+void MultigridVCycle::solveCoarsest(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
+                                    compute::Texture3D& x, const compute::Texture3D& b) {
+  bindSmoothInputs(mask, faces, x, compute::Access::Write, b);
   coarsest_.set("u_res", res);
   coarsest_.set("u_pairs", kCoarsestSweeps);
   coarsest_.dispatch(glm::ivec3(kCoarsestCells));
 }
 
-void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces) {
-  const gl::Texture3D* finer = &fine_mask;
-  const gl::Texture3D* finer_faces = &fine_faces;
+void MultigridVCycle::buildMasks(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces) {
+  const compute::Texture3D* finer = &fine_mask;
+  const compute::Texture3D* finer_faces = &fine_faces;
   for (std::size_t l = 1; l < res_.size(); ++l) {
     coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask);
     coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces);
@@ -168,14 +168,14 @@ void MultigridVCycle::buildMasks(const gl::Texture3D& fine_mask, const gl::Textu
   }
 }
 
-void MultigridVCycle::apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
-                            gl::Texture3D& z) {
+void MultigridVCycle::apply(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces, const compute::Texture3D& r,
+                            compute::Texture3D& z) {
   // Level l's textures: level 0 is (fine_mask, fine_faces, z, r).
   struct View {
-    const gl::Texture3D* mask;
-    const gl::Texture3D* faces;
-    gl::Texture3D* x;
-    const gl::Texture3D* b;
+    const compute::Texture3D* mask;
+    const compute::Texture3D* faces;
+    compute::Texture3D* x;
+    const compute::Texture3D* b;
   };
   std::vector<View> v;
   v.push_back({&fine_mask, &fine_faces, &z, &r});

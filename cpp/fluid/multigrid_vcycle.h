@@ -18,8 +18,8 @@
 // needs.
 #include <vector>
 
-#include "gl/compute_program.h"
-#include "gl/texture3d.h"
+#include "compute/compute_program.h"
+#include "compute/texture3d.h"
 
 namespace hf::fluid {
 
@@ -48,67 +48,67 @@ class MultigridVCycle {
 
   // Rebuilds every coarse mask and face-fraction image from the fine ones (once per step: the
   // solid moves). `fine_faces`: the fine level's face fractions (shaders/common.glsl).
-  void buildMasks(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces);
+  void buildMasks(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces);
   // z = M r from z = 0. Call buildMasks first.
-  void apply(const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces, const gl::Texture3D& r,
-             gl::Texture3D& z);
+  void apply(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces, const compute::Texture3D& r,
+             compute::Texture3D& z);
 
   // The stages, public for tests. `res` is the resolution of the level the textures have.
-  void coarsenMask(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const glm::ivec3& coarse_res,
-                   gl::Texture3D& coarse_mask);
-  void coarsenFaces(const glm::ivec3& fine_res, const gl::Texture3D& fine_faces, const glm::ivec3& coarse_res,
-                    gl::Texture3D& coarse_faces);
-  void smooth(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-              const gl::Texture3D& b, int colour, bool zero_guess);
-  void residual(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
-                const gl::Texture3D& b, gl::Texture3D& out);
-  void restrictResidual(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const gl::Texture3D& fine_res_tex,
-                        const glm::ivec3& coarse_res, gl::Texture3D& coarse_b, float scale);
-  void prolongAdd(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, gl::Texture3D& fine_x,
-                  const gl::Texture3D& coarse_x);
+  void coarsenMask(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, const glm::ivec3& coarse_res,
+                   compute::Texture3D& coarse_mask);
+  void coarsenFaces(const glm::ivec3& fine_res, const compute::Texture3D& fine_faces, const glm::ivec3& coarse_res,
+                    compute::Texture3D& coarse_faces);
+  void smooth(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
+              const compute::Texture3D& b, int colour, bool zero_guess);
+  void residual(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, const compute::Texture3D& x,
+                const compute::Texture3D& b, compute::Texture3D& out);
+  void restrictResidual(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, const compute::Texture3D& fine_res_tex,
+                        const glm::ivec3& coarse_res, compute::Texture3D& coarse_b, float scale);
+  void prolongAdd(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, compute::Texture3D& fine_x,
+                  const compute::Texture3D& coarse_x);
   // The fused stages apply() uses. smoothProlonged: prolongAdd(coarse_x) then a sweep of `colour`,
   // in one pass (mg_smooth.comp with PROLONG; valid as the first sweep after the correction, whose
   // next sweep rewrites the other colour). residualRestrict: residual() then restrictResidual()
   // without storing the fine residual (mg_residual_restrict.comp).
-  void smoothProlonged(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-                       gl::Texture3D& x, const gl::Texture3D& b, const gl::Texture3D& coarse_x, int colour);
-  void residualRestrict(const glm::ivec3& fine_res, const gl::Texture3D& fine_mask, const gl::Texture3D& fine_faces,
-                        const gl::Texture3D& fine_x, const gl::Texture3D& fine_b, const glm::ivec3& coarse_res,
-                        gl::Texture3D& coarse_b, float scale);
+  void smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
+                       compute::Texture3D& x, const compute::Texture3D& b, const compute::Texture3D& coarse_x, int colour);
+  void residualRestrict(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces,
+                        const compute::Texture3D& fine_x, const compute::Texture3D& fine_b, const glm::ivec3& coarse_res,
+                        compute::Texture3D& coarse_b, float scale);
   // The coarsest level's kCoarsestSweeps symmetric pairs of red-black sweeps from x = 0, in one
   // dispatch (mg_coarsest.comp: the same arithmetic as the smooth() calls). Every axis of `res`
   // must be at most kCoarsestCells.
-  void solveCoarsest(const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-                     const gl::Texture3D& b);
+  void solveCoarsest(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
+                     const compute::Texture3D& b);
 
   // Texture of a coarse level (level >= 1), for tests.
-  gl::Texture3D& mask(int level) { return coarse_[static_cast<std::size_t>(level - 1)].mask; }
-  gl::Texture3D& faces(int level) { return coarse_[static_cast<std::size_t>(level - 1)].faces; }
+  compute::Texture3D& mask(int level) { return coarse_[static_cast<std::size_t>(level - 1)].mask; }
+  compute::Texture3D& faces(int level) { return coarse_[static_cast<std::size_t>(level - 1)].faces; }
 
  private:
-  void sweep(gl::ComputeProgram& program, const glm::ivec3& res, const gl::Texture3D& mask, const gl::Texture3D& faces,
-             gl::Texture3D& x, const gl::Texture3D& b, int colour, bool zero_guess);
-  static void bindSmoothInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, gl::Texture3D& x,
-                               gl::Access x_access, const gl::Texture3D& b);
-  static void bindResidualInputs(const gl::Texture3D& mask, const gl::Texture3D& faces, const gl::Texture3D& x,
-                                 const gl::Texture3D& b);
+  void sweep(compute::ComputeProgram& program, const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
+             compute::Texture3D& x, const compute::Texture3D& b, int colour, bool zero_guess);
+  static void bindSmoothInputs(const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
+                               compute::Access x_access, const compute::Texture3D& b);
+  static void bindResidualInputs(const compute::Texture3D& mask, const compute::Texture3D& faces, const compute::Texture3D& x,
+                                 const compute::Texture3D& b);
 
   struct Coarse {
     explicit Coarse(const glm::ivec3& res);
-    gl::Texture3D mask, faces, x, b;
+    compute::Texture3D mask, faces, x, b;
   };
 
   std::vector<glm::ivec3> res_;
   std::vector<Coarse> coarse_;  // levels 1 .. levels()-1
-  gl::ComputeProgram coarsen_;
-  gl::ComputeProgram coarsen_faces_;
-  gl::ComputeProgram smooth_;
-  gl::ComputeProgram residual_;
-  gl::ComputeProgram restrict_;
-  gl::ComputeProgram prolong_;
-  gl::ComputeProgram coarsest_;
-  gl::ComputeProgram smooth_prolong_;
-  gl::ComputeProgram residual_restrict_;
+  compute::ComputeProgram coarsen_;
+  compute::ComputeProgram coarsen_faces_;
+  compute::ComputeProgram smooth_;
+  compute::ComputeProgram residual_;
+  compute::ComputeProgram restrict_;
+  compute::ComputeProgram prolong_;
+  compute::ComputeProgram coarsest_;
+  compute::ComputeProgram smooth_prolong_;
+  compute::ComputeProgram residual_restrict_;
 };
 
 }  // namespace hf::fluid

@@ -4,21 +4,21 @@
 
 #include <algorithm>
 
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::fluid {
 
-PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.comp", gl::cellGroupDefines()) {
+PressureJacobi::PressureJacobi(const Grid& grid) : grid_(grid), sweep_("jacobi.comp", compute::cellGroupDefines()) {
   sweep_.set("u_res", grid.res);
 }
 
 void PressureJacobi::sweeps(FluidFields& f, int count) {
-  f.rhs.bindImage(2, gl::Access::Read);
-  f.nbmask.bindImage(3, gl::Access::Read);
-  f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
+  f.rhs.bindImage(2, compute::Access::Read);
+  f.nbmask.bindImage(3, compute::Access::Read);
+  f.face_open.bindImage(kFaceOpenUnit, compute::Access::Read);
   for (int i = 0; i < count; ++i) {
-    f.pressure.cur().bindImage(1, gl::Access::Read);
-    f.pressure.next().bindImage(0, gl::Access::Write);
+    f.pressure.cur().bindImage(1, compute::Access::Read);
+    f.pressure.next().bindImage(0, compute::Access::Write);
     sweep_.dispatch(grid_.res);
     f.pressure.swap();
   }

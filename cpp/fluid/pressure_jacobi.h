@@ -7,7 +7,7 @@
 
 #include "fluid/pressure_solver.h"
 #include "fluid/residual_meter.h"
-#include "gl/compute_program.h"
+#include "compute/compute_program.h"
 
 namespace hf::fluid {
 
@@ -23,7 +23,7 @@ class PressureJacobi : public PressureSolver {
   void sweeps(FluidFields& fields, int count);
 
   Grid grid_;
-  gl::ComputeProgram sweep_;
+  compute::ComputeProgram sweep_;
   std::unique_ptr<ResidualMeter> meter_;  // made on the first solve with a tolerance
 };
 

@@ -8,7 +8,7 @@
 
 #include "fluid/residual_meter.h"
 #include "fluid/row_reduction.h"
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::fluid {
 namespace {
@@ -27,32 +27,32 @@ constexpr std::size_t kSlots = 6;
 PressureMultigrid::PressureMultigrid(const Grid& grid)
     : grid_(grid),
       vcycle_(grid.res),
-      r_(grid.res, gl::TexelFormat::R32F, "CG residual"),
-      z_(grid.res, gl::TexelFormat::R32F, "CG preconditioned residual"),
-      s_(grid.res, gl::TexelFormat::R32F, "CG direction"),
-      q_(grid.res, gl::TexelFormat::R32F, "CG A direction"),
+      r_(grid.res, compute::TexelFormat::R32F, "CG residual"),
+      z_(grid.res, compute::TexelFormat::R32F, "CG preconditioned residual"),
+      s_(grid.res, compute::TexelFormat::R32F, "CG direction"),
+      q_(grid.res, compute::TexelFormat::R32F, "CG A direction"),
       init_("pcg_init.comp", rowGroupDefines()),
       apply_("pcg_apply.comp", rowGroupDefines()),
       dot_("pcg_dot.comp", rowGroupDefines()),
       update_("pcg_update.comp", rowGroupDefines()),
-      direction_("pcg_direction.comp", gl::cellGroupDefines()),
-      shift_("pressure_shift.comp", gl::cellGroupDefines()),
+      direction_("pcg_direction.comp", compute::cellGroupDefines()),
+      shift_("pressure_shift.comp", compute::cellGroupDefines()),
       predict_("pcg_predict.comp", rowGroupDefines()),
       reducer_(2 * rowCount(grid.res), kSlots) {  // pcg_init writes two partials per row
-  for (gl::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &predict_}) p->set("u_res", grid.res);
+  for (compute::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &predict_}) p->set("u_res", grid.res);
 }
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
   vcycle_.apply(f.nbmask, f.face_open, r_, z_);
-  r_.bindImage(1, gl::Access::Read);
-  z_.bindImage(2, gl::Access::Read);
-  f.nbmask.bindImage(3, gl::Access::Read);
+  r_.bindImage(1, compute::Access::Read);
+  z_.bindImage(2, compute::Access::Read);
+  f.nbmask.bindImage(3, compute::Access::Read);
   reducer_.bindPartials(0);
   dot_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), rz_slot);
-  s_.bindImage(0, gl::Access::ReadWrite);
-  z_.bindImage(1, gl::Access::Read);
-  f.nbmask.bindImage(2, gl::Access::Read);
+  s_.bindImage(0, compute::Access::ReadWrite);
+  z_.bindImage(1, compute::Access::Read);
+  f.nbmask.bindImage(2, compute::Access::Read);
   reducer_.bindResults(1);
   direction_.set("u_slot_new", static_cast<unsigned>(rz_slot));
   direction_.set("u_slot_old", static_cast<unsigned>(old_rz_slot));
@@ -61,19 +61,19 @@ void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::
 }
 
 void PressureMultigrid::removeResidualMean(FluidFields& f, std::size_t slot) {
-  r_.bindImage(0, gl::Access::ReadWrite);
-  f.nbmask.bindImage(2, gl::Access::Read);
+  r_.bindImage(0, compute::Access::ReadWrite);
+  f.nbmask.bindImage(2, compute::Access::Read);
   reducer_.bindResults(1);
   shift_.set("u_slot", static_cast<unsigned>(slot));
   shift_.dispatch(grid_.res);
 }
 
 void PressureMultigrid::startResidual(FluidFields& f, bool closed, bool predictor_sums) {
-  f.pressure.cur().bindImage(1, gl::Access::Read);
-  f.rhs.bindImage(2, gl::Access::Read);
-  f.nbmask.bindImage(3, gl::Access::Read);
-  f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
-  r_.bindImage(0, gl::Access::Write);
+  f.pressure.cur().bindImage(1, compute::Access::Read);
+  f.rhs.bindImage(2, compute::Access::Read);
+  f.nbmask.bindImage(3, compute::Access::Read);
+  f.face_open.bindImage(kFaceOpenUnit, compute::Access::Read);
+  r_.bindImage(0, compute::Access::Write);
   reducer_.bindPartials(0);
   init_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), kInitSlot);
@@ -105,19 +105,19 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   nextDirection(f, rz_new, rz_old, true);
   for (int k = 0; k < params.pressure_iterations; ++k) {
     // q = A s and s.q
-    s_.bindImage(1, gl::Access::Read);
-    f.nbmask.bindImage(3, gl::Access::Read);
-    f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
-    q_.bindImage(0, gl::Access::Write);
+    s_.bindImage(1, compute::Access::Read);
+    f.nbmask.bindImage(3, compute::Access::Read);
+    f.face_open.bindImage(kFaceOpenUnit, compute::Access::Read);
+    q_.bindImage(0, compute::Access::Write);
     reducer_.bindPartials(0);
     apply_.dispatch(rowInvocations(grid_.res));
     reducer_.reduce(groups, kSqSlot);
     // p += alpha s, r -= alpha q, and r.r
-    f.pressure.cur().bindImage(0, gl::Access::ReadWrite);
-    r_.bindImage(1, gl::Access::ReadWrite);
-    s_.bindImage(2, gl::Access::Read);
-    q_.bindImage(3, gl::Access::Read);
-    f.nbmask.bindImage(4, gl::Access::Read);
+    f.pressure.cur().bindImage(0, compute::Access::ReadWrite);
+    r_.bindImage(1, compute::Access::ReadWrite);
+    s_.bindImage(2, compute::Access::Read);
+    q_.bindImage(3, compute::Access::Read);
+    f.nbmask.bindImage(4, compute::Access::Read);
     reducer_.bindPartials(0);
     reducer_.bindResults(1);
     update_.set("u_slot_rz", static_cast<unsigned>(rz_new));
@@ -147,10 +147,10 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
 }
 
 void PressureMultigrid::predict(FluidFields& f, bool sums) {
-  f.pressure.cur().bindImage(0, gl::Access::ReadWrite);
-  r_.bindImage(1, gl::Access::ReadWrite);
-  f.rhs.bindImage(2, gl::Access::Read);
-  f.nbmask.bindImage(3, gl::Access::Read);
+  f.pressure.cur().bindImage(0, compute::Access::ReadWrite);
+  r_.bindImage(1, compute::Access::ReadWrite);
+  f.rhs.bindImage(2, compute::Access::Read);
+  f.nbmask.bindImage(3, compute::Access::Read);
   reducer_.bindPartials(0);
   reducer_.bindResults(1);
   predict_.set("u_slot_ap", static_cast<unsigned>(kApSlot));

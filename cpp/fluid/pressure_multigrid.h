@@ -16,8 +16,8 @@
 // pressure's free constant is removed after the solve.
 #include "fluid/multigrid_vcycle.h"
 #include "fluid/pressure_solver.h"
-#include "gl/compute_program.h"
-#include "gl/group_reducer.h"
+#include "compute/compute_program.h"
+#include "compute/group_reducer.h"
 
 namespace hf::fluid {
 
@@ -44,9 +44,9 @@ class PressureMultigrid : public PressureSolver {
 
   Grid grid_;
   MultigridVCycle vcycle_;
-  gl::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
-  gl::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, predict_;
-  gl::GroupReducer reducer_;
+  compute::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
+  compute::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, predict_;
+  compute::GroupReducer reducer_;
 };
 
 }  // namespace hf::fluid

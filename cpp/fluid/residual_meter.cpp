@@ -10,18 +10,18 @@ ResidualMeter::ResidualMeter(const Grid& grid) : grid_(grid), residual_("residua
   residual_.set("u_res", grid.res);
 }
 
-void ResidualMeter::accumulate(FluidFields& f, gl::GroupReducer& reducer, std::size_t slot) {
-  f.pressure.cur().bindImage(1, gl::Access::Read);
-  f.rhs.bindImage(2, gl::Access::Read);
-  f.nbmask.bindImage(3, gl::Access::Read);
-  f.face_open.bindImage(kFaceOpenUnit, gl::Access::Read);
+void ResidualMeter::accumulate(FluidFields& f, compute::GroupReducer& reducer, std::size_t slot) {
+  f.pressure.cur().bindImage(1, compute::Access::Read);
+  f.rhs.bindImage(2, compute::Access::Read);
+  f.nbmask.bindImage(3, compute::Access::Read);
+  f.face_open.bindImage(kFaceOpenUnit, compute::Access::Read);
   reducer.bindPartials(0);
   residual_.dispatch(rowInvocations(grid_.res));
   reducer.reduce(rowCount(grid_.res), slot);
 }
 
 float ResidualMeter::measure(FluidFields& f) {
-  if (!reducer_) reducer_ = std::make_unique<gl::GroupReducer>(rowCount(grid_.res), 1);
+  if (!reducer_) reducer_ = std::make_unique<compute::GroupReducer>(rowCount(grid_.res), 1);
   accumulate(f, *reducer_, 0);
   const glm::vec4 sums = reducer_->readResults()[0];
   return relativeResidual(sums.x, sums.y);

@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "fluid/fluid_fields.h"
-#include "gl/compute_program.h"
-#include "gl/group_reducer.h"
+#include "compute/compute_program.h"
+#include "compute/group_reducer.h"
 
 namespace hf::fluid {
 
@@ -25,14 +25,14 @@ class ResidualMeter {
   explicit ResidualMeter(const Grid& grid);
   // First level of ||r||^2, ||rhs||^2 of fields.pressure.cur() into `reducer`'s partials,
   // summed into `slot` (x: r.r, y: rhs.rhs).
-  void accumulate(FluidFields& fields, gl::GroupReducer& reducer, std::size_t slot);
+  void accumulate(FluidFields& fields, compute::GroupReducer& reducer, std::size_t slot);
   // ||rhs - A p|| / ||rhs|| of fields.pressure.cur() (relativeResidual), read back now.
   float measure(FluidFields& fields);
 
  private:
   Grid grid_;
-  gl::ComputeProgram residual_;
-  std::unique_ptr<gl::GroupReducer> reducer_;  // measure()'s own, made on first use
+  compute::ComputeProgram residual_;
+  std::unique_ptr<compute::GroupReducer> reducer_;  // measure()'s own, made on first use
 };
 
 }  // namespace hf::fluid

@@ -8,13 +8,13 @@
 #include <glm/glm.hpp>
 #include <string>
 
-#include "gl/compute_program.h"
+#include "compute/compute_program.h"
 
 namespace hf::fluid {
 
 inline constexpr glm::ivec2 kRowGroup{8, 8};
 
-inline gl::Defines rowGroupDefines() {
+inline compute::Defines rowGroupDefines() {
   return {{"ROW_X", std::to_string(kRowGroup.x)}, {"ROW_Y", std::to_string(kRowGroup.y)}};
 }
 

@@ -12,8 +12,8 @@
 
 #include "fluid/fluid_fields.h"
 #include "fluid/grid.h"
-#include "gl/compute_program.h"
-#include "gl/group_reducer.h"
+#include "compute/compute_program.h"
+#include "compute/group_reducer.h"
 
 namespace hf::fluid {
 
@@ -31,10 +31,10 @@ class ScalarConservation {
 
  private:
   Grid grid_;
-  gl::GroupReducer reducer_;  // slot 0: before (smoke, heat, outflows); 1, 2: after (smoke, heat)
-  gl::ComputeProgram total_;
-  gl::ComputeProgram headroom_;
-  gl::ComputeProgram correct_;
+  compute::GroupReducer reducer_;  // slot 0: before (smoke, heat, outflows); 1, 2: after (smoke, heat)
+  compute::ComputeProgram total_;
+  compute::ComputeProgram headroom_;
+  compute::ComputeProgram correct_;
 };
 
 }  // namespace hf::fluid

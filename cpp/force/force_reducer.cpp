@@ -6,32 +6,32 @@
 
 #include "common/error.h"
 #include "fluid/fluid_fields.h"
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::force {
 
-ForceReducer::ForceReducer(const fluid::Grid& grid) : grid_(grid), faces_("force_faces.comp", gl::groupSumDefines()) {
+ForceReducer::ForceReducer(const fluid::Grid& grid) : grid_(grid), faces_("force_faces.comp", compute::groupSumDefines()) {
   faces_.set("u_res", grid.res);
   faces_.set("u_face_area", grid.cell_size_m * grid.cell_size_m);
   faces_.set("u_cell_size", grid.cell_size_m);
 }
 
-std::size_t ForceReducer::partialsNeeded(const fluid::Grid& grid) { return kParts * gl::groupCount(grid.res); }
+std::size_t ForceReducer::partialsNeeded(const fluid::Grid& grid) { return kParts * compute::groupCount(grid.res); }
 
-void ForceReducer::reduce(const gl::Texture3D& pressure, const gl::Texture3D& cell_class,
-                          const gl::Texture3D& nbmask, const gl::Texture3D& face_open, const obstacle::CellBox& box,
-                          bool cut_cells, const glm::vec3& rho_g, const glm::vec3& p0_m, gl::GroupReducer& reducer, const ForceSlots& slots) {
+void ForceReducer::reduce(const compute::Texture3D& pressure, const compute::Texture3D& cell_class,
+                          const compute::Texture3D& nbmask, const compute::Texture3D& face_open, const obstacle::CellBox& box,
+                          bool cut_cells, const glm::vec3& rho_g, const glm::vec3& p0_m, compute::GroupReducer& reducer, const ForceSlots& slots) {
   if (glm::any(glm::lessThanEqual(box.extent, glm::ivec3(0)))) {
     reducer.bindPartials(0);
     for (std::size_t slot : {slots.force, slots.torque, slots.centroid}) reducer.reduce(0, slot);  // zeros
     return;
   }
-  const std::size_t groups = gl::groupCount(box.extent);
+  const std::size_t groups = compute::groupCount(box.extent);
   if (kParts * groups > reducer.maxGroups()) throw Error("force: the reducer holds too few partials for the box");
-  pressure.bindImage(0, gl::Access::Read);
-  cell_class.bindImage(1, gl::Access::Read);
-  nbmask.bindImage(2, gl::Access::Read);
-  face_open.bindImage(fluid::kFaceOpenUnit, gl::Access::Read);
+  pressure.bindImage(0, compute::Access::Read);
+  cell_class.bindImage(1, compute::Access::Read);
+  nbmask.bindImage(2, compute::Access::Read);
+  face_open.bindImage(fluid::kFaceOpenUnit, compute::Access::Read);
   reducer.bindPartials(0);
   faces_.set("u_origin", box.origin);
   faces_.set("u_extent", box.extent);

@@ -5,15 +5,15 @@
 // hydrostatic pressure at the face) x face area along the inward normal, and (x_f - p0) x F_f
 // about a reference point p0 near the body; the same pass sums the solid cells' positions
 // (their centroid). Workgroups sum in shared memory; one more workgroup per result sums the
-// groups (gl::GroupReducer). Nothing is read back here: the caller reads the three result slots
+// groups (compute::GroupReducer). Nothing is read back here: the caller reads the three result slots
 // with the step's single read-back and decode()s them, moving the torque to the centre asked for.
 #include <optional>
 #include <vector>
 
 #include "fluid/grid.h"
-#include "gl/compute_program.h"
-#include "gl/group_reducer.h"
-#include "gl/texture3d.h"
+#include "compute/compute_program.h"
+#include "compute/group_reducer.h"
+#include "compute/texture3d.h"
 #include "obstacle/obstacle.h"
 
 namespace hf::force {
@@ -44,10 +44,10 @@ class ForceReducer {
   // `face_open`: the faces' open fractions, geometric when `cut_cells`, else binary from the voxels;
   // `rho_g`: fluid density times gravity (N/m^3) (only its difference across a face enters);
   // `p0_m`: world point near the body that the torque and centroid sums are taken about.
-  void reduce(const gl::Texture3D& pressure, const gl::Texture3D& cell_class, const gl::Texture3D& nbmask,
-              const gl::Texture3D& face_open, const obstacle::CellBox& box,
+  void reduce(const compute::Texture3D& pressure, const compute::Texture3D& cell_class, const compute::Texture3D& nbmask,
+              const compute::Texture3D& face_open, const obstacle::CellBox& box,
               bool cut_cells, const glm::vec3& rho_g, const glm::vec3& p0_m,
-              gl::GroupReducer& reducer, const ForceSlots& slots);
+              compute::GroupReducer& reducer, const ForceSlots& slots);
   // The sums -> force and torque about `centre_m` (nullopt: the solid cells' centroid), using
   // tau_c = tau_p0 - (c - p0) x F.
   static BodyForce decode(const std::vector<glm::vec4>& results, const ForceSlots& slots, const glm::vec3& p0_m,
@@ -55,7 +55,7 @@ class ForceReducer {
 
  private:
   fluid::Grid grid_;
-  gl::ComputeProgram faces_;
+  compute::ComputeProgram faces_;
 };
 
 }  // namespace hf::force

@@ -11,12 +11,13 @@
 #include <vector>
 
 #include "common/error.h"
-#include "gl/compute_program.h"
+#include "compute/compute_program.h"
+#include "compute/texture3d.h"
+#include "compute/workgroup.h"
 #include "gl/gl_check.h"
-#include "gl/texture3d.h"
-#include "gl/workgroup.h"
 
 namespace hf::gl {
+using namespace compute;  // Texture3D, ComputeProgram, ... (this benchmark runs only on a GL device)
 namespace {
 
 double processCpuSeconds() {
@@ -39,7 +40,6 @@ double median(std::vector<double> v) {
 // One untimed dispatch (compilation and first-use costs), then `repeats` timed ones, each
 // followed by glFinish so its wall time covers its execution: the medians of each.
 Timing timeDispatches(ComputeProgram& program, Texture3D& out, const glm::ivec3& cells, int repeats) {
-  program.use();
   program.set("u_res", cells);
   out.bindImage(0, Access::Write);
   program.dispatch(cells);

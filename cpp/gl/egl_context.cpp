@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/host_memory.h"
 #include "common/log_sink.h"
 #include "gl/device_choice.h"
 #include "gl/gl_check.h"
@@ -90,18 +91,6 @@ bool hasGlExtension(const char* name) {
   return false;
 }
 
-// /proc/meminfo's MemAvailable in KiB; 0 if unreadable.
-long long hostAvailableKb() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  long long kb = 0;
-  while (in >> key >> kb) {
-    if (key == "MemAvailable:") return kb;
-    in.ignore(256, '\n');
-  }
-  return 0;
-}
-
 std::size_t queryMemoryBytes(bool software) {
   constexpr GLenum kNvxCurrentAvailableKb = 0x9049;  // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
   constexpr GLenum kAtiTextureFreeKb = 0x87FC;       // GL_TEXTURE_FREE_MEMORY_ATI
@@ -123,6 +112,13 @@ std::size_t queryMemoryBytes(bool software) {
 }
 
 }  // namespace
+
+bool hasHardwareEglDevice() {
+  for (const Candidate& c : enumerateDevices()) {
+    if (!c.software) return true;
+  }
+  return false;
+}
 
 std::string listDevices() {
   std::string out;

@@ -4,23 +4,11 @@
 #include <cstddef>
 #include <string>
 
+#include "compute/device.h"
+
 namespace hf::gl {
 
-// What the context runs on, as reported to the user.
-struct ContextInfo {
-  std::string renderer;      // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-  std::string vendor;        // GL_VENDOR
-  std::string version;       // GL_VERSION
-  std::string egl_vendor;    // EGL_VENDOR of the display
-  std::string platform;      // "device" (EGL_EXT_platform_device) or "surfaceless"
-  int device_index = -1;     // index in eglQueryDevicesEXT's list; -1 for the surfaceless platform
-  bool software = false;     // true for Mesa llvmpipe / softpipe
-  std::size_t memory_bytes = 0;  // GPU memory free when the context was made (the host's
-                                 // MemAvailable for a software device); 0 = unknown
-  int max_3d_texture_size = 0;   // GL_MAX_3D_TEXTURE_SIZE, cells per axis
-  std::size_t max_storage_block_bytes = 0;  // GL_MAX_SHADER_STORAGE_BLOCK_SIZE (>= 128 MiB by GL 4.3)
-  std::string warning;           // "" or why this device may not be what the user wants
-};
+using ContextInfo = compute::DeviceInfo;  // what the context runs on (backend Gpu)
 
 // Owns an EGLDisplay + EGLContext and makes it current on the constructing thread. Not
 // copyable or movable: the context belongs to the thread that made it.
@@ -47,6 +35,10 @@ class EglContext {
   void* context_ = nullptr;  // EGLContext
   ContextInfo info_;
 };
+
+// True when an enumerated EGL device says it is hardware (no EGL_MESA_device_software): a GPU
+// may be there (a VM's virgl says so too; only a context tells). Makes no context.
+bool hasHardwareEglDevice();
 
 // One line per EGL device: "<index>: <hardware|software> <extensions/drm node>".
 std::string listDevices();

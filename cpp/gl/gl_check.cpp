@@ -18,9 +18,6 @@ std::atomic<int>& debugFlag() {  // -1 = not read from the environment yet
   return flag;
 }
 
-std::atomic<std::uint64_t> g_dispatches{0};
-std::atomic<std::uint64_t> g_invocations{0};
-std::atomic<std::uint64_t> g_syncs{0};
 
 // KHR_debug error messages of this thread's context since the last checkDebug().
 thread_local std::string t_debug_errors;
@@ -91,12 +88,5 @@ void checkDebug(const std::string& stage) {
   }
   if (!messages.empty()) throw GlError(stage + ": " + messages);
 }
-
-GlCounters glCounters() { return {g_dispatches.load(), g_invocations.load(), g_syncs.load()}; }
-void countDispatch(std::uint64_t invocations) {
-  g_dispatches.fetch_add(1, std::memory_order_relaxed);
-  g_invocations.fetch_add(invocations, std::memory_order_relaxed);
-}
-void countSync() { g_syncs.fetch_add(1, std::memory_order_relaxed); }
 
 }  // namespace hf::gl

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Turns the GL error flag into an exception naming the stage that raised it, the GL debug
-// mode, and the counts of dispatches and GPU-to-CPU syncs.
+// mode (the dispatch and sync counts are compute/device.h's).
 #include <cstdint>
 #include <string>
 
@@ -28,17 +28,5 @@ void setDebugMode(bool on);
 void installDebugOutput();
 // In debug mode, checkGl(stage) plus the debug messages of type error since the last check.
 void checkDebug(const std::string& stage);
-
-// Counts since the process started (all contexts): compute dispatches, the shader invocations
-// they launched (workgroups x local size, the padding of partial workgroups included), and the
-// GPU-to-CPU syncs (read-backs that wait for the GPU). The benchmark reports them per step.
-struct GlCounters {
-  std::uint64_t dispatches = 0;
-  std::uint64_t invocations = 0;
-  std::uint64_t syncs = 0;
-};
-GlCounters glCounters();
-void countDispatch(std::uint64_t invocations);
-void countSync();
 
 }  // namespace hf::gl

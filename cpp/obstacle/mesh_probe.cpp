@@ -7,7 +7,7 @@
 #include <string>
 
 #include "common/error.h"
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::obstacle {
 namespace {
@@ -17,7 +17,7 @@ constexpr int kFixedPointRange = 1 << 14;  // largest fixed-point coordinate: ke
 // The per-vertex and per-triangle stages dispatch ceil(n / kLinearGroup) groups along x, and GL
 // guarantees only 65535 groups per axis: the mesh size limit must fit in one dispatch. Likewise
 // a column's crossing count (at most one per triangle) must fit in the int32 atomics.
-static_assert(kMaxMeshElements <= std::size_t{65535} * gl::kLinearGroup,
+static_assert(kMaxMeshElements <= std::size_t{65535} * compute::kLinearGroup,
               "kMaxMeshElements exceeds one linear dispatch (65535 groups of kLinearGroup)");
 static_assert(kMaxMeshElements <= std::size_t{0x7fffffff}, "crossing counts must fit in int32");
 
@@ -28,11 +28,11 @@ MeshProbe::MeshProbe(const fluid::Grid& grid)
       crossings_(grid.cells() * sizeof(std::int32_t), "mesh crossings of the " + std::to_string(grid.res.x) + "x" +
                                                           std::to_string(grid.res.y) + "x" + std::to_string(grid.res.z) +
                                                           " grid (4 bytes per cell)"),
-      crossings_program_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
-      fill_("voxelize_mesh_fill.comp", gl::cellGroupDefines()),
-      fine_crossings_("voxelize_mesh_crossings.comp", gl::linearGroupDefines()),
-      winding_("voxelize_mesh_winding.comp", gl::cellGroupDefines()),
-      fractions_("mesh_fractions.comp", gl::cellGroupDefines()) {
+      crossings_program_("voxelize_mesh_crossings.comp", compute::linearGroupDefines()),
+      fill_("voxelize_mesh_fill.comp", compute::cellGroupDefines()),
+      fine_crossings_("voxelize_mesh_crossings.comp", compute::linearGroupDefines()),
+      winding_("voxelize_mesh_winding.comp", compute::cellGroupDefines()),
+      fractions_("mesh_fractions.comp", compute::cellGroupDefines()) {
   const int widest = std::max(grid.res.x, grid.res.y);
   while (widest * subcell_ * 2 <= kFixedPointRange) subcell_ *= 2;
   if (widest * subcell_ > kFixedPointRange) {
@@ -62,15 +62,15 @@ void MeshProbe::setMesh(std::shared_ptr<const TriangleMesh> mesh) {
 
 void MeshProbe::setPose(const RigidPose& pose) { pose_ = pose; }
 
-void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) {
+void MeshProbe::voxelize(compute::Texture3D& solid, compute::Texture3D& solid_velocity, const CellBox& region) {
   if (!mesh_) throw Error("MeshProbe::voxelize: no mesh was set");
   if (isEmpty(region)) return;
   gpu_mesh_.pose(localToLattice(pose_.transform, grid_.origin_m, grid_.cell_size_m));
   gpu_mesh_.dispatchCrossings(crossings_program_, crossings_);
 
   crossings_.bind(0);
-  solid.bindImage(0, gl::Access::Write);
-  solid_velocity.bindImage(1, gl::Access::Write);
+  solid.bindImage(0, compute::Access::Write);
+  solid_velocity.bindImage(1, compute::Access::Write);
   fill_.set("u_origin", grid_.toGrid(pose_.originM()));
   fill_.set("u_velocity", pose_.velocity_m_s);
   fill_.set("u_angular", pose_.angular_velocity_rad_s);
@@ -78,7 +78,7 @@ void MeshProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, co
   fill_.dispatch(glm::ivec3(region.extent.x, region.extent.y, 1));  // each column whole, bottom to top
 }
 
-bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
+bool MeshProbe::writeFaceFractions(compute::Texture3D& face_open, const CellBox& region) {
   if (!cut_cells_ || !mesh_) return false;
   const CellBox box = bounds();
   if (isEmpty(box)) return false;
@@ -96,7 +96,7 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& regi
   }
   if (!fine_winding_ || fine_winding_->bytes() < fine_cells * sizeof(std::int32_t)) {
     fine_winding_.reset();
-    fine_winding_ = std::make_unique<gl::StorageBuffer>(fine_cells * sizeof(std::int32_t),
+    fine_winding_ = std::make_unique<compute::StorageBuffer>(fine_cells * sizeof(std::int32_t),
                                                         "cut cells: the mesh probe's fine voxelization (" +
                                                             std::to_string(fine_cells) + " fine cells, 4 bytes each)");
   }
@@ -112,7 +112,7 @@ bool MeshProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& regi
   winding_.set("u_res", fine_res);
   winding_.dispatch(glm::ivec3(fine_res.x, fine_res.y, 1));
 
-  face_open.bindImage(0, gl::Access::Write);
+  face_open.bindImage(0, compute::Access::Write);
   fractions_.set("u_box_origin", box.origin);
   fractions_.set("u_fine_res", fine_res);
   fractions_.set("u_fine", s);

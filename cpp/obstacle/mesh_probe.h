@@ -17,8 +17,8 @@
 #include <memory>
 
 #include "fluid/grid.h"
-#include "gl/compute_program.h"
-#include "gl/storage_buffer.h"
+#include "compute/compute_program.h"
+#include "compute/storage_buffer.h"
 #include "obstacle/obstacle.h"
 #include "obstacle/posed_mesh.h"
 #include "obstacle/triangle_mesh.h"
@@ -38,9 +38,9 @@ class MeshProbe : public Obstacle {
   // voxelize fills the region's columns whole (bottom to top: a column's winding numbers start
   // at its floor); writeFaceFractions writes the region's faces (faceBox). The crossings and the
   // fine voxelization cover the mesh wherever it is.
-  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) override;
+  void voxelize(compute::Texture3D& solid, compute::Texture3D& solid_velocity, const CellBox& region) override;
   // The faces' open fractions from the fine voxelization when cut cells are on; else false.
-  bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) override;
+  bool writeFaceFractions(compute::Texture3D& face_open, const CellBox& region) override;
   void setCutCells(bool on) { cut_cells_ = on; }
   // Fine cells per cell and axis for a cell box of `box_cells` cells (even, >= 2).
   static int fineCellsFor(std::size_t box_cells);
@@ -54,11 +54,11 @@ class MeshProbe : public Obstacle {
   MeshExtent extent_;
   RigidPose pose_;
   PosedMesh gpu_mesh_;
-  gl::StorageBuffer crossings_;
-  gl::ComputeProgram crossings_program_, fill_;
+  compute::StorageBuffer crossings_;
+  compute::ComputeProgram crossings_program_, fill_;
   bool cut_cells_ = false;
-  std::unique_ptr<gl::StorageBuffer> fine_winding_;  // grown to the largest fine grid used
-  gl::ComputeProgram fine_crossings_, winding_, fractions_;
+  std::unique_ptr<compute::StorageBuffer> fine_winding_;  // grown to the largest fine grid used
+  compute::ComputeProgram fine_crossings_, winding_, fractions_;
 };
 
 }  // namespace hf::obstacle

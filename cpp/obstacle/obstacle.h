@@ -6,7 +6,7 @@
 // move can change, StepPipeline): the body must bring at least those cells up to date.
 #include <glm/glm.hpp>
 
-#include "gl/texture3d.h"
+#include "compute/texture3d.h"
 
 namespace hf::obstacle {
 
@@ -62,12 +62,12 @@ class Obstacle {
   virtual ~Obstacle() = default;
   // Writes the solid mask and the rigid velocity of at least the cells of `region` (the velocity
   // is read only beside faces the body covers, which lie in its bounds()).
-  virtual void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) = 0;
+  virtual void voxelize(compute::Texture3D& solid, compute::Texture3D& solid_velocity, const CellBox& region) = 0;
   // Cut cells: writes the open fraction of the MAC faces from the body's geometry into
   // `face_open` (shaders/common.glsl), at least those of the cells of `region` (faceBox), and
   // returns true; false (the default) when the body has no cut cells, and the faces are then
   // open or covered by its voxels (Classifier::binaryFractions).
-  virtual bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
+  virtual bool writeFaceFractions(compute::Texture3D& face_open, const CellBox& region) {
     (void)face_open;
     (void)region;
     return false;

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::obstacle {
 
@@ -16,16 +16,16 @@ glm::dmat4 localToLattice(const glm::mat4& local_to_world, const glm::vec3& orig
   return to_lattice;
 }
 
-PosedMesh::PosedMesh() : transform_("voxelize_mesh_transform.comp", gl::linearGroupDefines()) {}
+PosedMesh::PosedMesh() : transform_("voxelize_mesh_transform.comp", compute::linearGroupDefines()) {}
 
 void PosedMesh::upload(const TriangleMesh& mesh, const std::string& what) {
   const std::size_t nv = mesh.vertices_m.size(), nt = mesh.triangles.size();
   std::vector<glm::vec4> v(nv);
   for (std::size_t i = 0; i < nv; ++i) v[i] = glm::vec4(mesh.vertices_m[i], 1.0f);
-  local_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), what + " vertices");
+  local_vertices_ = std::make_unique<compute::StorageBuffer>(nv * sizeof(glm::vec4), what + " vertices");
   local_vertices_->upload(v.data(), nv * sizeof(glm::vec4));
-  grid_vertices_ = std::make_unique<gl::StorageBuffer>(nv * sizeof(glm::vec4), what + " vertices in grid units");
-  indices_ = std::make_unique<gl::StorageBuffer>(nt * sizeof(glm::uvec3), what + " triangles");
+  grid_vertices_ = std::make_unique<compute::StorageBuffer>(nv * sizeof(glm::vec4), what + " vertices in grid units");
+  indices_ = std::make_unique<compute::StorageBuffer>(nt * sizeof(glm::uvec3), what + " triangles");
   indices_->upload(mesh.triangles.data(), nt * sizeof(glm::uvec3));
   vertices_ = static_cast<unsigned>(nv);
   triangles_ = static_cast<unsigned>(nt);
@@ -39,7 +39,7 @@ void PosedMesh::pose(const glm::dmat4& local_to_lattice) {
   transform_.dispatch(glm::ivec3(static_cast<int>(vertices_), 1, 1));
 }
 
-void PosedMesh::dispatchCrossings(gl::ComputeProgram& program, gl::StorageBuffer& crossings) const {
+void PosedMesh::dispatchCrossings(compute::ComputeProgram& program, compute::StorageBuffer& crossings) const {
   crossings.clear();
   grid_vertices_->bind(0);
   indices_->bind(1);

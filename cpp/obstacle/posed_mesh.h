@@ -10,8 +10,8 @@
 
 #include <glm/glm.hpp>
 
-#include "gl/compute_program.h"
-#include "gl/storage_buffer.h"
+#include "compute/compute_program.h"
+#include "compute/storage_buffer.h"
 #include "obstacle/triangle_mesh.h"
 
 namespace hf::obstacle {
@@ -30,12 +30,12 @@ class PosedMesh {
   void pose(const glm::dmat4& local_to_lattice);
   // Clears `crossings`, binds the posed vertices (0), the triangles (1) and `crossings` (2), and
   // dispatches `program` once per triangle with u_count set.
-  void dispatchCrossings(gl::ComputeProgram& program, gl::StorageBuffer& crossings) const;
+  void dispatchCrossings(compute::ComputeProgram& program, compute::StorageBuffer& crossings) const;
 
  private:
   unsigned vertices_ = 0, triangles_ = 0;
-  std::unique_ptr<gl::StorageBuffer> local_vertices_, grid_vertices_, indices_;
-  gl::ComputeProgram transform_;
+  std::unique_ptr<compute::StorageBuffer> local_vertices_, grid_vertices_, indices_;
+  compute::ComputeProgram transform_;
 };
 
 }  // namespace hf::obstacle

@@ -4,24 +4,24 @@
 
 #include <cmath>
 
-#include "gl/workgroup.h"
+#include "compute/workgroup.h"
 
 namespace hf::obstacle {
 
 SphereProbe::SphereProbe(const fluid::Grid& grid)
     : grid_(grid),
-      program_("voxelize_sphere.comp", gl::cellGroupDefines()),
-      fractions_("sphere_fractions.comp", gl::cellGroupDefines()) {
+      program_("voxelize_sphere.comp", compute::cellGroupDefines()),
+      fractions_("sphere_fractions.comp", compute::cellGroupDefines()) {
   program_.set("u_res", grid.res);
   fractions_.set("u_res", grid.res);
   fractions_.set("u_min_open", kMinOpenFraction);
   program_.set("u_cell_size", grid.cell_size_m);
 }
 
-void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) {
+void SphereProbe::voxelize(compute::Texture3D& solid, compute::Texture3D& solid_velocity, const CellBox& region) {
   if (isEmpty(region)) return;
-  solid.bindImage(0, gl::Access::Write);
-  solid_velocity.bindImage(1, gl::Access::Write);
+  solid.bindImage(0, compute::Access::Write);
+  solid_velocity.bindImage(1, compute::Access::Write);
   program_.set("u_centre", grid_.toGrid(pose_.centre_m));
   program_.set("u_radius", pose_.radius_m / grid_.cell_size_m);
   program_.set("u_velocity", pose_.velocity_m_s);
@@ -30,11 +30,11 @@ void SphereProbe::voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, 
   program_.dispatch(region.extent);
 }
 
-bool SphereProbe::writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) {
+bool SphereProbe::writeFaceFractions(compute::Texture3D& face_open, const CellBox& region) {
   if (!cut_cells_) return false;
   const CellBox faces = faceBox(region, grid_.res);
   if (isEmpty(faces)) return true;
-  face_open.bindImage(0, gl::Access::Write);
+  face_open.bindImage(0, compute::Access::Write);
   fractions_.set("u_centre", grid_.toGrid(pose_.centre_m));
   fractions_.set("u_ramp_radius", rampRadius(pose_.radius_m / grid_.cell_size_m));
   fractions_.set("u_origin", faces.origin);

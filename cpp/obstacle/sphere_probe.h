@@ -2,7 +2,7 @@
 #pragma once
 // The seed's probe: a rigid sphere, voxelized on the GPU by cell centre.
 #include "fluid/grid.h"
-#include "gl/compute_program.h"
+#include "compute/compute_program.h"
 #include "obstacle/obstacle.h"
 
 namespace hf::obstacle {
@@ -21,10 +21,10 @@ class SphereProbe : public Obstacle {
   const SpherePose& pose() const { return pose_; }
   // Both dispatch over the region asked for, from its first cell (the last workgroups may write
   // a few cells past it, with their current values).
-  void voxelize(gl::Texture3D& solid, gl::Texture3D& solid_velocity, const CellBox& region) override;
+  void voxelize(compute::Texture3D& solid, compute::Texture3D& solid_velocity, const CellBox& region) override;
   // The faces' open fractions from the sphere itself (shaders/sphere_fractions.comp) when cut
   // cells are on (setCutCells); otherwise false, and the voxels' binary fractions are used.
-  bool writeFaceFractions(gl::Texture3D& face_open, const CellBox& region) override;
+  bool writeFaceFractions(compute::Texture3D& face_open, const CellBox& region) override;
   void setCutCells(bool on) { cut_cells_ = on; }
   // Cut cells smooth the sphere's indicator into a radial ramp one cell wide; the ramp's centre
   // radius (grid units) whose ball-plus-ramp volume, 4/3 pi (rc^3 + rc / 4), is the sphere's
@@ -36,8 +36,8 @@ class SphereProbe : public Obstacle {
  private:
   fluid::Grid grid_;
   SpherePose pose_;
-  gl::ComputeProgram program_;
-  gl::ComputeProgram fractions_;
+  compute::ComputeProgram program_;
+  compute::ComputeProgram fractions_;
   bool cut_cells_ = false;
 };
 

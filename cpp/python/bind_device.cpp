@@ -7,7 +7,7 @@
 #include "gl/dispatch_floor.h"
 #include "gl/egl_context.h"
 #include "gl/gl_check.h"
-#include "gl/gl_worker.h"
+#include "gl/gl_device.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 
@@ -21,7 +21,7 @@ void addDevice(py::module_& m) {
   m.def(
       "probe_device",
       [](const std::string& request) {
-        gl::ContextInfo info;
+        compute::DeviceInfo info;
         {
           py::gil_scoped_release release;
           gl::GlWorker worker(request);
@@ -38,7 +38,7 @@ void addDevice(py::module_& m) {
   m.def(
       "gl_counters",
       [] {
-        const gl::GlCounters c = gl::glCounters();
+        const compute::DispatchCounters c = compute::dispatchCounters();
         py::dict d;
         d["dispatches"] = c.dispatches;
         d["invocations"] = c.invocations;

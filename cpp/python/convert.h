@@ -59,7 +59,7 @@ py::array_t<T> fieldArray(std::vector<T>&& data, const glm::ivec3& shape) {
                         {s, s * shape.x, s * shape.x * shape.y}, owned->data(), owner);
 }
 
-inline py::dict deviceDict(const gl::ContextInfo& info) {
+inline py::dict deviceDict(const compute::DeviceInfo& info) {
   py::dict d;
   d["renderer"] = info.renderer;
   d["vendor"] = info.vendor;

@@ -8,14 +8,16 @@
 #include "common/error.h"
 #include "common/log_sink.h"
 #include "common/finite.h"
+#include "compute/compute_worker.h"
 #include "common/format.h"
 #include "common/thread_priority.h"
 #include "fluid/grid_checks.h"
 #include "fluid/hydrostatic.h"
 #include "fluid/validate.h"
-#include "gl/gl_worker.h"
 #include "obstacle/cell_class.h"
 #include "obstacle/probe_checks.h"
+#include "cpu/cpu_device.h"
+#include "session/backend_choice.h"
 #include "session/step_pipeline.h"
 
 namespace hf::session {
@@ -29,13 +31,15 @@ void validate(const SimulationConfig& config) {
                           " (how much nicer the simulation's threads run), got " +
                           std::to_string(config.thread_niceness));
   }
+  parseBackend(config.backend);
+  cpu::resolveThreads(config.cpu_threads);
 }
 
 Simulation::Simulation(const SimulationConfig& config)
     : grid_(fluid::makeGrid(config.resolution, config.domain_size_m, config.origin_m)), params_(config.params) {
   validate(config);
   fluid::checkPressureTolerance(params_, grid_);
-  worker_ = std::make_unique<gl::GlWorker>(config.device, config.thread_niceness);
+  worker_ = startWorker(config.backend, config.device, config.cpu_threads, config.thread_niceness);
   thread_niceness_ = config.thread_niceness;
   info_ = worker_->info();
   fluid::checkFits(grid_, info_);
@@ -59,7 +63,7 @@ void Simulation::close() {
     try {
       worker_->call([this] { pipeline_.reset(); });
     } catch (...) {
-      // Closing must not throw. GL objects may only die on the GL thread, so if that failed
+      // Closing must not throw. Device objects may only die on the device's thread, so if that failed
       // they are abandoned here and freed with the context when the worker ends.
       static_cast<void>(pipeline_.release());
     }
@@ -262,7 +266,7 @@ const char* fieldName(Field f) {
 
 // The texture holding field f now (Pressure and DynamicPressure: the solved pressure, to which
 // readFloat adds the hydrostatic part); cell classes are bytes, not here.
-gl::Texture3D& fieldTexture(fluid::FluidFields& fl, Field f) {
+compute::Texture3D& fieldTexture(fluid::FluidFields& fl, Field f) {
   switch (f) {
     case Field::Density: return fl.density.cur();
     case Field::Temperature: return fl.temperature.cur();

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The engine behind one narrow object. A Simulation owns a thread with its own headless GL
-// context (gl::GlWorker); every method posts its GPU work there and waits, so callers never
-// touch GL. Public methods are safe to call from any one host thread at a time (they are
-// serialised). Units are SI throughout.
+// The engine behind one narrow object. A Simulation owns a thread with its own compute device
+// (compute::ComputeWorker: a GPU's GL context, or the CPU backend, session/backend_choice.h);
+// every method posts its device work there and waits, so callers never touch the device.
+// Public methods are safe to call from any one host thread at a time (they are serialised).
+// Units are SI throughout.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -17,12 +18,12 @@
 #include "emitter/mesh_source.h"
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
-#include "gl/egl_context.h"
+#include "compute/device.h"
 #include "obstacle/sphere_probe.h"
 #include "obstacle/triangle_mesh.h"
 
-namespace hf::gl {
-class GlWorker;
+namespace hf::compute {
+class ComputeWorker;
 }
 
 namespace hf::session {
@@ -34,8 +35,13 @@ struct SimulationConfig {
   glm::vec3 domain_size_m{1.0f};       // box edge lengths, m
   glm::vec3 origin_m{0.0f};            // world position of the box's minimum corner, m
   fluid::FluidParams params;
+  // The backend: "auto" (a hardware GPU if one gives a context, else the CPU), "gpu" (OpenGL on
+  // the EGL device below, llvmpipe included), "cpu"; "" = HAPTICFLUID_BACKEND or auto.
+  std::string backend;
   std::string device;                  // EGL device request ("" = HAPTICFLUID_EGL_DEVICE or auto)
-  // How much nicer (0..19, Linux niceness) the simulation's GL thread and its driver's threads run
+  int cpu_threads = 0;                 // CPU backend's threads (0 = HAPTICFLUID_CPU_THREADS or one per core)
+  // How much nicer (0..19, Linux niceness) the simulation's threads (its device thread and the GL
+  // driver's or the CPU backend's pool) run
   // than the thread that makes the Simulation: 0 shares the cores equally; a live session beside
   // Blender's drawing on a CPU (llvmpipe) device asks for more, so the viewport keeps its pace.
   int thread_niceness = 0;
@@ -100,7 +106,7 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  const gl::ContextInfo& deviceInfo() const { return info_; }
+  const compute::DeviceInfo& deviceInfo() const { return info_; }
   int threadNiceness() const { return thread_niceness_; }  // as made with (SimulationConfig)
   const fluid::Grid& grid() const { return grid_; }
 
@@ -169,7 +175,7 @@ class Simulation {
   auto onGl(F&& fn);
 
   fluid::Grid grid_;       // fixed at construction
-  gl::ContextInfo info_;   // fixed at construction
+  compute::DeviceInfo info_;   // fixed at construction
 
   // Host-side state, guarded by state_mutex_ (held only to copy in or out).
   mutable std::mutex state_mutex_;
@@ -187,9 +193,9 @@ class Simulation {
   // GPU side, guarded by gpu_mutex_.
   std::mutex gpu_mutex_;
   std::atomic<bool> closed_{false};
-  std::unique_ptr<gl::GlWorker> worker_;
+  std::unique_ptr<compute::ComputeWorker> worker_;
   int thread_niceness_ = 0;
-  std::unique_ptr<StepPipeline> pipeline_;  // the GL objects; lives and dies on the worker's thread
+  std::unique_ptr<StepPipeline> pipeline_;  // the device objects; lives and dies on the worker's thread
 };
 
 }  // namespace hf::session

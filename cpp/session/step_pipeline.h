@@ -16,8 +16,8 @@
 #include "emitter/mesh_source.h"
 #include "fluid/grid.h"
 #include "force/force_reducer.h"
-#include "gl/group_reducer.h"
-#include "gl/stage_timer.h"
+#include "compute/group_reducer.h"
+#include "compute/stage_timer.h"
 #include "obstacle/classifier.h"
 #include "obstacle/mesh_probe.h"
 #include "obstacle/sphere_probe.h"
@@ -97,8 +97,8 @@ class StepPipeline {
   std::unique_ptr<emitter::MeshEmitter> emitter_;  // made on first use (8 bytes per cell + coverage)
   obstacle::Classifier classifier_;
   force::ForceReducer force_;
-  gl::GroupReducer reducer_;
-  gl::StageTimer timer_;
+  compute::GroupReducer reducer_;
+  compute::StageTimer timer_;
 };
 
 }  // namespace hf::session

@@ -42,7 +42,7 @@ struct Field {
   }
 };
 
-class AdvectionTest : public test::GlTest {};
+class AdvectionTest : public test::DeviceTest {};
 
 TEST_F(AdvectionTest, MidpointBackTraceMatchesCpuReference) {
   Grid grid;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fluid/grid.h"
-#include "gl/texture3d.h"
+#include "compute/texture3d.h"
 #include "obstacle/cell_class.h"
 #include "obstacle/classifier.h"
 #include "obstacle/sphere_probe.h"
@@ -39,7 +39,7 @@ struct Reference {
   std::vector<glm::vec3> velocity;
 };
 
-class ClassifierTest : public test::GlTest {
+class ClassifierTest : public test::DeviceTest {
  protected:
   static fluid::Grid grid() {
     fluid::Grid g;
@@ -62,11 +62,11 @@ class ClassifierTest : public test::GlTest {
   // must also overwrite what the one before it left).
   static std::vector<GpuResult> runGpu(const fluid::Grid& g, const std::vector<Scene>& scenes) {
     return onGl([&] {
-      gl::Texture3D solid(g.res, gl::TexelFormat::R8UI, "solid");
-      gl::Texture3D velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity");
-      gl::Texture3D cls(g.res, gl::TexelFormat::R8UI, "classes");
-      gl::Texture3D nbmask(g.res, gl::TexelFormat::R8UI, "nbmask");
-      gl::Texture3D face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
+      compute::Texture3D solid(g.res, compute::TexelFormat::R8UI, "solid");
+      compute::Texture3D velocity(g.res, compute::TexelFormat::RGBA32F, "solid velocity");
+      compute::Texture3D cls(g.res, compute::TexelFormat::R8UI, "classes");
+      compute::Texture3D nbmask(g.res, compute::TexelFormat::R8UI, "nbmask");
+      compute::Texture3D face_open(g.res + 1, compute::TexelFormat::RGBA32F, "face fractions");
       SphereProbe probe(g);
       Classifier classifier(g);
       std::vector<GpuResult> out;

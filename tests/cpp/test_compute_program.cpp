@@ -15,13 +15,15 @@
 #include "common/error.h"
 #include "fluid/multigrid_vcycle.h"
 #include "fluid/row_reduction.h"
-#include "gl/compute_program.h"
+#include "compute/compute_program.h"
+#include "gl/gl_program.h"
 #include "gl/shader_sources.h"
-#include "gl/storage_buffer.h"
-#include "gl/workgroup.h"
+#include "compute/storage_buffer.h"
+#include "compute/workgroup.h"
 #include "test_util.h"
 
 namespace hf::gl {
+using namespace hf::compute;  // the device interface these GL tests exercise
 namespace {
 
 using hf::test::contains;
@@ -130,13 +132,13 @@ TEST(EmbeddedShaders, MissingNameThrowsNamingIt) {
 
 // ---- building programs (GL) -----------------------------------------------------------------
 
-class ComputeProgramTest : public hf::test::GlTest {
+class ComputeProgramTest : public hf::test::GlOnlyTest {
  protected:
   // The hf::GlError message of building `source` as "bad.comp", or "" if it built.
   static std::string buildError(const std::string& source, const Defines& defines = {}) {
     return onGl([&]() -> std::string {
       try {
-        ComputeProgram p("bad.comp", source, defines);
+        GlProgram p("bad.comp", source, defines);
       } catch (const GlError& e) {
         return e.what();
       }
@@ -220,7 +222,7 @@ TEST_F(ComputeProgramTest, LinkErrorNamesTheFile) {
 TEST_F(ComputeProgramTest, MissingEmbeddedShaderThrows) {
   const std::string msg = onGl([]() -> std::string {
     try {
-      ComputeProgram p("no_such_stage.comp", cellGroupDefines());
+      GlProgram p("no_such_stage.comp", compute::cellGroupDefines());
     } catch (const Error& e) {
       return e.what();
     }
@@ -240,7 +242,7 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
       // Stages that end in writeGroupSum()/writeGroupSumAt() need common.glsl's GROUP_SUM part.
       const bool group_sum = source.find("writeGroupSum") != std::string::npos;
       const bool linear = source.find("WG_LINEAR") != std::string::npos;  // per vertex/triangle stages
-      const bool columns = source.find("local_size_z") == std::string::npos;  // per-column stages: z = 1
+      const bool columns = source.find("LOCAL_SIZE(WG_X, WG_Y, 1)") != std::string::npos;  // per-column stages: z = 1
       // Stages that reduce by rows of cells (fluid/row_reduction.h) take ROW_X, ROW_Y.
       const bool rows = source.find("ROW_X") != std::string::npos;
       // One workgroup over the coarsest multigrid level (fluid/multigrid_vcycle.h).
@@ -268,7 +270,7 @@ TEST_F(ComputeProgramTest, EveryEmbeddedStageBuildsWithItsWorkgroupSize) {
       }
       for (const Defines& variant : variants) {
         try {
-          ComputeProgram p(file, variant);
+          GlProgram p(file, variant);
           glm::ivec3 want = reduce ? glm::ivec3(256, 1, 1) : linear ? glm::ivec3(kLinearGroup, 1, 1) : kCellGroup;
           if (rows) want = glm::ivec3(fluid::kRowGroup, 1);
           if (coarsest) want = glm::ivec3(coarsest_cells);
@@ -314,14 +316,14 @@ void main() {
     float fv[4];
   };
   const Out out = onGl([&] {
-    ComputeProgram p("uniforms.comp", src, {});
+    GlProgram p("uniforms.comp", src, {});
     StorageBuffer buf(sizeof(Out), "uniform echo");
-    p.set("u_i", -123456);
-    p.set("u_u", 4000000000u);
-    p.set("u_f", 0.15625f);
-    p.set("u_iv", glm::ivec3(-1, 2, 70000));
-    p.set("u_fv", glm::vec3(1.5f, -2.25f, 1.0e-3f));
-    p.set("u_not_declared", 5);  // location -1: a no-op, no GL error
+    p.setInt("u_i", -123456);
+    p.setUint("u_u", 4000000000u);
+    p.setFloat("u_f", 0.15625f);
+    p.setIVec3("u_iv", glm::ivec3(-1, 2, 70000));
+    p.setVec3("u_fv", glm::vec3(1.5f, -2.25f, 1.0e-3f));
+    p.setInt("u_not_declared", 5);  // location -1: a no-op, no GL error
     buf.bind(0);
     p.dispatch(glm::ivec3(1));
     Out o{};
@@ -358,11 +360,11 @@ void main() {
     std::uint32_t total, inside, max_x, max_y, max_z;
   };
   const auto [local, count] = onGl([&] {
-    ComputeProgram p("count.comp", src, {});
+    GlProgram p("count.comp", src, {});
     StorageBuffer buf(sizeof(Count), "invocation count");
     buf.clear();
     buf.bind(0);
-    p.set("u_n", n);
+    p.setIVec3("u_n", n);
     p.dispatch(n);
     Count c{};
     buf.download(&c, sizeof c);

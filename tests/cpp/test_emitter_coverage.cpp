@@ -15,7 +15,7 @@
 #include "emitter/mesh_emitter.h"
 #include "emitter/mesh_source.h"
 #include "fluid/grid.h"
-#include "gl/texture3d.h"
+#include "compute/texture3d.h"
 #include "mesh_shapes.h"
 #include "test_util.h"
 
@@ -53,7 +53,7 @@ MeshSource source(const obstacle::TriangleMesh& mesh, const glm::mat4& transform
 // The coverage of every cell for each source in turn (one emitter, so the mesh upload and the
 // pose change between cases are exercised too).
 std::vector<std::vector<float>> coverage(const fluid::Grid& g, const std::vector<MeshSource>& sources) {
-  return test::GlTest::onGl([&] {
+  return test::DeviceTest::onGl([&] {
     MeshEmitter emitter(g);
     std::vector<std::vector<float>> out;
     for (const MeshSource& s : sources) {
@@ -128,7 +128,7 @@ void expectNearReference(const fluid::Grid& g, const MeshSource& s, const std::v
   EXPECT_GT(partial, 20) << what << ": the case must have partly covered cells";
 }
 
-class MeshEmitterTest : public test::GlTest {};
+class MeshEmitterTest : public test::DeviceTest {};
 
 TEST_F(MeshEmitterTest, CoverageMatchesCpuReferenceForPosedShapes) {
   const fluid::Grid g = testGrid();
@@ -221,11 +221,11 @@ TEST_F(MeshEmitterTest, HoldRaisesAndRateAddsByCoverage) {
   struct Result {
     std::vector<float> cover, hold_d, hold_t, rate_d, rate_t;
   };
-  const Result r = test::GlTest::onGl([&] {
+  const Result r = test::DeviceTest::onGl([&] {
     Result out;
-    gl::Texture3D density(g.res, gl::TexelFormat::R32F, "density");
-    gl::Texture3D temperature(g.res, gl::TexelFormat::R32F, "temperature");
-    gl::Texture3D nbmask(g.res, gl::TexelFormat::R8UI, "nbmask");
+    compute::Texture3D density(g.res, compute::TexelFormat::R32F, "density");
+    compute::Texture3D temperature(g.res, compute::TexelFormat::R32F, "temperature");
+    compute::Texture3D nbmask(g.res, compute::TexelFormat::R8UI, "nbmask");
     nbmask.clear();
     std::vector<float> start(g.cells(), 0.3f);
     auto run = [&](const MeshSource& s, std::vector<float>& d, std::vector<float>& t) {

@@ -62,10 +62,10 @@ std::vector<float> faceFractions(const glm::ivec3& n) { return values(count(n + 
 
 struct Level {
   Level(const glm::ivec3& res, const std::vector<std::uint8_t>& m)
-      : mask(res, gl::TexelFormat::R8UI, "mask"),
-        faces(res + 1, gl::TexelFormat::RGBA32F, "faces"),
-        x(res, gl::TexelFormat::R32F, "x"),
-        b(res, gl::TexelFormat::R32F, "b") {
+      : mask(res, compute::TexelFormat::R8UI, "mask"),
+        faces(res + 1, compute::TexelFormat::RGBA32F, "faces"),
+        x(res, compute::TexelFormat::R32F, "x"),
+        b(res, compute::TexelFormat::R32F, "b") {
     mask.upload(m.data(), m.size());
     const std::vector<float> f = faceFractions(res);
     faces.upload(f.data(), f.size() * sizeof(float));
@@ -73,10 +73,10 @@ struct Level {
     b.upload(bv.data(), bv.size() * sizeof(float));
   }
   void setX(const std::vector<float>& v) { x.upload(v.data(), v.size() * sizeof(float)); }
-  gl::Texture3D mask, faces, x, b;
+  compute::Texture3D mask, faces, x, b;
 };
 
-std::vector<float> download(const gl::Texture3D& t) {
+std::vector<float> download(const compute::Texture3D& t) {
   std::vector<float> v(t.texels());
   t.download(v.data(), v.size() * sizeof(float));
   return v;
@@ -99,7 +99,7 @@ Diff compare(const std::vector<float>& a, const std::vector<float>& b) {
   return d;
 }
 
-class MultigridFused : public test::GlTest {};
+class MultigridFused : public test::DeviceTest {};
 
 TEST_F(MultigridFused, CoarsestSolveInOneDispatchEqualsTheSweeps) {
   const glm::ivec3 n(4, 4, 3);  // a coarsest level of 100x100x70
@@ -144,9 +144,9 @@ TEST_F(MultigridFused, ResidualRestrictEqualsResidualThenRestrict) {
     ASSERT_EQ(v.resolution(1), coarse);
     Level f(fine, m);
     f.setX(values(count(fine), 11, 13, 0.7f, -4.0f));
-    gl::Texture3D res(fine, gl::TexelFormat::R32F, "fine residual");
-    gl::Texture3D cb1(coarse, gl::TexelFormat::R32F, "coarse b fused");
-    gl::Texture3D cb2(coarse, gl::TexelFormat::R32F, "coarse b separate");
+    compute::Texture3D res(fine, compute::TexelFormat::R32F, "fine residual");
+    compute::Texture3D cb1(coarse, compute::TexelFormat::R32F, "coarse b fused");
+    compute::Texture3D cb2(coarse, compute::TexelFormat::R32F, "coarse b separate");
     v.residualRestrict(fine, f.mask, f.faces, f.x, f.b, coarse, cb1, MultigridVCycle::kCoarseScale);
     v.residual(fine, f.mask, f.faces, f.x, f.b, res);
     v.restrictResidual(fine, f.mask, res, coarse, cb2, MultigridVCycle::kCoarseScale);
@@ -168,7 +168,7 @@ TEST_F(MultigridFused, ProlongFoldedIntoTheFirstSweepEqualsProlongThenSweeps) {
     const std::vector<float> x0 = values(count(fine), 11, 13, 0.7f, -4.0f);
     one.setX(x0);
     two.setX(x0);
-    gl::Texture3D cx(coarse, gl::TexelFormat::R32F, "coarse x");
+    compute::Texture3D cx(coarse, compute::TexelFormat::R32F, "coarse x");
     const std::vector<float> c = values(count(coarse), 3, 7, 0.9f, -1.5f);
     cx.upload(c.data(), c.size() * sizeof(float));
     v.smoothProlonged(fine, one.mask, one.faces, one.x, one.b, cx, 1);

@@ -14,10 +14,11 @@
 
 #include "common/error.h"
 #include "gl/egl_context.h"
-#include "gl/gl_worker.h"
+#include "gl/gl_device.h"
 #include "test_util.h"
 
 namespace hf::gl {
+using namespace hf::compute;  // the device interface these GL tests exercise
 namespace {
 
 using hf::test::contains;

@@ -9,13 +9,15 @@
 #include <string>
 
 #include "common/error.h"
-#include "gl/compute_program.h"
+#include "compute/compute_program.h"
+#include "gl/gl_program.h"
 #include "gl/gl_check.h"
-#include "gl/gl_worker.h"
-#include "gl/storage_buffer.h"
+#include "gl/gl_device.h"
+#include "compute/storage_buffer.h"
 #include "test_util.h"
 
 namespace hf::gl {
+using namespace hf::compute;  // the device interface these GL tests exercise
 namespace {
 
 using hf::test::contains;
@@ -38,11 +40,11 @@ struct DebugModeGuard {
 TEST(GlDispatch, BarrierBitsFollowWhatTheProgramWrites) {
   GlWorker worker;
   worker.call([] {
-    ComputeProgram image("image.comp", kImageStage, {});
+    GlProgram image("image.comp", kImageStage, {});
     const unsigned image_bits =
         GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
     EXPECT_EQ(image.barrierBits(), image_bits);
-    ComputeProgram buffer("buffer.comp", kBufferStage, {});
+    GlProgram buffer("buffer.comp", kBufferStage, {});
     EXPECT_EQ(buffer.barrierBits(), static_cast<unsigned>(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT));
   });
 }
@@ -50,15 +52,15 @@ TEST(GlDispatch, BarrierBitsFollowWhatTheProgramWrites) {
 TEST(GlDispatch, CountersCountDispatchesAndReadBacks) {
   GlWorker worker;
   worker.call([] {
-    ComputeProgram program("buffer.comp", kBufferStage, {});
+    GlProgram program("buffer.comp", kBufferStage, {});
     StorageBuffer buf(4 * sizeof(float), "counted");
     buf.bind(0);
-    const GlCounters before = glCounters();
+    const DispatchCounters before = dispatchCounters();
     program.dispatch({4, 1, 1});
     program.dispatch({4, 1, 1});
     float out[4] = {0, 0, 0, 0};
     buf.download(out, sizeof(out));  // also shows the barrier made the writes visible
-    const GlCounters after = glCounters();
+    const DispatchCounters after = dispatchCounters();
     EXPECT_EQ(after.dispatches - before.dispatches, 2u);
     EXPECT_EQ(after.syncs - before.syncs, 1u);
     for (float v : out) EXPECT_EQ(v, 2.0f);
@@ -66,7 +68,7 @@ TEST(GlDispatch, CountersCountDispatchesAndReadBacks) {
 }
 
 // A dispatch after an invalid call (an image unit far past any limit): the flag is raised.
-void provokeErrorAndDispatch(ComputeProgram& program) {
+void provokeErrorAndDispatch(GlProgram& program) {
   glBindImageTexture(100000, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
   program.dispatch({1, 1, 1});
 }
@@ -77,7 +79,7 @@ TEST(GlDispatch, ErrorsAreCheckedPerDispatchOnlyInDebugMode) {
   {
     GlWorker worker;
     worker.call([] {
-      ComputeProgram program("buffer.comp", kBufferStage, {});
+      GlProgram program("buffer.comp", kBufferStage, {});
       StorageBuffer buf(sizeof(float), "b");
       buf.bind(0);
       EXPECT_NO_THROW(provokeErrorAndDispatch(program));            // not checked per dispatch...
@@ -90,7 +92,7 @@ TEST(GlDispatch, ErrorsAreCheckedPerDispatchOnlyInDebugMode) {
     GLint flags = 0;
     glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
     EXPECT_NE(flags & GL_CONTEXT_FLAG_DEBUG_BIT, 0);
-    ComputeProgram program("buffer.comp", kBufferStage, {});
+    GlProgram program("buffer.comp", kBufferStage, {});
     StorageBuffer buf(sizeof(float), "b");
     buf.bind(0);
     try {

@@ -14,7 +14,7 @@
 
 #include "common/error.h"
 #include "fluid/grid.h"
-#include "gl/texture3d.h"
+#include "compute/texture3d.h"
 #include "mesh_shapes.h"
 #include "obstacle/mesh_probe.h"
 #include "test_util.h"
@@ -37,9 +37,9 @@ fluid::Grid testGrid() {
 
 // Voxelizes each (mesh, pose) in turn with one MeshProbe and one pair of textures.
 std::vector<Voxels> voxelize(const fluid::Grid& g, const std::vector<std::pair<TriangleMesh, RigidPose>>& cases) {
-  return test::GlTest::onGl([&] {
-    gl::Texture3D solid(g.res, gl::TexelFormat::R8UI, "solid");
-    gl::Texture3D velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity");
+  return test::DeviceTest::onGl([&] {
+    compute::Texture3D solid(g.res, compute::TexelFormat::R8UI, "solid");
+    compute::Texture3D velocity(g.res, compute::TexelFormat::RGBA32F, "solid velocity");
     MeshProbe probe(g);
     std::vector<Voxels> out;
     for (const auto& [mesh, pose] : cases) {
@@ -96,7 +96,7 @@ void expectMatchesReference(const fluid::Grid& g, const TriangleMesh& mesh, cons
   EXPECT_LT(ambiguous, solid / 20 + 2) << what;
 }
 
-class MeshProbeTest : public test::GlTest {};
+class MeshProbeTest : public test::DeviceTest {};
 
 TEST_F(MeshProbeTest, MatchesCpuPointInMeshForPosedShapes) {
   const fluid::Grid g = testGrid();

@@ -113,25 +113,25 @@ std::vector<float> makeRhs(const Cells& g, const std::vector<std::uint8_t>& m, b
   return b;
 }
 
-std::vector<float> download(const gl::Texture3D& t) {
+std::vector<float> download(const compute::Texture3D& t) {
   std::vector<float> v(t.texels());
   t.download(v.data(), v.size() * sizeof(float));
   return v;
 }
 
-std::vector<float> download4(const gl::Texture3D& t) {
+std::vector<float> download4(const compute::Texture3D& t) {
   std::vector<float> v(t.texels() * 4);
   t.download(v.data(), v.size() * sizeof(float));
   return v;
 }
 
-std::vector<std::uint8_t> downloadMask(const gl::Texture3D& t) {
+std::vector<std::uint8_t> downloadMask(const compute::Texture3D& t) {
   std::vector<std::uint8_t> v(t.texels());
   t.download(v.data(), v.size());
   return v;
 }
 
-class Multigrid : public test::GlTest {};
+class Multigrid : public test::DeviceTest {};
 
 TEST(MultigridLevels, HalveRoundingUpForAnyResolution) {
   using V = std::vector<glm::ivec3>;
@@ -197,16 +197,16 @@ TEST_F(Multigrid, CoarseMaskRestrictionAndProlongationMatchCpuReferences) {
     MultigridVCycle v(t.fine.n);
     ASSERT_EQ(v.levels(), 2);
     ASSERT_EQ(v.resolution(1), t.coarse.n);
-    gl::Texture3D fm(t.fine.n, gl::TexelFormat::R8UI, "fine mask");
+    compute::Texture3D fm(t.fine.n, compute::TexelFormat::R8UI, "fine mask");
     fm.upload(t.mask.data(), t.mask.size());
-    gl::Texture3D fr(t.fine.n, gl::TexelFormat::R32F, "fine residual");
+    compute::Texture3D fr(t.fine.n, compute::TexelFormat::R32F, "fine residual");
     fr.upload(fine_values.data(), fine_values.size() * sizeof(float));
-    gl::Texture3D fx(t.fine.n, gl::TexelFormat::R32F, "fine x");
+    compute::Texture3D fx(t.fine.n, compute::TexelFormat::R32F, "fine x");
     fx.upload(fine_x.data(), fine_x.size() * sizeof(float));
-    gl::Texture3D cb(t.coarse.n, gl::TexelFormat::R32F, "coarse b");
-    gl::Texture3D cx(t.coarse.n, gl::TexelFormat::R32F, "coarse x");
+    compute::Texture3D cb(t.coarse.n, compute::TexelFormat::R32F, "coarse b");
+    compute::Texture3D cx(t.coarse.n, compute::TexelFormat::R32F, "coarse x");
     cx.upload(coarse_values.data(), coarse_values.size() * sizeof(float));
-    gl::Texture3D ff(t.fine.n + 1, gl::TexelFormat::RGBA32F, "fine face fractions");
+    compute::Texture3D ff(t.fine.n + 1, compute::TexelFormat::RGBA32F, "fine face fractions");
     ff.upload(fine_faces.data(), fine_faces.size() * sizeof(float));
     v.buildMasks(fm, ff);
     got_mask = downloadMask(v.mask(1));

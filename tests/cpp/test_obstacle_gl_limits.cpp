@@ -10,18 +10,20 @@
 
 #include "common/error.h"
 #include "fluid/grid.h"
-#include "gl/compute_program.h"
-#include "gl/storage_buffer.h"
-#include "gl/workgroup.h"
+#include "compute/compute_program.h"
+#include "gl/gl_program.h"
+#include "compute/storage_buffer.h"
+#include "compute/workgroup.h"
 #include "obstacle/mesh_probe.h"
 #include "test_util.h"
 
 namespace hf::gl {
 namespace {
+using namespace hf::compute;
 
 using hf::test::contains;
 
-class GlLimits : public hf::test::GlTest {};
+class GlLimits : public hf::test::GlOnlyTest {};
 
 // A stage with `n` image uniforms on units 0..n-1, every one used.
 std::string imagesStage(int n) {
@@ -37,10 +39,10 @@ std::string imagesStage(int n) {
 
 TEST_F(GlLimits, ImageUnitsAreCountedAndANinthIsRefused) {
   onGl([] {
-    ComputeProgram eight("eight.comp", imagesStage(8), {});
+    GlProgram eight("eight.comp", imagesStage(8), {});
     EXPECT_EQ(eight.imageUnits(), 8);
     try {
-      ComputeProgram nine("nine.comp", imagesStage(9), {});
+      GlProgram nine("nine.comp", imagesStage(9), {});
       ADD_FAILURE() << "a program with 9 image units was accepted";
     } catch (const GlError& e) {
       EXPECT_TRUE(contains(e.what(), "nine.comp uses 9 image units")) << e.what();
@@ -54,11 +56,11 @@ TEST_F(GlLimits, TheFullestStagesStayWithinTheGuaranteedEight) {
     Defines pair = cellGroupDefines();
     pair.emplace_back("FIELD_AT", "3");
     pair.emplace_back("PAIR", "1");
-    EXPECT_EQ(ComputeProgram("advect.comp", pair).imageUnits(), 8);  // 3 velocity, mask, 2 in, 2 out
+    EXPECT_EQ(GlProgram("advect.comp", pair).imageUnits(), 8);  // 3 velocity, mask, 2 in, 2 out
     Defines face = cellGroupDefines();
     face.emplace_back("FIELD_AT", "0");
-    EXPECT_EQ(ComputeProgram("advect.comp", face).imageUnits(), 6);
-    EXPECT_EQ(ComputeProgram("maccormack.comp", cellGroupDefines()).imageUnits(), 8);
+    EXPECT_EQ(GlProgram("advect.comp", face).imageUnits(), 6);
+    EXPECT_EQ(GlProgram("maccormack.comp", cellGroupDefines()).imageUnits(), 8);
   });
 }
 
@@ -71,7 +73,7 @@ TEST_F(GlLimits, StorageBufferPastTheBlockLimitIsRefusedBeforeAllocation) {
       ADD_FAILURE() << "a buffer past GL_MAX_SHADER_STORAGE_BLOCK_SIZE was allocated";
     } catch (const GlError& e) {
       EXPECT_TRUE(contains(e.what(), "'test block'")) << e.what();
-      EXPECT_TRUE(contains(e.what(), "GL_MAX_SHADER_STORAGE_BLOCK_SIZE is " + std::to_string(limit >> 20) + " MiB"))
+      EXPECT_TRUE(contains(e.what(), "GL_MAX_SHADER_STORAGE_BLOCK_SIZE) is " + std::to_string(limit >> 20) + " MiB"))
           << e.what();
     }
     EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));

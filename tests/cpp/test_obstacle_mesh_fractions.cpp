@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "fluid/grid.h"
-#include "gl/texture3d.h"
+#include "compute/texture3d.h"
 #include "mesh_shapes.h"
 #include "obstacle/mesh_probe.h"
 #include "test_util.h"
@@ -28,10 +28,10 @@ struct Fractions {
 };
 
 Fractions faceFractions(const fluid::Grid& g, const TriangleMesh& mesh, const RigidPose& pose) {
-  return test::GlTest::onGl([&] {
-    gl::Texture3D solid(g.res, gl::TexelFormat::R8UI, "solid");
-    gl::Texture3D velocity(g.res, gl::TexelFormat::RGBA32F, "solid velocity");
-    gl::Texture3D open(g.res + 1, gl::TexelFormat::RGBA32F, "face open fractions");
+  return test::DeviceTest::onGl([&] {
+    compute::Texture3D solid(g.res, compute::TexelFormat::R8UI, "solid");
+    compute::Texture3D velocity(g.res, compute::TexelFormat::RGBA32F, "solid velocity");
+    compute::Texture3D open(g.res + 1, compute::TexelFormat::RGBA32F, "face open fractions");
     MeshProbe probe(g);
     probe.setMesh(std::make_shared<const TriangleMesh>(mesh));
     probe.setPose(pose);
@@ -83,7 +83,7 @@ struct Misses {
   }
 };
 
-class MeshFractionsTest : public test::GlTest {};
+class MeshFractionsTest : public test::DeviceTest {};
 
 TEST_F(MeshFractionsTest, AxisAlignedBoxGivesTheExactControlVolumeOverlap) {
   fluid::Grid g;

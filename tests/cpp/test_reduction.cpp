@@ -15,10 +15,10 @@
 #include "common/error.h"
 #include "fluid/grid.h"
 #include "force/force_reducer.h"
-#include "gl/compute_program.h"
-#include "gl/group_reducer.h"
-#include "gl/texture3d.h"
-#include "gl/workgroup.h"
+#include "compute/compute_program.h"
+#include "compute/group_reducer.h"
+#include "compute/texture3d.h"
+#include "compute/workgroup.h"
 #include "obstacle/cell_class.h"
 #include "obstacle/classifier.h"
 #include "test_util.h"
@@ -26,21 +26,15 @@
 namespace hf {
 namespace {
 
-using gl::ComputeProgram;
-using gl::GroupReducer;
+using compute::ComputeProgram;
+using compute::GroupReducer;
 
-// Writes partials[i] = (1, i, i % 7, -0.5) for i < u_n, or u_fill everywhere when u_fill != 0.
-const char* kFillPartials = R"(
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) writeonly buffer Partials { vec4 partials[]; };
-uniform uint u_n;
-uniform float u_fill;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= u_n) return;
-  partials[i] = u_fill != 0.0 ? vec4(u_fill) : vec4(1.0, float(i), float(i % 7u), -0.5);
+// partials[i] = (1, i, i % 7, -0.5) for i < n, then `fill` in every entry up to `total`.
+void fillPartials(GroupReducer& reducer, std::size_t n, std::size_t total, float fill) {
+  std::vector<glm::vec4> p(total, glm::vec4(fill));
+  for (std::size_t i = 0; i < n; ++i) p[i] = glm::vec4(1.0f, static_cast<float>(i), static_cast<float>(i % 7), -0.5f);
+  reducer.partials().upload(p.data(), p.size() * sizeof(glm::vec4));
 }
-)";
 
 glm::dvec4 expectedSum(std::size_t n) {
   glm::dvec4 s(0.0);
@@ -48,7 +42,7 @@ glm::dvec4 expectedSum(std::size_t n) {
   return s;
 }
 
-class ReductionTest : public test::GlTest {};
+class ReductionTest : public test::DeviceTest {};
 
 TEST_F(ReductionTest, GroupReducerSumsExactlyForAnyCount) {
   constexpr std::size_t kMax = 5000;
@@ -56,17 +50,10 @@ TEST_F(ReductionTest, GroupReducerSumsExactlyForAnyCount) {
   const std::vector<glm::vec4> got = onGl([&] {
     GroupReducer reducer(kMax, 2);
     EXPECT_EQ(reducer.maxGroups(), kMax);
-    ComputeProgram fill("fill_partials.comp", kFillPartials, {});
     std::vector<glm::vec4> out;
     for (std::size_t n : counts) {
-      // Garbage in every partial first: entries at n and beyond must not be summed.
-      reducer.bindPartials(0);
-      fill.set("u_n", static_cast<unsigned>(kMax));
-      fill.set("u_fill", 1.0e6f);
-      fill.dispatch(glm::ivec3(static_cast<int>(kMax), 1, 1));
-      fill.set("u_n", static_cast<unsigned>(n));
-      fill.set("u_fill", 0.0f);
-      fill.dispatch(glm::ivec3(static_cast<int>(n), 1, 1));
+      // Garbage in every partial past n: those entries must not be summed.
+      fillPartials(reducer, n, kMax, 1.0e6f);
       reducer.reduce(n, n % 2);
       out.push_back(reducer.readResults()[n % 2]);
     }
@@ -85,11 +72,7 @@ TEST_F(ReductionTest, GroupReducerSumsExactlyForAnyCount) {
 TEST_F(ReductionTest, GroupReducerSlotsAreIndependentAndClearable) {
   const auto results = onGl([] {
     GroupReducer reducer(300, 3);
-    ComputeProgram fill("fill_partials.comp", kFillPartials, {});
-    reducer.bindPartials(0);
-    fill.set("u_n", 300u);
-    fill.set("u_fill", 0.0f);
-    fill.dispatch(glm::ivec3(300, 1, 1));
+    fillPartials(reducer, 300, 300, 0.0f);
     std::vector<std::vector<glm::vec4>> r;
     r.push_back(reducer.readResults());  // nothing reduced yet
     reducer.reduce(300, 2);
@@ -170,14 +153,14 @@ struct ForceCase {
 };
 
 std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& grid, const std::vector<ForceCase>& cases) {
-  return test::GlTest::onGl([&] {
-    gl::Texture3D solid(grid.res, gl::TexelFormat::R8UI, "solid");
-    gl::Texture3D cls(grid.res, gl::TexelFormat::R8UI, "classes");
-    gl::Texture3D nbmask(grid.res, gl::TexelFormat::R8UI, "nbmask");
-    gl::Texture3D pressure(grid.res, gl::TexelFormat::R32F, "pressure");
+  return test::DeviceTest::onGl([&] {
+    compute::Texture3D solid(grid.res, compute::TexelFormat::R8UI, "solid");
+    compute::Texture3D cls(grid.res, compute::TexelFormat::R8UI, "classes");
+    compute::Texture3D nbmask(grid.res, compute::TexelFormat::R8UI, "nbmask");
+    compute::Texture3D pressure(grid.res, compute::TexelFormat::R32F, "pressure");
     solid.upload(shape.solid.data(), shape.solid.size());
     obstacle::Classifier classifier(grid);
-    gl::Texture3D face_open(grid.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
+    compute::Texture3D face_open(grid.res + 1, compute::TexelFormat::RGBA32F, "face fractions");
     classifier.binaryFractions(solid, face_open, obstacle::wholeGrid(grid.res));
     classifier.classify(solid, face_open, cls, nbmask, false, obstacle::wholeGrid(grid.res));
     force::ForceReducer reducer(grid);
@@ -197,7 +180,7 @@ std::vector<force::BodyForce> runForce(const Shape& shape, const fluid::Grid& gr
   });
 }
 
-class ForceReducerTest : public test::GlTest {};
+class ForceReducerTest : public test::DeviceTest {};
 
 TEST_F(ForceReducerTest, ClosedSurfaceKnownAnswers) {
   const Shape shape = makeShape();

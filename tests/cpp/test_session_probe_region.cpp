@@ -24,7 +24,7 @@
 namespace hf::session {
 namespace {
 
-class ProbeRegionTest : public test::GlTest {};
+class ProbeRegionTest : public test::DeviceTest {};
 
 fluid::Grid grid() {
   fluid::Grid g;
@@ -74,7 +74,7 @@ StepInputs inputs(const Move& m, const std::shared_ptr<const obstacle::TriangleM
   return in;
 }
 
-std::vector<std::uint8_t> bytes(const gl::Texture3D& t) {
+std::vector<std::uint8_t> bytes(const compute::Texture3D& t) {
   std::vector<std::uint8_t> out(t.texels() * t.bytesPerTexel());
   t.download(out.data(), out.size());
   return out;
@@ -199,11 +199,11 @@ TEST_F(ProbeRegionTest, AMovingSphereStepLaunchesLessThanTheWholeGridStep) {
     for (StepPipeline* p : {&limited, &whole}) p->step(inputs(m, nullptr));  // the first step: whole grid
     m.centre_m += glm::vec3(0.02f, 0.0f, 0.0f);
     const StepInputs in = inputs(m, nullptr);
-    const auto c0 = gl::glCounters();
+    const auto c0 = compute::dispatchCounters();
     limited.step(in);
-    const auto c1 = gl::glCounters();
+    const auto c1 = compute::dispatchCounters();
     whole.step(in);
-    const auto c2 = gl::glCounters();
+    const auto c2 = compute::dispatchCounters();
     const std::uint64_t saved = (c2.invocations - c1.invocations) - (c1.invocations - c0.invocations);
     // voxelize, the sphere's face fractions and classify: three passes over the grid (or its
     // faces) the limited step makes over a region of about 14^3 cells instead.

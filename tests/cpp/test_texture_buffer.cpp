@@ -12,12 +12,14 @@
 #include <vector>
 
 #include "common/error.h"
-#include "gl/compute_program.h"
-#include "gl/storage_buffer.h"
-#include "gl/texture3d.h"
+#include "compute/compute_program.h"
+#include "compute/storage_buffer.h"
+#include "compute/texture3d.h"
+#include "gl/gl_program.h"
 #include "test_util.h"
 
 namespace hf::gl {
+using namespace hf::compute;  // the device interface these GL tests exercise
 namespace {
 
 using hf::test::contains;
@@ -26,7 +28,7 @@ using hf::test::contains;
 constexpr glm::ivec3 kSize(5, 7, 3);
 constexpr std::size_t kTexels = 5 * 7 * 3;
 
-class TextureBufferTest : public hf::test::GlTest {};
+class TextureBufferTest : public hf::test::DeviceTest {};
 
 // Distinct float values, including ones a lossy path would not keep.
 std::vector<float> floatPattern(std::size_t n) {
@@ -98,19 +100,21 @@ TEST_F(TextureBufferTest, NewTextureIsZeroAndClearZeroes) {
   EXPECT_EQ(cleared, std::vector<float>(kTexels * 4, 0.0f));
 }
 
-// The documented layout (index = i + nx*(j + ny*k)) is the one texelFetch sees in shaders.
-TEST_F(TextureBufferTest, UploadLayoutIsXFastestAsShadersSeeIt) {
+// The documented layout (index = i + nx*(j + ny*k)) is the one imageLoad sees in shaders.
+class TextureBufferGlTest : public hf::test::GlOnlyTest {};
+
+TEST_F(TextureBufferGlTest, UploadLayoutIsXFastestAsShadersSeeIt) {
   const char* src = R"(
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(binding = 0) uniform sampler3D u_f;
-layout(binding = 1) uniform usampler3D u_u;
+layout(r32f, binding = 0) readonly uniform image3D u_f;
+layout(r8ui, binding = 1) readonly uniform uimage3D u_u;
 layout(std430, binding = 0) writeonly buffer Out { vec2 o[]; };
 uniform ivec3 u_size;
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(c, u_size))) return;
   int n = c.x + u_size.x * (c.y + u_size.y * c.z);
-  o[n] = vec2(texelFetch(u_f, c, 0).r, float(texelFetch(u_u, c, 0).r));
+  o[n] = vec2(imageLoad(u_f, c).x, float(imageLoad(u_u, c).x));
 }
 )";
   std::vector<float> f(kTexels);
@@ -125,11 +129,11 @@ void main() {
     tf.upload(f.data(), f.size() * sizeof(float));
     tu.upload(u.data(), u.size());
     StorageBuffer out(kTexels * 2 * sizeof(float), "fetched");
-    ComputeProgram p("fetch.comp", src, {});
-    tf.bindSampler(0);
-    tu.bindSampler(1);
+    GlProgram p("fetch.comp", src, {});
+    tf.bindImage(0, Access::Read);
+    tu.bindImage(1, Access::Read);
     out.bind(0);
-    p.set("u_size", kSize);
+    p.setIVec3("u_size", kSize);
     p.dispatch(kSize);
     std::vector<float> o(kTexels * 2);
     out.download(o.data(), o.size() * sizeof(float));

@@ -11,8 +11,8 @@
 
 #include "fluid/grid.h"
 #include "force/force_reducer.h"
-#include "gl/group_reducer.h"
-#include "gl/texture3d.h"
+#include "compute/group_reducer.h"
+#include "compute/texture3d.h"
 #include "obstacle/classifier.h"
 #include "test_util.h"
 
@@ -42,7 +42,7 @@ BoxScene makeScene() {
 
 BodyForce gpuForce(const BoxScene& s, bool dynamic, const glm::vec3& rho_g, const glm::vec3& reference_m,
                    const std::optional<glm::vec3>& centre_m) {
-  return test::GlTest::onGl([&] {
+  return test::DeviceTest::onGl([&] {
     const fluid::Grid& g = s.grid;
     std::vector<std::uint8_t> mask(g.cells());
     std::vector<float> p(g.cells());
@@ -53,18 +53,18 @@ BodyForce gpuForce(const BoxScene& s, bool dynamic, const glm::vec3& rho_g, cons
           mask[n] = s.solid(i, j, k);
           p[n] = dynamic ? s.pressure(i, j, k) : 0.0f;
         }
-    gl::Texture3D solid(g.res, gl::TexelFormat::R8UI, "solid");
-    gl::Texture3D cls(g.res, gl::TexelFormat::R8UI, "classes");
-    gl::Texture3D nbmask(g.res, gl::TexelFormat::R8UI, "nbmask");
-    gl::Texture3D pressure(g.res, gl::TexelFormat::R32F, "pressure");
+    compute::Texture3D solid(g.res, compute::TexelFormat::R8UI, "solid");
+    compute::Texture3D cls(g.res, compute::TexelFormat::R8UI, "classes");
+    compute::Texture3D nbmask(g.res, compute::TexelFormat::R8UI, "nbmask");
+    compute::Texture3D pressure(g.res, compute::TexelFormat::R32F, "pressure");
     solid.upload(mask.data(), mask.size());
     pressure.upload(p.data(), p.size() * sizeof(float));
-    gl::Texture3D face_open(g.res + 1, gl::TexelFormat::RGBA32F, "face fractions");
+    compute::Texture3D face_open(g.res + 1, compute::TexelFormat::RGBA32F, "face fractions");
     obstacle::Classifier classifier(g);
     classifier.binaryFractions(solid, face_open, obstacle::wholeGrid(g.res));
     classifier.classify(solid, face_open, cls, nbmask, false, obstacle::wholeGrid(g.res));
     ForceReducer reducer(g);
-    gl::GroupReducer groups(ForceReducer::partialsNeeded(g), 6);
+    compute::GroupReducer groups(ForceReducer::partialsNeeded(g), 6);
     const ForceSlots slots{5, 1, 3};  // any slots
     const obstacle::CellBox box{s.lo - 1, s.hi - s.lo + 2};
     const glm::vec3 p0 = g.toWorld(glm::vec3(s.lo + s.hi) * 0.5f) + glm::vec3(0.013f, -0.004f, 0.02f);
@@ -73,7 +73,7 @@ BodyForce gpuForce(const BoxScene& s, bool dynamic, const glm::vec3& rho_g, cons
   });
 }
 
-class TorqueTest : public test::GlTest {};
+class TorqueTest : public test::DeviceTest {};
 
 TEST_F(TorqueTest, HydrostaticTorqueActsAtTheCentroid) {
   const BoxScene s = makeScene();

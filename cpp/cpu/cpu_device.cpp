@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "cpu/cpu_device.h"
+
+#include <sched.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/error.h"
+#include "common/host_memory.h"
+#include "common/thread_priority.h"
+#include "cpu/kernel.h"
+#include "cpu/thread_pool.h"
+
+namespace hf::cpu {
+namespace {
+
+// Cells per axis a CPU field may have; its texels must also stay below 2^31 (32-bit indices).
+constexpr int kMaxAxisTexels = 4096;
+constexpr std::size_t kMaxTexels = (std::size_t(1) << 31) - 1;
+constexpr std::size_t kMaxBufferBytes = std::size_t(1) << 31;
+constexpr std::size_t kAlignment = 64;  // a cache line
+
+ImageFormat imageFormat(compute::TexelFormat f) {
+  switch (f) {
+    case compute::TexelFormat::R32F: return ImageFormat::R32F;
+    case compute::TexelFormat::RGBA32F: return ImageFormat::RGBA32F;
+    case compute::TexelFormat::R8UI: return ImageFormat::R8UI;
+  }
+  return ImageFormat::R32F;
+}
+
+// Zeroed, cache-line aligned host memory (RAII).
+class HostBlock {
+ public:
+  HostBlock(std::size_t bytes, const std::string& label) : bytes_(bytes) {
+    const std::size_t rounded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
+    data_ = static_cast<unsigned char*>(std::aligned_alloc(kAlignment, rounded == 0 ? kAlignment : rounded));
+    if (data_ == nullptr) {
+      throw GlError("allocating '" + label + "' (" + std::to_string(bytes >> 20) + " MiB of host memory) failed: lower the resolution");
+    }
+    std::memset(data_, 0, rounded == 0 ? kAlignment : rounded);
+  }
+  ~HostBlock() { std::free(data_); }
+  HostBlock(const HostBlock&) = delete;
+  HostBlock& operator=(const HostBlock&) = delete;
+  unsigned char* data() const { return data_; }
+  std::size_t bytes() const { return bytes_; }
+
+ private:
+  unsigned char* data_ = nullptr;
+  std::size_t bytes_ = 0;
+};
+
+class CpuDevice;
+
+class CpuTexture final : public compute::TextureImpl {
+ public:
+  CpuTexture(Bindings& bindings, const glm::ivec3& size, compute::TexelFormat format, const std::string& label)
+      : bindings_(bindings), block_(checkedBytes(size, format, label), label), size_(size), format_(format) {}
+  ~CpuTexture() override {
+    for (ImageBinding& b : bindings_.images) {
+      if (b.data == block_.data()) b = ImageBinding{};  // a unit left bound to freed memory reads nothing
+    }
+  }
+  void bindImage(unsigned unit, compute::Access) const override {
+    if (unit >= bindings_.images.size()) throw Error("image unit " + std::to_string(unit) + " is past the device's units");
+    ImageBinding& b = bindings_.images[unit];
+    b.data = block_.data();
+    b.size = size_;
+    b.stride_y = size_.x;
+    b.stride_z = size_.x * size_.y;
+    b.format = imageFormat(format_);
+  }
+  void clear() override { std::memset(block_.data(), 0, block_.bytes()); }
+  void download(void* dst, std::size_t bytes) const override {
+    std::memcpy(dst, block_.data(), bytes);
+    compute::countSync();
+  }
+  void upload(const void* src, std::size_t bytes) override { std::memcpy(block_.data(), src, bytes); }
+
+ private:
+  static std::size_t checkedBytes(const glm::ivec3& size, compute::TexelFormat format, const std::string& label) {
+    const std::size_t texels = static_cast<std::size_t>(size.x) * size.y * size.z;
+    if (size.x < 1 || size.y < 1 || size.z < 1 || size.x > kMaxAxisTexels || size.y > kMaxAxisTexels ||
+        size.z > kMaxAxisTexels || texels > kMaxTexels) {
+      throw GlError("texture '" + label + "': " + std::to_string(size.x) + " x " + std::to_string(size.y) + " x " +
+                    std::to_string(size.z) + " texels is outside what the CPU device holds (1.." +
+                    std::to_string(kMaxAxisTexels) + " per axis, below 2^31 in all): lower the resolution");
+    }
+    return texels * compute::texelBytes(format);
+  }
+
+  Bindings& bindings_;
+  HostBlock block_;
+  glm::ivec3 size_;
+  compute::TexelFormat format_;
+};
+
+class CpuBuffer final : public compute::BufferImpl {
+ public:
+  CpuBuffer(Bindings& bindings, std::size_t bytes, const std::string& label)
+      : bindings_(bindings), block_(bytes, label) {}
+  ~CpuBuffer() override {
+    for (BufferBinding& b : bindings_.buffers) {
+      if (b.data == block_.data()) b = BufferBinding{};
+    }
+  }
+  void bind(unsigned binding) const override {
+    if (binding >= bindings_.buffers.size()) {
+      throw Error("storage buffer binding " + std::to_string(binding) + " is past the device's bindings");
+    }
+    bindings_.buffers[binding] = {block_.data(), block_.bytes()};
+  }
+  void clear() override { std::memset(block_.data(), 0, block_.bytes()); }
+  void download(void* dst, std::size_t bytes, std::size_t offset) const override {
+    std::memcpy(dst, block_.data() + offset, bytes);
+    compute::countSync();
+  }
+  void upload(const void* src, std::size_t bytes, std::size_t offset) override {
+    std::memcpy(block_.data() + offset, src, bytes);
+  }
+
+ private:
+  Bindings& bindings_;
+  HostBlock block_;
+};
+
+class CpuProgram final : public compute::ProgramImpl {
+ public:
+  CpuProgram(Bindings& bindings, ThreadPool& pool, const std::string& file, const compute::Defines& defines)
+      : bindings_(bindings), pool_(pool), file_(file), kernel_(kernelRegistry().make(file, defines)),
+        local_size_(localSizeOf(defines)) {
+    for (const auto& image : kernel_->slots().images) {
+      bool seen = false;
+      for (const auto& other : kernel_->slots().images) {
+        if (&other == &image) break;
+        if (other.unit == image.unit) seen = true;
+      }
+      if (!seen) ++image_units_;
+    }
+  }
+
+  glm::ivec3 localSize() const override { return local_size_; }
+  int imageUnits() const override { return image_units_; }
+  void setInt(const char* name, int v) override { set(name, KernelSlots::UniformType::Int, &v, sizeof v); }
+  void setUint(const char* name, unsigned v) override { set(name, KernelSlots::UniformType::Uint, &v, sizeof v); }
+  void setFloat(const char* name, float v) override { set(name, KernelSlots::UniformType::Float, &v, sizeof v); }
+  void setIVec3(const char* name, const glm::ivec3& v) override {
+    set(name, KernelSlots::UniformType::IVec3, &v, sizeof v);
+  }
+  void setVec3(const char* name, const glm::vec3& v) override { set(name, KernelSlots::UniformType::Vec3, &v, sizeof v); }
+  void setMat4(const char* name, const glm::mat4& v) override { set(name, KernelSlots::UniformType::Mat4, &v, sizeof v); }
+
+  void dispatch(const glm::ivec3& invocations) override {
+    KernelSlots& slots = kernel_->slots();
+    for (const auto& image : slots.images) {
+      const ImageBinding& bound = bindings_.images[static_cast<std::size_t>(image.unit)];
+      // Nothing bound, or a texture of another format (a unit left from another stage that this
+      // variant declares but does not use): the kernel sees an empty image (loads give 0).
+      *image.target = (bound.data != nullptr && bound.format == image.format) ? bound : ImageBinding{};
+      image.target->format = image.format;
+    }
+    for (const auto& buffer : slots.buffers) *buffer.target = bindings_.buffers[static_cast<std::size_t>(buffer.binding)];
+    kernel_->run(invocations, local_size_, bindings_, pool_);
+    compute::countDispatch(static_cast<std::uint64_t>(invocations.x) * static_cast<std::uint64_t>(invocations.y) *
+                           static_cast<std::uint64_t>(invocations.z));
+  }
+
+ private:
+  void set(const char* name, KernelSlots::UniformType type, const void* value, std::size_t bytes) {
+    for (const auto& u : kernel_->slots().uniforms) {
+      if (std::strcmp(u.name, name) != 0) continue;
+      if (u.type != type) throw Error(file_ + ": uniform " + name + " set with a value of another type");
+      std::memcpy(u.target, value, bytes);
+      return;
+    }
+    // A uniform the kernel does not have: ignored, as GL ignores location -1.
+  }
+
+  Bindings& bindings_;
+  ThreadPool& pool_;
+  std::string file_;
+  std::unique_ptr<CpuKernel> kernel_;
+  glm::ivec3 local_size_;
+  int image_units_ = 0;
+};
+
+class CpuStageTimer final : public compute::TimerImpl {
+ public:
+  void begin() override {
+    stages_.clear();
+    last_ = std::chrono::steady_clock::now();
+    started_ = true;
+  }
+  void mark(const std::string& stage) override {
+    if (!started_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    for (auto& s : stages_) {
+      if (s.first == stage) {
+        s.second += ms;
+        return;
+      }
+    }
+    stages_.emplace_back(stage, ms);
+  }
+  std::vector<std::pair<std::string, double>> collect() override { return stages_; }
+
+ private:
+  std::vector<std::pair<std::string, double>> stages_;
+  std::chrono::steady_clock::time_point last_;
+  bool started_ = false;
+};
+
+class CpuDevice final : public compute::Device {
+ public:
+  explicit CpuDevice(int threads) : pool_(threads) {
+    info_.backend = compute::Backend::Cpu;
+    info_.threads = pool_.threads();
+    info_.renderer = "hapticfluid CPU kernels, " + std::to_string(pool_.threads()) + " thread" +
+                     (pool_.threads() == 1 ? "" : "s");
+    info_.vendor = "hapticfluid";
+    info_.version = kernelInstructionSet();
+    info_.platform = "cpu";
+    info_.memory_bytes = static_cast<std::size_t>(hostAvailableKb()) * 1024;
+    info_.max_3d_texture_size = kMaxAxisTexels;
+    info_.max_storage_block_bytes = kMaxBufferBytes;
+  }
+  const compute::DeviceInfo& info() const override { return info_; }
+  compute::DeviceInfo& mutableInfo() { return info_; }
+  std::unique_ptr<compute::TextureImpl> makeTexture(const glm::ivec3& size, compute::TexelFormat format,
+                                                    const std::string& label) override {
+    return std::make_unique<CpuTexture>(bindings_, size, format, label);
+  }
+  std::unique_ptr<compute::BufferImpl> makeBuffer(std::size_t bytes, const std::string& label) override {
+    return std::make_unique<CpuBuffer>(bindings_, bytes, label);
+  }
+  std::unique_ptr<compute::ProgramImpl> makeProgram(const std::string& file, const compute::Defines& defines) override {
+    return std::make_unique<CpuProgram>(bindings_, pool_, file, defines);
+  }
+  std::unique_ptr<compute::TimerImpl> makeTimer() override { return std::make_unique<CpuStageTimer>(); }
+
+ private:
+  static std::string kernelInstructionSet() {
+#if defined(__AVX2__)
+    return "C++ kernels, x86-64 AVX2";
+#elif defined(__x86_64__)
+    return "C++ kernels, x86-64";
+#else
+    return "C++ kernels";
+#endif
+  }
+
+  Bindings bindings_;
+  ThreadPool pool_;
+  compute::DeviceInfo info_;
+};
+
+int coresAvailable() {
+#if defined(__linux__)
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof set, &set) == 0) {
+    const int n = CPU_COUNT(&set);
+    if (n > 0) return n;
+  }
+#endif
+  const unsigned n = std::thread::hardware_concurrency();
+  return n > 0 ? static_cast<int>(n) : 1;
+}
+
+}  // namespace
+
+int resolveThreads(int requested) {
+  auto check = [](long long n, const std::string& from) {
+    if (n < 0 || n > kMaxThreads) {
+      throw InvalidArgument(from + " must be 0 (one per core) to " + std::to_string(kMaxThreads) + ", got " +
+                            std::to_string(n));
+    }
+    return static_cast<int>(n);
+  };
+  int n = check(requested, "cpu_threads");
+  if (n == 0) {
+    if (const char* env = std::getenv(kCpuThreadsEnv); env != nullptr && *env != '\0') {
+      char* end = nullptr;
+      const long long v = std::strtoll(env, &end, 10);
+      if (end == env || *end != '\0') {
+        throw InvalidArgument(std::string(kCpuThreadsEnv) + " must be a whole number of threads, got '" + env + "'");
+      }
+      n = check(v, kCpuThreadsEnv);
+    }
+  }
+  return n == 0 ? coresAvailable() : n;
+}
+
+std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> niceness) {
+  const int n = resolveThreads(threads);
+  const std::string refused = lowerCurrentThreadPriority(niceness.value_or(0));
+#if defined(__linux__)
+  nameCurrentThread("hf-cpu");  // the pool's threads inherit the name and the niceness
+#endif
+  auto device = std::make_unique<CpuDevice>(n);
+  if (!refused.empty()) device->mutableInfo().warning = "thread priority: " + refused;
+  return device;
+}
+
+}  // namespace hf::cpu

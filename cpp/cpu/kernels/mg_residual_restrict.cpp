@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// shaders/mg_residual_restrict.comp built as C++ (cpu/kernel.h).
+#include "cpu/kernels/kernel_list.h"
+
+#include "cpu/kernel_begin.h"
+namespace hf::cpu::kernels {
+namespace {
+using namespace ::hf::cpu::glsl;
+
+struct MgResidualRestrict : KernelBase {
+  using KernelBase::KernelBase;
+#include "common.glsl"
+#include "mg_residual_restrict.comp"
+};
+
+}  // namespace
+}  // namespace hf::cpu::kernels
+#include "cpu/kernel_end.h"
+
+namespace hf::cpu::kernels {
+
+void addMgResidualRestrict(KernelRegistry& r) {
+  r.add<InvocationRunner<MgResidualRestrict>>("mg_residual_restrict.comp", {});
+}
+
+}  // namespace hf::cpu::kernels
