@@ -35,26 +35,30 @@ ImageFormat imageFormat(compute::TexelFormat f) {
   return ImageFormat::R32F;
 }
 
-// Zeroed, cache-line aligned host memory (RAII).
+// Zeroed, cache-line aligned host memory (RAII), with `guard` zeroed bytes before and after that
+// nothing writes (a texture's guard band: glsl::UncheckedImage).
 class HostBlock {
  public:
-  HostBlock(std::size_t bytes, const std::string& label) : bytes_(bytes) {
-    const std::size_t rounded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
-    data_ = static_cast<unsigned char*>(std::aligned_alloc(kAlignment, rounded == 0 ? kAlignment : rounded));
-    if (data_ == nullptr) {
-      throw GlError("allocating '" + label + "' (" + std::to_string(bytes >> 20) + " MiB of host memory) failed: lower the resolution");
+  HostBlock(std::size_t bytes, std::size_t guard, const std::string& label)
+      : bytes_(bytes), guard_((guard + kAlignment - 1) / kAlignment * kAlignment) {
+    const std::size_t total = (bytes + kAlignment - 1) / kAlignment * kAlignment + 2 * guard_;
+    base_ = static_cast<unsigned char*>(std::aligned_alloc(kAlignment, total == 0 ? kAlignment : total));
+    if (base_ == nullptr) {
+      throw GlError("allocating '" + label + "' (" + std::to_string(bytes >> 20) +
+                    " MiB of host memory) failed: lower the resolution");
     }
-    std::memset(data_, 0, rounded == 0 ? kAlignment : rounded);
+    std::memset(base_, 0, total == 0 ? kAlignment : total);
   }
-  ~HostBlock() { std::free(data_); }
+  ~HostBlock() { std::free(base_); }
   HostBlock(const HostBlock&) = delete;
   HostBlock& operator=(const HostBlock&) = delete;
-  unsigned char* data() const { return data_; }
+  unsigned char* data() const { return base_ + guard_; }
   std::size_t bytes() const { return bytes_; }
 
  private:
-  unsigned char* data_ = nullptr;
+  unsigned char* base_ = nullptr;
   std::size_t bytes_ = 0;
+  std::size_t guard_ = 0;
 };
 
 class CpuDevice;
@@ -62,7 +66,10 @@ class CpuDevice;
 class CpuTexture final : public compute::TextureImpl {
  public:
   CpuTexture(Bindings& bindings, const glm::ivec3& size, compute::TexelFormat format, const std::string& label)
-      : bindings_(bindings), block_(checkedBytes(size, format, label), label), size_(size), format_(format) {}
+      : bindings_(bindings),
+        block_(checkedBytes(size, format, label),
+               (static_cast<std::size_t>(size.x) * size.y + size.x + 1) * compute::texelBytes(format), label),
+        size_(size), format_(format) {}
   ~CpuTexture() override {
     for (ImageBinding& b : bindings_.images) {
       if (b.data == block_.data()) b = ImageBinding{};  // a unit left bound to freed memory reads nothing
@@ -105,7 +112,7 @@ class CpuTexture final : public compute::TextureImpl {
 class CpuBuffer final : public compute::BufferImpl {
  public:
   CpuBuffer(Bindings& bindings, std::size_t bytes, const std::string& label)
-      : bindings_(bindings), block_(bytes, label) {}
+      : bindings_(bindings), block_(bytes, 0, label) {}
   ~CpuBuffer() override {
     for (BufferBinding& b : bindings_.buffers) {
       if (b.data == block_.data()) b = BufferBinding{};
@@ -174,13 +181,13 @@ class CpuProgram final : public compute::ProgramImpl {
 
  private:
   void set(const char* name, KernelSlots::UniformType type, const void* value, std::size_t bytes) {
+    // Every struct of the kernel's runner has it (a runner may hold a checked and an unchecked
+    // build); a uniform the kernel does not have is ignored, as GL ignores location -1.
     for (const auto& u : kernel_->slots().uniforms) {
       if (std::strcmp(u.name, name) != 0) continue;
       if (u.type != type) throw Error(file_ + ": uniform " + name + " set with a value of another type");
       std::memcpy(u.target, value, bytes);
-      return;
     }
-    // A uniform the kernel does not have: ignored, as GL ignores location -1.
   }
 
   Bindings& bindings_;

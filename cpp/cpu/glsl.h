@@ -75,7 +75,9 @@ struct KernelSlots {
 class KernelBase {
  public:
   explicit KernelBase(KernelSlots* slots) : hf_slots_(slots) {}
-  KernelBase(const KernelBase&) = delete;
+  // A copy runs like the original (a runner may copy a kernel into a local so that the compiler
+  // keeps its bound images and uniforms in registers) but registers nothing.
+  KernelBase(const KernelBase&) = default;
   KernelBase& operator=(const KernelBase&) = delete;
   KernelSlots& hf_slots() { return *hf_slots_; }
 
@@ -126,6 +128,24 @@ struct Image : ImageBinding {
     return static_cast<typename Format::texel*>(data)[c.x + stride_y * c.y + stride_z * c.z];
   }
 };
+
+// The same image where the kernel's runner has proven every access in range (cpu/kernel.h:
+// InteriorRunner, UncheckedRunner): no bounds test. A CPU texture has a guard band of a slice
+// and a row of zeros on each side, so even an access one slice out reads memory it owns.
+template <class Format>
+struct UncheckedImage : Image<Format> {
+  using Image<Format>::Image;
+};
+
+template <class Format>
+typename Format::value imageLoad(const UncheckedImage<Format>& image, const ivec3& c) {
+  return Format::load(image.at(c));
+}
+
+template <class Format>
+void imageStore(const UncheckedImage<Format>& image, const ivec3& c, const typename Format::value& v) {
+  Format::store(image.at(c), v);
+}
 
 template <class Format>
 typename Format::value imageLoad(const Image<Format>& image, const ivec3& c) {

@@ -8,6 +8,8 @@
 //     the pool's threads (every kernel whose invocations write disjoint texels);
 //   - GroupSumRunner<K>: the same per workgroup, for kernels that end in writeGroupSum (the
 //     first level of a reduction): each workgroup's sum goes to partials[part * groups + group];
+//   - InteriorRunner<K, KU> / UncheckedRunner<KU>: the same with the bounds tests left out where
+//     the runner proves every access in range (KU: the shader built with glsl::UncheckedImage);
 //   - a runner of the kernel's own, where the shader needs workgroup barriers or where a row loop
 //     runs the shader's per-cell functions faster (its file says why).
 #include <array>
@@ -47,43 +49,120 @@ class CpuKernel {
 // costs more than a small level of the multigrid).
 inline constexpr long long kSerialInvocations = 4096;
 
+// Calls row(y, z) for every row of the dispatch box `n` (or, for a single long row, chunk(x0,
+// x1)), split over the pool's threads.
+template <class Row, class Chunk>
+void forRows(const glm::ivec3& n, ThreadPool& pool, Row&& row, Chunk&& chunk) {
+  const int rows = n.y * n.z;
+  const long long total = static_cast<long long>(n.x) * rows;
+  if (rows == 1 && total >= kSerialInvocations) {  // one long row (per vertex, per triangle)
+    pool.parallelFor(n.x, chunk);
+    return;
+  }
+  auto range = [&](int begin, int end) {
+    for (int r = begin; r < end; ++r) row(r % n.y, r / n.y);
+  };
+  if (total < kSerialInvocations) {
+    range(0, rows);
+  } else {
+    pool.parallelFor(rows, range);
+  }
+}
+
+// Each thread runs a copy of the kernel: its bound images and uniforms are then locals the
+// compiler can keep in registers.
+template <class K>
+void runInvocation(K& k, glsl::Invocation& inv, int x, int y, int z) {
+  inv.global_id = glm::uvec3(static_cast<unsigned>(x), static_cast<unsigned>(y), static_cast<unsigned>(z));
+  k.hf_main(inv);
+}
+
+// K's main() once per invocation, every access bounds-tested as GL does.
 template <class K>
 class InvocationRunner final : public CpuKernel {
  public:
   KernelSlots& slots() override { return slots_; }
   void run(const glm::ivec3& n, const glm::ivec3&, const Bindings&, ThreadPool& pool) override {
-    const int rows = n.y * n.z;
-    auto rowRange = [&](int begin, int end) {
-      glsl::Invocation inv;
-      for (int r = begin; r < end; ++r) {
-        const unsigned y = static_cast<unsigned>(r % n.y), z = static_cast<unsigned>(r / n.y);
-        for (int x = 0; x < n.x; ++x) {
-          inv.global_id = glm::uvec3(static_cast<unsigned>(x), y, z);
-          kernel_.hf_main(inv);
-        }
-      }
-    };
-    const long long total = static_cast<long long>(n.x) * rows;
-    if (total < kSerialInvocations || rows == 1) {
-      if (rows == 1 && total >= kSerialInvocations) {  // one long row (per vertex, per triangle)
-        pool.parallelFor(n.x, [&](int begin, int end) {
+    forRows(
+        n, pool,
+        [&](int y, int z) {
+          K k(kernel_);
           glsl::Invocation inv;
-          for (int x = begin; x < end; ++x) {
-            inv.global_id = glm::uvec3(static_cast<unsigned>(x), 0u, 0u);
-            kernel_.hf_main(inv);
-          }
+          for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+        },
+        [&](int x0, int x1) {
+          K k(kernel_);
+          glsl::Invocation inv;
+          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
         });
-        return;
-      }
-      rowRange(0, rows);
-      return;
-    }
-    pool.parallelFor(rows, rowRange);
   }
 
  private:
   KernelSlots slots_;
   K kernel_{&slots_};
+};
+
+// The same main() built twice from the shader: K bounds-tested, KU (glsl::UncheckedImage) not.
+// Invocations at least one from every face of the dispatch box run KU, the shell around them K:
+// for a kernel whose accesses reach at most one cell (or face) from its invocation's (a
+// stencil), every access of the interior is in range. A kernel file that uses it says so.
+template <class K, class KU>
+class InteriorRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings&, ThreadPool& pool) override {
+    forRows(
+        n, pool,
+        [&](int y, int z) {
+          K k(checked_);
+          glsl::Invocation inv;
+          if (y == 0 || z == 0 || y == n.y - 1 || z == n.z - 1 || n.x < 3) {
+            for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+            return;
+          }
+          KU ku(unchecked_);
+          runInvocation(k, inv, 0, y, z);
+          for (int x = 1; x < n.x - 1; ++x) runInvocation(ku, inv, x, y, z);
+          runInvocation(k, inv, n.x - 1, y, z);
+        },
+        [&](int x0, int x1) {
+          K k(checked_);
+          glsl::Invocation inv;
+          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+        });
+  }
+
+ private:
+  KernelSlots slots_;  // both builds register here: binding and uniforms reach both
+  K checked_{&slots_};
+  KU unchecked_{&slots_};
+};
+
+// KU's main() (glsl::UncheckedImage) for every invocation: for a kernel whose every access is in
+// range by its own construction (clamped coordinates, or a row loop over the grid with
+// neighbours only across linked faces). A kernel file that uses it says why.
+template <class KU>
+class UncheckedRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings&, ThreadPool& pool) override {
+    forRows(
+        n, pool,
+        [&](int y, int z) {
+          KU k(kernel_);
+          glsl::Invocation inv;
+          for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+        },
+        [&](int x0, int x1) {
+          KU k(kernel_);
+          glsl::Invocation inv;
+          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+        });
+  }
+
+ private:
+  KernelSlots slots_;
+  KU kernel_{&slots_};
 };
 
 template <class K>

@@ -4,7 +4,10 @@
 #include "cpu/glsl.h"
 
 // The declaration macros (see the top of this file; GLSL's definitions are in common.glsl).
-#define IMAGE_RW(fmt, unit, name) ::hf::cpu::glsl::Image<::hf::cpu::glsl::fmt> name{this, unit, #name}
+// HF_IMAGE is the image type of the structs that follow: glsl::Image (bounds-tested, as GL), or
+// glsl::UncheckedImage where a kernel file builds the variant its fast runner uses.
+#define HF_IMAGE ::hf::cpu::glsl::Image
+#define IMAGE_RW(fmt, unit, name) HF_IMAGE<::hf::cpu::glsl::fmt> name{this, unit, #name}
 #define IMAGE_RO(fmt, unit, name) IMAGE_RW(fmt, unit, name)
 #define IMAGE_WO(fmt, unit, name) IMAGE_RW(fmt, unit, name)
 #define UIMAGE_RW(fmt, unit, name) IMAGE_RW(fmt, unit, name)

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Undoes cpu/kernel_begin.h after a kernel file's shaders.
+#undef HF_IMAGE
 #undef IMAGE_RW
 #undef IMAGE_RO
 #undef IMAGE_WO

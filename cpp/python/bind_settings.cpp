@@ -82,6 +82,15 @@ grid's settings are checked together when the Simulation is made.
       .field<Vec3>("origin", [](const SimulationConfig& c) { return tuple3(c.origin_m); },
                    [](SimulationConfig& c, const Vec3& v) { c.origin_m = toVec3(v); },
                    "World position of the box's minimum corner (m).")
+      .field<std::string>("backend", [](const SimulationConfig& c) { return c.backend; },
+                          [](SimulationConfig& c, const std::string& b) { c.backend = b; },
+                          "Where the step runs: 'auto' (a hardware GPU if one gives an OpenGL 4.5 context, else the "
+                          "CPU backend), 'gpu' (OpenGL on `device`, Mesa's llvmpipe included), 'cpu' (the same "
+                          "kernels compiled for the CPU, on cpu_threads threads); '' = HAPTICFLUID_BACKEND or auto.")
+      .field<int>("cpu_threads", [](const SimulationConfig& c) { return c.cpu_threads; },
+                  [](SimulationConfig& c, int n) { c.cpu_threads = n; },
+                  "Threads of the CPU backend (0 = HAPTICFLUID_CPU_THREADS, else one per core); the result does "
+                  "not depend on it.")
       .field<std::string>("device", [](const SimulationConfig& c) { return c.device; },
                           [](SimulationConfig& c, const std::string& d) { c.device = d; },
                           "GL device: '' (HAPTICFLUID_EGL_DEVICE or auto: a hardware GPU first), 'software' or an EGL device number.")

@@ -463,8 +463,9 @@ void addConstants(py::module_& m) {
 void addSimulation(py::module_& m) {
   addStepReport(m);
   py::class_<Simulation> c(m, "Simulation", R"doc(
-A 3D smoke/fluid simulation on the GPU (or Mesa llvmpipe) with a rigid probe: a sphere or a
-closed triangle mesh, moving with a linear and an angular velocity.
+A 3D smoke/fluid simulation on the GPU (OpenGL compute, Mesa llvmpipe included) or on the CPU
+backend (the same kernels compiled for the CPU), with a rigid probe: a sphere or a closed
+triangle mesh, moving with a linear and an angular velocity.
 
 All quantities are SI: metres, seconds, kilograms, newtons, pascals. The grid has cubic cells
 (domain_size / resolution must be equal on every axis), z is up. Arrays come back indexed
@@ -491,14 +492,17 @@ a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can
         cfg.domain_size_m = s.grid().sizeM();
         cfg.origin_m = s.grid().origin_m;
         cfg.params = s.params();
+        cfg.backend = compute::backendName(s.deviceInfo().backend);
+        cfg.cpu_threads = s.deviceInfo().threads;
         cfg.device = s.deviceInfo().device_index >= 0 ? std::to_string(s.deviceInfo().device_index) : std::string();
         cfg.thread_niceness = s.threadNiceness();
         return cfg;
       },
-      "The FluidSettings in use now (a copy; the GL device as the EGL device number in use).");
+      "The FluidSettings in use now (a copy; the backend and, on the GPU, the EGL device number in use).");
 
   c.def_property_readonly("device", [](const Simulation& s) { return deviceDict(s.deviceInfo()); },
-                          "The GL device in use (renderer, vendor, version, platform, software, ...).");
+                          "The device in use: backend ('gpu' or 'cpu'), renderer, threads (CPU), vendor, version,\n"
+                          "platform, software (a GL renderer on the CPU), memory_bytes, ...");
   c.def_property_readonly("resolution", [](const Simulation& s) {
     const auto r = s.grid().res;
     return py::make_tuple(r.x, r.y, r.z);

@@ -61,6 +61,8 @@ py::array_t<T> fieldArray(std::vector<T>&& data, const glm::ivec3& shape) {
 
 inline py::dict deviceDict(const compute::DeviceInfo& info) {
   py::dict d;
+  d["backend"] = compute::backendName(info.backend);
+  d["threads"] = info.threads;
   d["renderer"] = info.renderer;
   d["vendor"] = info.vendor;
   d["version"] = info.version;

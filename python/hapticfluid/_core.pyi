@@ -97,11 +97,13 @@ class Feel(enum.Enum):
     physical = 1
 
 class FluidSettings:
-    """The grid, the fluid and its solver, the GL device (SI units); defaults are the engine's."""
+    """The grid, the fluid and its solver, the device (SI units); defaults are the engine's."""
     def __init__(self, **settings: Any) -> None: ...
     resolution: Tuple[int, int, int]
     domain_size: Tuple[float, float, float]  # m
     origin: Tuple[float, float, float]  # m
+    backend: str  # 'auto', 'gpu', 'cpu' ('' = HAPTICFLUID_BACKEND or auto)
+    cpu_threads: int  # 0 = one per core
     device: str
     fluid_density: float  # kg/m^3
     gravity: Tuple[float, float, float]  # m/s^2

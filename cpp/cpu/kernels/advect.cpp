@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/advect.comp built as C++ (cpu/kernel.h).
+// Every access is in range by the shader's own construction (clamped coordinates; or a loop
+// over its row of the grid that reads neighbours only across linked faces), so it runs
+// unchecked (UncheckedRunner).
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -7,8 +10,11 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
 #define FIELD_AT 0
-struct AdvectU : KernelBase {
+struct AdvectUUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "advect.comp"
@@ -16,7 +22,7 @@ struct AdvectU : KernelBase {
 #undef FIELD_AT
 
 #define FIELD_AT 1
-struct AdvectV : KernelBase {
+struct AdvectVUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "advect.comp"
@@ -24,7 +30,7 @@ struct AdvectV : KernelBase {
 #undef FIELD_AT
 
 #define FIELD_AT 2
-struct AdvectW : KernelBase {
+struct AdvectWUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "advect.comp"
@@ -32,7 +38,7 @@ struct AdvectW : KernelBase {
 #undef FIELD_AT
 
 #define FIELD_AT 3
-struct AdvectScalar : KernelBase {
+struct AdvectScalarUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "advect.comp"
@@ -41,7 +47,7 @@ struct AdvectScalar : KernelBase {
 
 #define FIELD_AT 3
 #define PAIR 1
-struct AdvectPair : KernelBase {
+struct AdvectPairUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "advect.comp"
@@ -56,11 +62,11 @@ struct AdvectPair : KernelBase {
 namespace hf::cpu::kernels {
 
 void addAdvect(KernelRegistry& r) {
-  r.add<InvocationRunner<AdvectU>>("advect.comp", {{"FIELD_AT", "0"}});
-  r.add<InvocationRunner<AdvectV>>("advect.comp", {{"FIELD_AT", "1"}});
-  r.add<InvocationRunner<AdvectW>>("advect.comp", {{"FIELD_AT", "2"}});
-  r.add<InvocationRunner<AdvectScalar>>("advect.comp", {{"FIELD_AT", "3"}});
-  r.add<InvocationRunner<AdvectPair>>("advect.comp", {{"FIELD_AT", "3"}, {"PAIR", "1"}});
+  r.add<UncheckedRunner<AdvectUUnchecked>>("advect.comp", {{"FIELD_AT", "0"}});
+  r.add<UncheckedRunner<AdvectVUnchecked>>("advect.comp", {{"FIELD_AT", "1"}});
+  r.add<UncheckedRunner<AdvectWUnchecked>>("advect.comp", {{"FIELD_AT", "2"}});
+  r.add<UncheckedRunner<AdvectScalarUnchecked>>("advect.comp", {{"FIELD_AT", "3"}});
+  r.add<UncheckedRunner<AdvectPairUnchecked>>("advect.comp", {{"FIELD_AT", "3"}, {"PAIR", "1"}});
 }
 
 }  // namespace hf::cpu::kernels

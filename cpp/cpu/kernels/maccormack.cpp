@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/maccormack.comp built as C++ (cpu/kernel.h).
+// Every access is in range by the shader's own construction (clamped coordinates; or a loop
+// over its row of the grid that reads neighbours only across linked faces), so it runs
+// unchecked (UncheckedRunner).
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -7,7 +10,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct Maccormack : KernelBase {
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
+struct MaccormackUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "maccormack.comp"
@@ -20,7 +26,7 @@ struct Maccormack : KernelBase {
 namespace hf::cpu::kernels {
 
 void addMaccormack(KernelRegistry& r) {
-  r.add<InvocationRunner<Maccormack>>("maccormack.comp", {});
+  r.add<UncheckedRunner<MaccormackUnchecked>>("maccormack.comp", {});
 }
 
 }  // namespace hf::cpu::kernels

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/mg_restrict.comp built as C++ (cpu/kernel.h).
+// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
+// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
+// (InteriorRunner) and the shell around it bounds-tested.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -13,6 +16,15 @@ struct MgRestrict : KernelBase {
 #include "mg_restrict.comp"
 };
 
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
+struct MgRestrictUnchecked : KernelBase {
+  using KernelBase::KernelBase;
+#include "common.glsl"
+#include "mg_restrict.comp"
+};
+
 }  // namespace
 }  // namespace hf::cpu::kernels
 #include "cpu/kernel_end.h"
@@ -20,7 +32,7 @@ struct MgRestrict : KernelBase {
 namespace hf::cpu::kernels {
 
 void addMgRestrict(KernelRegistry& r) {
-  r.add<InvocationRunner<MgRestrict>>("mg_restrict.comp", {});
+  r.add<InteriorRunner<MgRestrict, MgRestrictUnchecked>>("mg_restrict.comp", {});
 }
 
 }  // namespace hf::cpu::kernels

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/mg_smooth.comp built as C++ (cpu/kernel.h).
+// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
+// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
+// (InteriorRunner) and the shell around it bounds-tested.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -12,6 +15,7 @@ struct MgSmooth : KernelBase {
 #include "common.glsl"
 #include "mg_smooth.comp"
 };
+#undef NEIGHBOUR_X  // the shader defines it per variant
 
 #define PROLONG 1
 struct MgSmoothProlong : KernelBase {
@@ -19,6 +23,26 @@ struct MgSmoothProlong : KernelBase {
 #include "common.glsl"
 #include "mg_smooth.comp"
 };
+#undef NEIGHBOUR_X  // the shader defines it per variant
+#undef PROLONG
+
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
+struct MgSmoothUnchecked : KernelBase {
+  using KernelBase::KernelBase;
+#include "common.glsl"
+#include "mg_smooth.comp"
+};
+#undef NEIGHBOUR_X  // the shader defines it per variant
+
+#define PROLONG 1
+struct MgSmoothProlongUnchecked : KernelBase {
+  using KernelBase::KernelBase;
+#include "common.glsl"
+#include "mg_smooth.comp"
+};
+#undef NEIGHBOUR_X  // the shader defines it per variant
 #undef PROLONG
 
 }  // namespace
@@ -28,8 +52,8 @@ struct MgSmoothProlong : KernelBase {
 namespace hf::cpu::kernels {
 
 void addMgSmooth(KernelRegistry& r) {
-  r.add<InvocationRunner<MgSmooth>>("mg_smooth.comp", {});
-  r.add<InvocationRunner<MgSmoothProlong>>("mg_smooth.comp", {{"PROLONG", "1"}});
+  r.add<InteriorRunner<MgSmooth, MgSmoothUnchecked>>("mg_smooth.comp", {});
+  r.add<InteriorRunner<MgSmoothProlong, MgSmoothProlongUnchecked>>("mg_smooth.comp", {{"PROLONG", "1"}});
 }
 
 }  // namespace hf::cpu::kernels

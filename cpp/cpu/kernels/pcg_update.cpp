@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_update.comp built as C++ (cpu/kernel.h).
+// Every access is in range by the shader's own construction (clamped coordinates; or a loop
+// over its row of the grid that reads neighbours only across linked faces), so it runs
+// unchecked (UncheckedRunner).
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -7,7 +10,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct PcgUpdate : KernelBase {
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
+struct PcgUpdateUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "pcg_update.comp"
@@ -20,7 +26,7 @@ struct PcgUpdate : KernelBase {
 namespace hf::cpu::kernels {
 
 void addPcgUpdate(KernelRegistry& r) {
-  r.add<InvocationRunner<PcgUpdate>>("pcg_update.comp", {});
+  r.add<UncheckedRunner<PcgUpdateUnchecked>>("pcg_update.comp", {});
 }
 
 }  // namespace hf::cpu::kernels

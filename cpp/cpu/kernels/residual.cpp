@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/residual.comp built as C++ (cpu/kernel.h).
+// Every access is in range by the shader's own construction (clamped coordinates; or a loop
+// over its row of the grid that reads neighbours only across linked faces), so it runs
+// unchecked (UncheckedRunner).
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -7,7 +10,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct Residual : KernelBase {
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
+struct ResidualUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "residual.comp"
@@ -20,7 +26,7 @@ struct Residual : KernelBase {
 namespace hf::cpu::kernels {
 
 void addResidual(KernelRegistry& r) {
-  r.add<InvocationRunner<Residual>>("residual.comp", {});
+  r.add<UncheckedRunner<ResidualUnchecked>>("residual.comp", {});
 }
 
 }  // namespace hf::cpu::kernels

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/scalar_total.comp built as C++ (cpu/kernel.h).
+// Every access is in range by the shader's own construction (clamped coordinates; or a loop
+// over its row of the grid that reads neighbours only across linked faces), so it runs
+// unchecked (UncheckedRunner).
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -7,7 +10,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct ScalarTotal : KernelBase {
+#undef HF_IMAGE
+#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
+
+struct ScalarTotalUnchecked : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "scalar_total.comp"
@@ -20,7 +26,7 @@ struct ScalarTotal : KernelBase {
 namespace hf::cpu::kernels {
 
 void addScalarTotal(KernelRegistry& r) {
-  r.add<InvocationRunner<ScalarTotal>>("scalar_total.comp", {});
+  r.add<UncheckedRunner<ScalarTotalUnchecked>>("scalar_total.comp", {});
 }
 
 }  // namespace hf::cpu::kernels
