@@ -51,7 +51,14 @@ class Mailbox {
       std::uint64_t buf[kWords];
       for (std::size_t i = 0; i < kWords; ++i) buf[i] = words_[i].load(std::memory_order_acquire);
       if (seq_.load(std::memory_order_relaxed) == s0) {
-        std::memcpy(&out, buf, sizeof(T));
+        // The bytes go into a T of its own, which is then assigned: `out` may be a subobject of a
+        // larger object (a base, whose tail padding may hold a derived member, or a member such as
+        // LoopStats::passivity), and a byte copy of sizeof(T) is defined only into an object that
+        // is not a potentially-overlapping subobject. GCC 12 sized a member destination as its
+        // first field ("writing 64 bytes into a region of size 8" in HapticLoop::stats()).
+        T value;
+        std::memcpy(&value, buf, sizeof(T));
+        out = value;
         if (version) *version = s0 / 2;
         return true;
       }
