@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "haptics/fit_slope.h"
+
 namespace hf::haptics {
 
 namespace {
@@ -25,23 +27,14 @@ void DragPredictor::fit() {
     b_ = glm::vec3(0.0f);
     return;
   }
+  std::array<double, kWindow> v{}, f{};
   for (int a = 0; a < 3; ++a) {
-    double mv = 0.0, mf = 0.0;
     for (int i = 0; i < count_; ++i) {
-      mv += velocities_[i][a];
-      mf += forces_[i][a];
+      v[i] = velocities_[i][a];
+      f[i] = forces_[i][a];
     }
-    mv /= count_;
-    mf /= count_;
-    double svv = 0.0, svf = 0.0;
-    for (int i = 0; i < count_; ++i) {
-      const double dv = velocities_[i][a] - mv;
-      svv += dv * dv;
-      svf += dv * (forces_[i][a] - mf);
-    }
-    double b = 0.0;
-    if (svv > count_ * kMinVelocitySpread * kMinVelocitySpread) b = svf / svv;
-    b_[a] = (std::isfinite(b) && b < 0.0) ? static_cast<float>(b) : 0.0f;
+    const std::optional<double> b = fitSlope(v.data(), f.data(), count_, kMinVelocitySpread);
+    b_[a] = (b && std::isfinite(*b) && *b < 0.0) ? static_cast<float>(*b) : 0.0f;
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include "common/error.h"
 #include "common/format.h"
+#include "haptics/fit_slope.h"
 
 namespace hf::haptics {
 
@@ -76,23 +77,15 @@ void FluidModel::fitMass() {
 void FluidModel::fitDrag() {
   if (held_ < 3) return;
   constexpr double kMinVelocitySpread = 1e-3;  // m/s rms: below, the window says nothing about B
+  std::array<double, kWindow> v{}, f{};
   for (int a = 0; a < 3; ++a) {
-    double mv = 0.0, mf = 0.0;
     for (int i = 0; i < held_; ++i) {
-      mv += velocities_[i][a];
-      mf += forces_[i][a] + mass_kg_ * accels_[i][a];
+      v[i] = velocities_[i][a];
+      f[i] = forces_[i][a] + mass_kg_ * accels_[i][a];  // the added-mass reaction taken out
     }
-    mv /= held_;
-    mf /= held_;
-    double svv = 0.0, svf = 0.0;
-    for (int i = 0; i < held_; ++i) {
-      const double dv = velocities_[i][a] - mv;
-      svv += dv * dv;
-      svf += dv * (forces_[i][a] + mass_kg_ * accels_[i][a] - mf);
-    }
-    if (!(svv > held_ * kMinVelocitySpread * kMinVelocitySpread)) continue;  // keep the last slope
-    const double b = svf / svv;
-    drag_n_s_m_[a] = std::isfinite(b) ? static_cast<float>(std::clamp(b, -max_drag_n_s_m_, 0.0)) : 0.0f;
+    const std::optional<double> b = fitSlope(v.data(), f.data(), held_, kMinVelocitySpread);
+    if (!b) continue;  // keep the last slope
+    drag_n_s_m_[a] = std::isfinite(*b) ? static_cast<float>(std::clamp(*b, -max_drag_n_s_m_, 0.0)) : 0.0f;
   }
 }
 
