@@ -140,7 +140,46 @@ class ForcePipeline {
   const PlaybackGuide& guide() const { return guide_; }
 
  private:
+  // What renders this period, decided once at its start (decide()): an engaged guide first, then
+  // with the coupling the safety stage's ramp-in. Whether the output is off is decided beside it
+  // (Period::output_off), not as a mode: an output that is off renders as its mode says (the
+  // proxy and the filters keep their course for the next period) but commands nothing.
+  enum class TickMode {
+    Direct,     // no coupling: the (predicted) step force, low-passed and mapped
+    Coupled,    // the coupling's spring renders the local model: the proxy steps
+    RampingIn,  // coupled while safety ramps the force in: the steady part alone, the proxy placed
+    Guided,     // the guide is engaged (weight > 0): the steady part on the played probe, blended
+                // in by the guide's weight (with the coupling, the proxy placed)
+  };
+  // One period's decisions and what its stages hand on, made and read only inside tick().
+  struct Period {
+    TickMode mode = TickMode::Direct;
+    bool enabled = false;          // output enabled and a simulation force in hand (safety's enabled)
+    // Not homed, or not enabled with the force back at zero: the proxy starts again at the hand,
+    // the passivity controller rests, the guide does not push.
+    bool output_off = false;
+    double sim_rate_hz = 0.0;      // the simulation's measured rate (0: no force yet), Hz
+    glm::vec3 grip_m_s{0.0f};      // the grip's velocity fitted within the resolution (grip_), m/s
+    glm::vec3 grip_now_m_s{0.0f};  // ... over the shortest span (grip_now_), m/s
+    GuideTick guide;               // the playback guide's period
+    glm::vec3 smoothed_n{0.0f};    // the low-passed fluid force, fluid N
+    bool spring_rendered = false;  // the coupling's spring rendered this period's force
+  };
+  // The stages, in tick()'s order; each fills its part of TickOutput.
+  Period followHand(const TickInput& in, TickOutput& out);
+  void decide(const TickInput& in, Period& p) const;
+  void fluidForce(const TickInput& in, TickOutput& out);
+  void smooth(const TickInput& in, Period& p, TickOutput& out);
+  void render(const TickInput& in, Period& p, TickOutput& out);
+  void blendPlayed(const Period& p, TickOutput& out) const;
+  void keepPassive(const TickInput& in, const Period& p, TickOutput& out);
+  void addGuide(const Period& p, TickOutput& out) const;
+  void clamp(const TickInput& in, const Period& p, TickOutput& out);
+  void slipProxy(const TickInput& in, const Period& p, const TickOutput& out);
+
   PipelineSettings s_;
+  bool coupled_;               // s_.coupling.active(): the coupling renders (for the pipeline's life)
+  LowPassSettings filter_in_use_;  // s_.filter, with the coupling's share of the bandwidth (filterFor)
   DragPredictor predictor_;
   FluidModel model_;
   VirtualCoupling coupling_;

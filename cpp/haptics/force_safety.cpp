@@ -91,7 +91,7 @@ glm::vec3 ForceSafety::apply(const SafetyInput& in) {
     return last_;
   }
   ramp_time_s_ += in.dt_s;
-  const double scale = rampFactor(ramp_time_s_, s_.ramp_s) * staleFactor(in.force_age_s, stale_after_s_, s_.fade_s);
+  const double scale = ramp() * staleFactor(in.force_age_s, stale_after_s_, s_.fade_s);
   const glm::vec3 target = clampMagnitude(static_cast<float>(scale) * in.force_n, s_.max_force_n);
   last_ = clampMagnitude(slewLimit(last_, target, max_step_n), s_.max_force_n);
   return last_;

@@ -75,13 +75,18 @@ class ForceSafety {
   explicit ForceSafety(const SafetySettings& s) : s_(s) {}
   glm::vec3 apply(const SafetyInput& in);
   void reset();
-  double rampS() const { return ramp_time_s_; }
+  // True while the ramp-in after a (re)start has not reached full scale: the latest apply() scaled
+  // its force by less than 1, or force has not (re)started since. The coupled rendering renders its
+  // steady part alone meanwhile (force_pipeline.h).
+  bool rampingIn() const { return ramp() < 1.0; }
   double staleAfter() const { return stale_after_s_; }  // the threshold of the latest apply(), s
   std::uint64_t nonFiniteCount() const { return non_finite_; }
   const glm::vec3& last() const { return last_; }
   const SafetySettings& settings() const { return s_; }
 
  private:
+  double ramp() const { return rampFactor(ramp_time_s_, s_.ramp_s); }  // this ramp-in's scale, 0 .. 1
+
   SafetySettings s_;
   glm::vec3 last_{0.0f};
   double ramp_time_s_ = 0.0;  // time since force was last allowed to start
