@@ -198,8 +198,13 @@ void HapticLoop::run() {
 void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   const DeviceState state = device_->read();
   latest_state_.write(state);
-  const WorkspaceMap& map = s_.pipeline.map;
+  const TickOutput out = pipeline_.tick(takeInputs(now_s, dt_s, may_enable, state));
+  poses_.write(probePose(state, out, now_s));
+  device_->writeForce(out.commanded_n);
+  publish(state, out, now_s);
+}
 
+TickInput HapticLoop::takeInputs(double now_s, double dt_s, bool may_enable, const DeviceState& state) {
   TickInput in;
   // The played pose, if the host set one: into the device frame, inside the device's reach.
   GuideTarget host;
@@ -207,8 +212,8 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   if (played_.active) {
     last_played_ = played_;
     in.guide = played_;
-    in.guide.position_m = glm::clamp((played_.position_m - map.offset_m) / map.scale, reach_lo_m_, reach_hi_m_);
-    in.guide.velocity_m_s = played_.velocity_m_s / map.scale;
+    in.guide.position_m = glm::clamp(s_.pipeline.map.positionToDevice(played_.position_m), reach_lo_m_, reach_hi_m_);
+    in.guide.velocity_m_s = s_.pipeline.map.velocityToDevice(played_.velocity_m_s);
   }
   std::uint64_t version = 0;
   ForceFrame frame;
@@ -228,20 +233,22 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
   in.have_force = have_force_;
   in.force = force_;
   in.enabled = may_enable && enabled_.load(std::memory_order_acquire);
-  const TickOutput out = pipeline_.tick(in);
+  return in;
+}
 
-  // The probe's pose for the simulation: the grip's, or with the guide engaged (weight w) the
-  // played pose, blended by w so the probe is handed over between them without a step.
+PoseFrame HapticLoop::probePose(const DeviceState& state, const TickOutput& out, double now_s) const {
+  const WorkspaceMap& map = s_.pipeline.map;
+  // The grip's pose, with the velocity the pipeline chose for the simulation (TickOutput::grip_velocity_m_s).
   PoseFrame pose;
   pose.position_m = map.positionToDomain(state.position_m);
-  // Its velocity: the grip's the pipeline chose for the simulation (TickOutput::grip_velocity_m_s).
   pose.velocity_m_s = map.velocityToDomain(out.grip_velocity_m_s);
   if (out.guide_weight > 0.0f) {
+    // With the guide engaged (weight w) the played pose, blended by w so the probe is handed over
+    // between them without a step: the played pose itself as the host gave it, carried forward as
+    // the guide carries it (not the device target, which is kept inside the device's reach); after
+    // a release, the last one.
     const float w = out.guide_weight;
-    // The played pose itself as the host gave it, carried forward as the guide carries it (not the
-    // device target, which is kept inside the device's reach); after a release, the last one.
-    const double ahead_s = std::clamp(now_s - last_played_.time_s, 0.0, s_.pipeline.guide.stale_s);
-    const glm::vec3 played_m = last_played_.position_m + static_cast<float>(ahead_s) * last_played_.velocity_m_s;
+    const glm::vec3 played_m = carriedForward(last_played_, now_s, s_.pipeline.guide.stale_s);
     const glm::vec3 played_m_s = map.velocityToDomain(out.guide_target_m_s);
     pose.position_m += w * (played_m - pose.position_m);
     pose.velocity_m_s += w * (played_m_s - pose.velocity_m_s);
@@ -253,29 +260,28 @@ void HapticLoop::tickOnce(double now_s, double dt_s, bool may_enable) {
     pose.orientation = map.orientationToDomain(state.orientation);
     pose.angular_velocity_rad_s = map.angularVelocityToDomain(state.angular_velocity_rad_s);
   }
-  poses_.write(pose);
+  return pose;
+}
 
-  device_->writeForce(out.commanded_n);
-
+void HapticLoop::publish(const DeviceState& state, const TickOutput& out, double now_s) {
   non_finite_.store(pipeline_.safety().nonFiniteCount(), std::memory_order_relaxed);
   passivity_.write(pipeline_.passivity().state());
   latest_.write(out);
-  if (trace_.capacity() > 0) {
-    TraceSample t;
-    t.time_s = now_s;
-    t.position_m = state.position_m;
-    t.sim_force_n = out.sim_force_n;
-    t.filtered_n = out.filtered_n;
-    t.commanded_n = out.commanded_n;
-    t.guide_n = out.guide_n;
-    if (have_force_) {
-      t.step_velocity_m_s = force_.probe_velocity_m_s;
-      t.step_dt_s = force_.step_dt_s;
-      t.step_pose_time_s = force_.pose_time_s;
-    }
-    if (out.coupled) t.model_added_mass_kg = static_cast<float>(pipeline_.model().addedMassKg());
-    trace_.push(t);
+  if (trace_.capacity() == 0) return;
+  TraceSample t;
+  t.time_s = now_s;
+  t.position_m = state.position_m;
+  t.sim_force_n = out.sim_force_n;
+  t.filtered_n = out.filtered_n;
+  t.commanded_n = out.commanded_n;
+  t.guide_n = out.guide_n;
+  if (have_force_) {
+    t.step_velocity_m_s = force_.probe_velocity_m_s;
+    t.step_dt_s = force_.step_dt_s;
+    t.step_pose_time_s = force_.pose_time_s;
   }
+  if (out.coupled) t.model_added_mass_kg = static_cast<float>(pipeline_.model().addedMassKg());
+  trace_.push(t);
 }
 
 LoopStats HapticLoop::stats() const {

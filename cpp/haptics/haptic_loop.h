@@ -105,7 +105,16 @@ class HapticLoop {
 
  private:
   void run();
+  // One period: device.read() -> takeInputs -> ForcePipeline::tick -> the probe's pose to the
+  // simulation -> device.writeForce() -> publish (stats, latest(), the trace).
   void tickOnce(double now_s, double dt_s, bool may_enable);  // may_enable false: stopping
+  // The pipeline's input: the played pose from the host (device frame, inside the device's reach),
+  // the newest simulation force (counting frames and their latency), this reading.
+  TickInput takeInputs(double now_s, double dt_s, bool may_enable, const DeviceState& state);
+  // The probe's pose for the simulation (domain frame): the grip's, or with the guide engaged
+  // (weight w) the played pose, blended by w.
+  PoseFrame probePose(const DeviceState& state, const TickOutput& out, double now_s) const;
+  void publish(const DeviceState& state, const TickOutput& out, double now_s);
 
   DevicePtr device_;
   Mailbox<PoseFrame>& poses_;

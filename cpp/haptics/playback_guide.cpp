@@ -28,6 +28,11 @@ void GuideSettings::validate() const {
   }
 }
 
+glm::vec3 carriedForward(const GuideTarget& target, double now_s, double stale_s) {
+  const float ahead = static_cast<float>(std::clamp(now_s - target.time_s, 0.0, stale_s));
+  return target.position_m + ahead * target.velocity_m_s;
+}
+
 PlaybackGuide::PlaybackGuide(const GuideSettings& s) : s_((s.validate(), s)) {}
 
 void PlaybackGuide::reset() {
@@ -47,8 +52,7 @@ GuideTick PlaybackGuide::step(const GuideTarget& target, const glm::vec3& hand_m
   out.weight = weight_;
   if (weight_ <= 0.0f || !last_.active) return out;
   // Carried forward at its velocity: the host sets it at its own tick rate (30-60 Hz, less under load).
-  const float ahead = static_cast<float>(std::clamp(now_s - last_.time_s, 0.0, s_.stale_s));
-  out.target_m = last_.position_m + ahead * last_.velocity_m_s;
+  out.target_m = carriedForward(last_, now_s, s_.stale_s);
   out.target_m_s = now_s - last_.time_s < s_.stale_s ? last_.velocity_m_s : glm::vec3(0.0f);
   if (!allFinite(hand_m) || !allFinite(hand_m_s)) return out;
   const glm::vec3 pull = s_.stiffness_n_m * (out.target_m - hand_m) + s_.damping_n_s_m * (out.target_m_s - hand_m_s);

@@ -48,6 +48,10 @@ struct GuideTarget {
   double time_s = 0.0;  // monotonicNowS() when the host set it
 };
 
+// The played position now: the target carried forward at its velocity since it was set, for at
+// most stale_s (after that the guide lets go), in the target's own frame.
+glm::vec3 carriedForward(const GuideTarget& target, double now_s, double stale_s);
+
 struct GuideTick {
   glm::vec3 force_n{0.0f};   // on the hand, device N
   glm::vec3 target_m{0.0f};  // the played pose now (carried forward), device frame

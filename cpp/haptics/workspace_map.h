@@ -2,7 +2,7 @@
 #pragma once
 // WorkspaceMap: the device's workspace onto the fluid domain, and the fluid's force back.
 //   domain position = offset + scale * device position     (per axis; a negative scale flips it)
-//   domain velocity = scale * device velocity
+//   domain velocity = scale * device velocity          (positionToDevice, velocityToDevice: the inverse)
 //   device force    = force_gain * sign(scale) * fluid force (device N per fluid N)
 //   domain axes     = sign(scale) * device force (forceToDomainAxes: the same newtons, the
 //                     mirror undone; the direction the fluid's force had)
@@ -22,6 +22,8 @@ struct WorkspaceMap {
   void validate() const;        // throws InvalidArgument naming the bad value
   glm::vec3 positionToDomain(const glm::vec3& p) const { return offset_m + scale * p; }
   glm::vec3 velocityToDomain(const glm::vec3& v) const { return scale * v; }
+  glm::vec3 positionToDevice(const glm::vec3& p) const { return (p - offset_m) / scale; }  // the inverse
+  glm::vec3 velocityToDevice(const glm::vec3& v) const { return v / scale; }
   glm::vec3 forceToDevice(const glm::vec3& f) const { return force_gain * glm::sign(scale) * f; }
   glm::vec3 forceToDomainAxes(const glm::vec3& device_n) const { return glm::sign(scale) * device_n; }
   glm::quat orientationToDomain(const glm::quat& q) const {
