@@ -43,8 +43,7 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
   // The virtual coupling's spring and damper: shares of the device's stable limits unless given
   // (a device that reports none keeps the seed's rendering: coupling.active() is false).
   CouplingSettings& c = s.pipeline.coupling;
-  if (c.stiffness_n_m == 0.0f) c.stiffness_n_m = kCouplingStiffnessShare * device.info().max_stiffness_n_m;
-  if (c.damping_n_s_m == 0.0f) c.damping_n_s_m = kCouplingDampingShare * device_damping;
+  c = couplingOn(c, device.info());
   const float device_stiffness = device.info().max_stiffness_n_m;
   if (device_stiffness > 0.0f && c.stiffness_n_m > device_stiffness) {
     throw InvalidArgument("coupling_stiffness " + std::to_string(c.stiffness_n_m) + " N/m is above the maximum stiffness of '" +
@@ -81,6 +80,12 @@ HapticLoopSettings checkedAgainst(HapticLoopSettings s, const Device& device) {
 }
 
 }  // namespace
+
+CouplingSettings couplingOn(CouplingSettings c, const DeviceInfo& device) {
+  if (c.stiffness_n_m == 0.0f) c.stiffness_n_m = kCouplingStiffnessShare * device.max_stiffness_n_m;
+  if (c.damping_n_s_m == 0.0f) c.damping_n_s_m = kCouplingDampingShare * device.max_damping_n_s_m;
+  return c;
+}
 
 void HapticLoopSettings::validate() const {
   if (!std::isfinite(rate_hz) || rate_hz < 100.0 || rate_hz > 10000.0) {

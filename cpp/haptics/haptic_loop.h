@@ -36,6 +36,11 @@ struct HapticLoopSettings {
   void validate() const;
 };
 
+// The virtual coupling as a loop on this device renders it: a stiffness or damping left at 0 takes
+// its share of the device's stable limits (kCouplingStiffnessShare, kCouplingDampingShare); it
+// renders where the result is active() (a device that reports no stiffness keeps the seed's rendering).
+CouplingSettings couplingOn(CouplingSettings c, const DeviceInfo& device);
+
 struct TraceSample {                   // one haptic period
   double time_s = 0.0;                 // monotonic clock
   glm::vec3 position_m{0.0f};          // device frame
