@@ -9,9 +9,9 @@
 #include "common/finite.h"
 #include "common/format.h"
 #include "fluid/validate.h"
-#include "haptics/clock.h"
-#include "haptics/rendering_limits.h"
-#include "haptics/rate_estimator.h"
+#include "haptics/handoff/clock.h"
+#include "haptics/loop/rate_estimator.h"
+#include "haptics/rendering/rendering_limits.h"
 #include "session/simulation.h"
 #include "session/simulation_claim.h"
 

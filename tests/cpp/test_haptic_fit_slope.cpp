@@ -5,7 +5,7 @@
 #include <cmath>
 #include <optional>
 
-#include "haptics/fit_slope.h"
+#include "haptics/rendering/fit_slope.h"
 
 namespace hf::haptics {
 namespace {

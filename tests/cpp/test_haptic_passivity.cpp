@@ -10,9 +10,9 @@
 #include <limits>
 
 #include "common/error.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/passivity_controller.h"
-#include "haptics/rendering_limits.h"
+#include "haptics/rendering/force_pipeline.h"
+#include "haptics/rendering/passivity_controller.h"
+#include "haptics/rendering/rendering_limits.h"
 
 namespace hf::haptics {
 namespace {

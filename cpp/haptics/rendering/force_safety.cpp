@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/force_safety.h"
+#include "haptics/rendering/force_safety.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/null_device.h"
+#include "haptics/devices/null_device.h"
 
 #include <cmath>
 #include <string>
 
 #include "common/error.h"
-#include "haptics/clock.h"
-#include "haptics/device_checks.h"
+#include "haptics/devices/device_checks.h"
+#include "haptics/handoff/clock.h"
 
 namespace hf::haptics {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/device_claim.h"
+#include "haptics/devices/device_claim.h"
 
 #include "common/error.h"
 

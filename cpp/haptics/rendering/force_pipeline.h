@@ -21,17 +21,17 @@
 // controller rests (reset).
 #include <cstdint>
 
-#include "haptics/device.h"
-#include "haptics/drag_predictor.h"
-#include "haptics/fluid_model.h"
-#include "haptics/force_safety.h"
-#include "haptics/frames.h"
-#include "haptics/grip_motion.h"
-#include "haptics/low_pass_filter.h"
-#include "haptics/passivity_controller.h"
-#include "haptics/playback_guide.h"
-#include "haptics/virtual_coupling.h"
-#include "haptics/workspace_map.h"
+#include "haptics/devices/device.h"
+#include "haptics/handoff/frames.h"
+#include "haptics/rendering/drag_predictor.h"
+#include "haptics/rendering/fluid_model.h"
+#include "haptics/rendering/force_safety.h"
+#include "haptics/rendering/grip_motion.h"
+#include "haptics/rendering/low_pass_filter.h"
+#include "haptics/rendering/passivity_controller.h"
+#include "haptics/rendering/playback_guide.h"
+#include "haptics/rendering/virtual_coupling.h"
+#include "haptics/rendering/workspace_map.h"
 
 namespace hf::haptics {
 

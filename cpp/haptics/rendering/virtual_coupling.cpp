@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/virtual_coupling.h"
+#include "haptics/rendering/virtual_coupling.h"
 
 #include <cmath>
 

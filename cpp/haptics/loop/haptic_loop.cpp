@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/haptic_loop.h"
+#include "haptics/loop/haptic_loop.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/error.h"
 #include "common/log_sink.h"
-#include "haptics/clock.h"
-#include "haptics/device_claim.h"
-#include "haptics/periodic_clock.h"
+#include "haptics/devices/device_claim.h"
+#include "haptics/handoff/clock.h"
+#include "haptics/loop/periodic_clock.h"
 
 namespace hf::haptics {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/clock.h"
+#include "haptics/handoff/clock.h"
 
 #include <time.h>
 

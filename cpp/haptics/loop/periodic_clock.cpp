@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/periodic_clock.h"
+#include "haptics/loop/periodic_clock.h"
 
 #include <pthread.h>
 #include <sched.h>

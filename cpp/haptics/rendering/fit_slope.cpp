@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/fit_slope.h"
+#include "haptics/rendering/fit_slope.h"
 
 namespace hf::haptics {
 

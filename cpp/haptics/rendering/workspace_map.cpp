@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/workspace_map.h"
+#include "haptics/rendering/workspace_map.h"
 
 #include <cmath>
 #include <string>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/playback_guide.h"
+#include "haptics/rendering/playback_guide.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/drag_predictor.h"
+#include "haptics/rendering/drag_predictor.h"
 
 #include <cmath>
 
-#include "haptics/fit_slope.h"
+#include "haptics/rendering/fit_slope.h"
 
 namespace hf::haptics {
 

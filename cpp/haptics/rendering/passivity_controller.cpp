@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/passivity_controller.h"
+#include "haptics/rendering/passivity_controller.h"
 
 #include <algorithm>
 #include <cmath>

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "haptics/device.h"
-#include "haptics/mailbox.h"
+#include "haptics/devices/device.h"
+#include "haptics/handoff/mailbox.h"
 
 namespace hf::haptics {
 

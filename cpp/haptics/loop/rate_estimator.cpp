@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/rate_estimator.h"
+#include "haptics/loop/rate_estimator.h"
 
 namespace hf::haptics {
 

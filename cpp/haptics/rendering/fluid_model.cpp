@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/fluid_model.h"
+#include "haptics/rendering/fluid_model.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/error.h"
 #include "common/format.h"
-#include "haptics/fit_slope.h"
+#include "haptics/rendering/fit_slope.h"
 
 namespace hf::haptics {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/rendering_limits.h"
+#include "haptics/rendering/rendering_limits.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/scripted_device.h"
+#include "haptics/devices/scripted_device.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 
 #include "common/error.h"
 #include "common/finite.h"
-#include "haptics/clock.h"
-#include "haptics/device_checks.h"
+#include "haptics/devices/device_checks.h"
+#include "haptics/handoff/clock.h"
 
 namespace hf::haptics {
 

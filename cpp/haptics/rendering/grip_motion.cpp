@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/grip_motion.h"
+#include "haptics/rendering/grip_motion.h"
 
 #include <algorithm>
 #include <cmath>

@@ -17,12 +17,12 @@
 #include <thread>
 #include <vector>
 
-#include "haptics/device.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/frames.h"
-#include "haptics/mailbox.h"
-#include "haptics/sample_window.h"
-#include "haptics/trace_ring.h"
+#include "haptics/devices/device.h"
+#include "haptics/handoff/frames.h"
+#include "haptics/handoff/mailbox.h"
+#include "haptics/loop/sample_window.h"
+#include "haptics/loop/trace_ring.h"
+#include "haptics/rendering/force_pipeline.h"
 
 namespace hf::haptics {
 

@@ -4,7 +4,7 @@
 // nothing to home) and it accepts and discards forces, so a session runs without hardware.
 #include <atomic>
 
-#include "haptics/device.h"
+#include "haptics/devices/device.h"
 
 namespace hf::haptics {
 

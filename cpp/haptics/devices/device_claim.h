@@ -6,7 +6,7 @@
 // claim turns both into a clear error instead.
 #include <string>
 
-#include "haptics/device.h"
+#include "haptics/devices/device.h"
 
 namespace hf::haptics {
 

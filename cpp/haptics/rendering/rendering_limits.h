@@ -13,7 +13,7 @@
 // A device that reports neither limit (virtual devices) gets gain 1.
 #include <string>
 
-#include "haptics/device.h"
+#include "haptics/devices/device.h"
 
 namespace hf::haptics {
 

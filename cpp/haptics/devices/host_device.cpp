@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/host_device.h"
+#include "haptics/devices/host_device.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 
 #include "common/error.h"
 #include "common/finite.h"
-#include "haptics/clock.h"
-#include "haptics/device_checks.h"
+#include "haptics/devices/device_checks.h"
+#include "haptics/handoff/clock.h"
 
 namespace hf::haptics {
 

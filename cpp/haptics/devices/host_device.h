@@ -14,8 +14,8 @@
 #include <cstdint>
 #include <mutex>
 
-#include "haptics/device.h"
-#include "haptics/mailbox.h"
+#include "haptics/devices/device.h"
+#include "haptics/handoff/mailbox.h"
 
 namespace hf::haptics {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "haptics/low_pass_filter.h"
+#include "haptics/rendering/low_pass_filter.h"
 
 #include <algorithm>
 #include <cmath>
