@@ -127,7 +127,7 @@ void ForcePipeline::fluidForce(const TickInput& in, TickOutput& out) {
 }
 
 // The low-pass, its cutoff from the simulation's measured rate (filter_in_use_); it never lets a
-// NaN into its memory, and starts afresh when force resumes.
+// NaN into its memory and is emptied while no force is commanded, so force resumes from zero.
 void ForcePipeline::smooth(const TickInput& in, Period& p, TickOutput& out) {
   p.smoothed_n = out.predicted_n;
   if (filter_in_use_.enabled) {

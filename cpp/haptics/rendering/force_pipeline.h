@@ -19,6 +19,8 @@
 // rendering's steady part on the played probe (at most kPlayedForceShare of the guide's force)
 // blended in by the guide's weight, the coupling's proxy is held at the hand and the passivity
 // controller rests (reset).
+// tick() runs these as named stages (the private methods below, force_pipeline.cpp), after deciding
+// the period's mode once (decide()).
 #include <cstdint>
 
 #include "haptics/devices/device.h"
@@ -178,7 +180,7 @@ class ForcePipeline {
   void slipProxy(const TickInput& in, const Period& p, const TickOutput& out);
 
   PipelineSettings s_;
-  bool coupled_;               // s_.coupling.active(): the coupling renders (for the pipeline's life)
+  bool coupled_ = false;           // s_.coupling.active(): the coupling renders (for the pipeline's life)
   LowPassSettings filter_in_use_;  // s_.filter, with the coupling's share of the bandwidth (filterFor)
   DragPredictor predictor_;
   FluidModel model_;
