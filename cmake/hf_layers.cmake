@@ -8,6 +8,11 @@
 # is the layer's include directory. A target sees its own view and those of the layers it links
 # (usage requirements are transitive), so `#include "session/simulation.h"` from cpp/fluid fails
 # to compile ("No such file or directory"): a lower layer cannot include a higher one.
+#
+# A layer may be a folder's sub-folder (the haptics parts: "haptics/devices"): its view is
+# <build>/layers/haptics/devices, holding the link haptics/devices -> cpp/haptics/devices, so a
+# target that sees one part does not see its sibling parts. The view links the whole folder, so
+# a folder that is a layer of its own is never nested inside another layer's folder.
 
 # hf_layer_view(<target> <folder> [PUBLIC|PRIVATE|INTERFACE])
 # Gives <target> the view of cpp/<folder> (default PUBLIC; INTERFACE for header-only layers).
@@ -17,8 +22,9 @@ function(hf_layer_view target folder)
     set(scope ${ARGV2})
   endif()
   set(view ${PROJECT_BINARY_DIR}/layers/${folder})
-  file(MAKE_DIRECTORY ${view})
   set(link ${view}/${folder})
+  get_filename_component(link_parent ${link} DIRECTORY)
+  file(MAKE_DIRECTORY ${link_parent})
   set(target_dir ${PROJECT_SOURCE_DIR}/cpp/${folder})
   if(IS_SYMLINK ${link})
     file(READ_SYMLINK ${link} current)

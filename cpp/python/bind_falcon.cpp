@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "common/error.h"
-#include "haptics/device.h"
-#include "haptics/device_claim.h"
+#include "haptics/devices/device.h"
+#include "haptics/devices/device_claim.h"
 #include "haptics/falcon/falcon.h"
 #include "python/bindings.h"
 #include "python/convert.h"

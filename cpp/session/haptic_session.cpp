@@ -9,9 +9,9 @@
 #include "common/finite.h"
 #include "common/format.h"
 #include "fluid/validate.h"
-#include "haptics/clock.h"
-#include "haptics/rendering_limits.h"
-#include "haptics/rate_estimator.h"
+#include "haptics/handoff/clock.h"
+#include "haptics/loop/rate_estimator.h"
+#include "haptics/rendering/rendering_limits.h"
 #include "session/simulation.h"
 #include "session/simulation_claim.h"
 
@@ -42,9 +42,7 @@ HapticSessionSettings withForceGain(HapticSessionSettings s, const Simulation& s
   const glm::vec3 scale = glm::abs(s.loop.pipeline.map.scale);
   const double step_s = s.sim_dt_s > 0.0 ? s.sim_dt_s : s.min_sim_dt_s;
   const haptics::DeviceInfo info = device->info();
-  const auto& coupling = s.loop.pipeline.coupling;
-  // The coupling renders when enabled on a device with a stiffness (the loop fills it from the device).
-  const bool coupled = coupling.enabled && (coupling.stiffness_n_m > 0.0f || info.max_stiffness_n_m > 0.0f);
+  const bool coupled = haptics::couplingOn(s.loop.pipeline.coupling, info).active();
   const double max_scale = std::max({scale.x, scale.y, scale.z});
   // At rest the probe feels buoyancy: rho |g| V (N).
   const double steady_n = sim.params().density_kg_m3 * glm::length(glm::dvec3(sim.params().gravity_m_s2)) * volume_m3;

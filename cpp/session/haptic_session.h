@@ -24,9 +24,9 @@
 #include <utility>
 #include <vector>
 
-#include "haptics/device.h"
-#include "haptics/haptic_loop.h"
-#include "haptics/mailbox.h"
+#include "haptics/devices/device.h"
+#include "haptics/handoff/mailbox.h"
+#include "haptics/loop/haptic_loop.h"
 #include "obstacle/triangle_mesh.h"
 #include "session/field_snapshot.h"
 
@@ -79,7 +79,7 @@ struct HapticSessionSettings {
   double min_sim_dt_s = 0.01;
   double max_sim_dt_s = 0.05;
   // True: loop.pipeline.map.force_gain is replaced by the gain the device can render for this
-  // probe, fluid and workspace scale (haptics/rendering_limits.h); false: the given gain is used.
+  // probe, fluid and workspace scale (haptics/rendering/rendering_limits.h); false: the given gain is used.
   bool derive_force_gain = true;
   // A given gain above the derived one (what the rendering holds passively) is refused unless
   // this is set: the user accepted that the rendering may then put energy into the hand.
@@ -161,7 +161,7 @@ class HapticSession {
 
   // Haptic playback: the pose the host plays (the keys the timeline plays; domain frame, world m,
   // and its velocity in m/s). The fluid's probe takes it instead of the grip's, and a guide
-  // (haptics/playback_guide.h) pulls the grip along it at the haptic rate so the hand feels the
+  // (haptics/rendering/playback_guide.h) pulls the grip along it at the haptic rate so the hand feels the
   // played motion (with the fluid's force on the played probe). Call it at each host tick; a pose
   // not renewed within guide_stale lets go. The grip and the probe are handed over within
   // guide_ramp (no step). Throws InvalidArgument naming position or velocity (not finite; a speed

@@ -129,7 +129,9 @@ TEST_F(MultigridFused, CoarsestSolveInOneDispatchEqualsTheSweeps) {
   EXPECT_EQ(b_before, b_after);
   double largest = 0.0;
   for (std::size_t i = 0; i < m.size(); ++i) {
-    if (m[i] & kSolid) EXPECT_EQ(fused[i], 0.0f) << "solid cells hold 0";
+    if (m[i] & kSolid) {
+      EXPECT_EQ(fused[i], 0.0f) << "solid cells hold 0";
+    }
     largest = std::max(largest, double(std::fabs(fused[i])));
   }
   EXPECT_GT(largest, 0.1) << "the solve did something";

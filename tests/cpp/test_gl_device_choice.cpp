@@ -5,6 +5,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.h"
@@ -50,6 +51,7 @@ TEST(GlDeviceChoice, SoftwareRenderersAreRecognised) {
 // Runs chooseDevice over fake attempts: `renderers` maps a device index to its GL_RENDERER
 // ("" = making the context fails). Records which were tried and which discarded.
 struct Fake {
+  explicit Fake(std::map<int, std::string> r = {}) : renderers(std::move(r)) {}
   std::map<int, std::string> renderers;
   std::vector<int> tried, discarded;
   DeviceChoice choose(const std::string& request, const std::vector<DeviceDesc>& devices) {

@@ -9,11 +9,11 @@
 #include <random>
 
 #include "common/error.h"
-#include "haptics/fluid_model.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/grip_motion.h"
-#include "haptics/rendering_limits.h"
-#include "haptics/virtual_coupling.h"
+#include "haptics/rendering/fluid_model.h"
+#include "haptics/rendering/force_pipeline.h"
+#include "haptics/rendering/grip_motion.h"
+#include "haptics/rendering/rendering_limits.h"
+#include "haptics/rendering/virtual_coupling.h"
 
 namespace hf::haptics {
 namespace {

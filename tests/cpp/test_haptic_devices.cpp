@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "common/error.h"
-#include "haptics/host_device.h"
-#include "haptics/null_device.h"
-#include "haptics/scripted_device.h"
-#include "haptics/workspace_map.h"
+#include "haptics/devices/host_device.h"
+#include "haptics/devices/null_device.h"
+#include "haptics/devices/scripted_device.h"
+#include "haptics/rendering/workspace_map.h"
 
 namespace hf::haptics {
 namespace {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <vector>
 
-#include "haptics/drag_predictor.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/low_pass_filter.h"
-#include "haptics/rate_estimator.h"
+#include "haptics/loop/rate_estimator.h"
+#include "haptics/rendering/drag_predictor.h"
+#include "haptics/rendering/force_pipeline.h"
+#include "haptics/rendering/low_pass_filter.h"
 
 namespace hf::haptics {
 namespace {

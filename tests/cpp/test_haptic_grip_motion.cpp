@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "haptics/grip_motion.h"
+#include "haptics/rendering/grip_motion.h"
 
 namespace hf::haptics {
 namespace {

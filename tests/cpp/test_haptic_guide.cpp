@@ -14,10 +14,10 @@
 #include <memory>
 
 #include "common/error.h"
-#include "haptics/clock.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/haptic_loop.h"
-#include "haptics/playback_guide.h"
+#include "haptics/handoff/clock.h"
+#include "haptics/loop/haptic_loop.h"
+#include "haptics/rendering/force_pipeline.h"
+#include "haptics/rendering/playback_guide.h"
 #include "test_common.h"
 
 namespace hf::haptics {

@@ -11,13 +11,13 @@
 #include <vector>
 
 #include "common/error.h"
-#include "haptics/clock.h"
-#include "haptics/device_claim.h"
+#include "haptics/devices/device_claim.h"
+#include "haptics/devices/host_device.h"
+#include "haptics/devices/null_device.h"
+#include "haptics/devices/scripted_device.h"
 #include "haptics/falcon/falcon.h"
-#include "haptics/haptic_loop.h"
-#include "haptics/host_device.h"
-#include "haptics/null_device.h"
-#include "haptics/scripted_device.h"
+#include "haptics/handoff/clock.h"
+#include "haptics/loop/haptic_loop.h"
 #include "test_common.h"
 
 namespace hf::haptics {

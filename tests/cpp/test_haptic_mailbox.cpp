@@ -8,9 +8,9 @@
 #include <thread>
 #include <vector>
 
-#include "haptics/mailbox.h"
-#include "haptics/sample_window.h"
-#include "haptics/trace_ring.h"
+#include "haptics/handoff/mailbox.h"
+#include "haptics/loop/sample_window.h"
+#include "haptics/loop/trace_ring.h"
 
 namespace hf::haptics {
 namespace {

@@ -6,8 +6,8 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "common/error.h"
-#include "haptics/host_device.h"
-#include "haptics/workspace_map.h"
+#include "haptics/devices/host_device.h"
+#include "haptics/rendering/workspace_map.h"
 
 namespace hf::haptics {
 namespace {

@@ -10,9 +10,9 @@
 #include <limits>
 
 #include "common/error.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/passivity_controller.h"
-#include "haptics/rendering_limits.h"
+#include "haptics/rendering/force_pipeline.h"
+#include "haptics/rendering/passivity_controller.h"
+#include "haptics/rendering/rendering_limits.h"
 
 namespace hf::haptics {
 namespace {
@@ -431,7 +431,9 @@ TEST(HapticPassivity, EasesAForceAgainstTheMotionBeforeTheHandTurns) {
       // dead-band passes the force for the periods the hand is below 1 mm/s); without the plan
       // (the turn branch switched off) 0.2 to 3.4 mJ, over 1 mJ in 4 of these 15 flicks.
       EXPECT_LE(run.net_j, 1e-3) << k << " N/m, " << speed << " m/s";
-      if (speed >= 0.1) EXPECT_GT(run.turn_ticks, 0u) << k << " N/m, " << speed << " m/s";
+      if (speed >= 0.1) {
+        EXPECT_GT(run.turn_ticks, 0u) << k << " N/m, " << speed << " m/s";
+      }
     }
   }
 }

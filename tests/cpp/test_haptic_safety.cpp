@@ -7,8 +7,8 @@
 #include <random>
 
 #include "common/error.h"
-#include "haptics/force_pipeline.h"
-#include "haptics/force_safety.h"
+#include "haptics/rendering/force_pipeline.h"
+#include "haptics/rendering/force_safety.h"
 
 namespace hf::haptics {
 namespace {

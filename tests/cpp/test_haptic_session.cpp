@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "common/error.h"
-#include "haptics/host_device.h"
+#include "haptics/devices/host_device.h"
 #include "session/haptic_session.h"
 #include "session/simulation.h"
 #include "test_util.h"

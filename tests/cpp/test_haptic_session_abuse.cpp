@@ -14,8 +14,8 @@
 
 #include "common/error.h"
 #include "fluid/validate.h"
-#include "haptics/host_device.h"
-#include "haptics/null_device.h"
+#include "haptics/devices/host_device.h"
+#include "haptics/devices/null_device.h"
 #include "session/haptic_session.h"
 #include "session/simulation.h"
 #include "session/simulation_claim.h"

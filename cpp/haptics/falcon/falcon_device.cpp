@@ -3,9 +3,9 @@
 
 #include <cmath>
 
+#include "common/finite.h"
 #include "common/format.h"
-#include "haptics/clock.h"
-#include "haptics/force_safety.h"
+#include "haptics/handoff/clock.h"
 
 namespace hf::haptics::falcon {
 namespace {

@@ -14,7 +14,7 @@
 #include <memory>
 #include <mutex>
 
-#include "haptics/device.h"
+#include "haptics/devices/device.h"
 #include "haptics/falcon/falcon_kinematics.h"
 #include "haptics/falcon/falcon_packet.h"
 #include "haptics/falcon/firmware_loader.h"
