@@ -89,8 +89,9 @@ class BakeResult:
 def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
     """Put the probe where the trajectory says for one substep (assembly.place_probe: a sphere
     placed whole, its radius following the transform's scale; a mesh uploaded once, then only moved)."""
-    assembly.place_probe(sim, probe.shape, motion.pose.matrix(), radius=probe.radius, vertices=probe.vertices,
-                         triangles=probe.triangles, velocity=motion.velocity, angular_velocity=motion.angular_velocity)
+    assembly.place_probe(sim, assembly.Probe(probe.shape, motion.pose.matrix(), radius=probe.radius,
+                                             vertices=probe.vertices, triangles=probe.triangles,
+                                             velocity=motion.velocity, angular_velocity=motion.angular_velocity))
 
 
 def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: int, n: int, dt: float) -> None:
@@ -101,13 +102,18 @@ def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: 
     apply_probe(sim, probe, probe.trajectory.motion(a, b, dt))
 
 
+def source_at(source: SmokeSource, frame_time: float) -> "assembly.Source":
+    """The smoke source where it is at ``frame_time`` (frames): a sphere stays put; a mesh is at
+    its trajectory's pose."""
+    matrix = None if source.shape == "sphere" else source.trajectory.pose(frame_time).matrix()
+    return assembly.Source(source.shape, source.density, source.temperature, source.emission, centre=source.centre,
+                           radius=source.radius, matrix=matrix, vertices=source.vertices, triangles=source.triangles)
+
+
 def apply_source(sim: "hf.Simulation", source: SmokeSource, frame_time: float) -> None:
     """Put the smoke source where it is at ``frame_time`` (frames) (assembly.place_source: a
     sphere set once; a mesh uploaded once, then only moved)."""
-    matrix = None if source.shape == "sphere" else source.trajectory.pose(frame_time).matrix()
-    assembly.place_source(sim, source.shape, source.density, source.temperature, source.emission,
-                          centre=source.centre, radius=source.radius, matrix=matrix, vertices=source.vertices,
-                          triangles=source.triangles)
+    assembly.place_source(sim, source_at(source, frame_time))
 
 
 def _apply_substep_source(sim: "hf.Simulation", source: SmokeSource, frame: int, s: int, n: int) -> None:
@@ -153,14 +159,19 @@ def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
     return True
 
 
-def make_simulation(scene: BakeScene) -> "hf.Simulation":
-    """The scene's Simulation (assembly.fluid_settings), its smoke source at the pose before the
-    first frame (each substep moves a mesh source)."""
+def scene_description(scene: BakeScene) -> "assembly.SceneDescription":
+    """What the bake's Simulation is made from (assembly.build): the scene's FluidSettings
+    (assembly.fluid_settings) and its smoke source at the pose before the first frame (each
+    substep moves a mesh source). No probe: each substep places it."""
     settings = assembly.fluid_settings(scene.domain_origin, scene.domain_size, scene.resolution, scene.fluid,
                                        device=scene.device)
-    sim = hf.Simulation(settings)
-    if scene.source is not None:
-        apply_source(sim, scene.source, scene.frame_start - 1)
+    source = None if scene.source is None else source_at(scene.source, scene.frame_start - 1)
+    return assembly.SceneDescription(settings, source=source)
+
+
+def make_simulation(scene: BakeScene) -> "hf.Simulation":
+    """The scene's Simulation, made by assembly.build (no session)."""
+    sim, _ = assembly.build(scene_description(scene))
     return sim
 
 
