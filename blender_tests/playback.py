@@ -14,7 +14,7 @@ import bpy
 
 from support import check, cube, empty_file, set_roles, uv_sphere
 
-from hapticfluid_blender.live import live_ops, live_session  # noqa: E402  (support put the add-on on sys.path)
+from hapticfluid_blender.live import live_ops, recording  # noqa: E402  (support put the add-on on sys.path)
 
 FPS = 24
 CENTRE = (0.5, 0.5, 0.5)
@@ -77,11 +77,11 @@ def record():
 
 def keys(probe):
     """{(path, index): [key_state, ...]} of the probe's location and rotation F-curves."""
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     out = {}
     for fc in fcurves:
         if fc.data_path in CHANNELS:
-            out[(fc.data_path, fc.array_index)] = [live_session.key_state(p) for p in fc.keyframe_points]
+            out[(fc.data_path, fc.array_index)] = [recording.key_state(p) for p in fc.keyframe_points]
     return out
 
 

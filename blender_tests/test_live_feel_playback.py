@@ -29,7 +29,7 @@ from playback import new_scene as _new_scene
 from support import check
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, recording  # noqa: E402
 
 CELL_M = 1.0 / 16           # the preview grid's cell (16^3 over 1 m)
 GRIP_TOLERANCE_M = 0.02     # the grip from the keys, world m (2 mm in the Falcon at its scale of 10)
@@ -41,7 +41,7 @@ def new_scene(gesture):
 
 
 def key_at(probe, frame):
-    curves = live_session.object_fcurves(probe)
+    curves = recording.object_fcurves(probe)
     return [curves.find("location", index=i).evaluate(frame) for i in range(3)]
 
 

@@ -38,7 +38,7 @@ from playback import (CENTRE, CHANNELS, FPS, distance_to_polyline, keys, new_sce
 from support import check
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, recording  # noqa: E402
 
 RADIUS_M = 0.1          # the Timeline test's circle (0.2 m across)
 PATH_TOLERANCE_M = 0.002
@@ -46,7 +46,7 @@ PATH_TOLERANCE_M = 0.002
 
 def key_points(probe, lo, hi):
     """[(frame, (x, y, z))] of the location keys with lo <= frame <= hi."""
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     columns = [{p.co.x: p.co.y for p in fcurves.find("location", index=i).keyframe_points} for i in range(3)]
     return [(f, tuple(columns[i][f] for i in range(3))) for f in sorted(columns[0]) if lo - 1e-6 <= f <= hi + 1e-6]
 
@@ -153,11 +153,11 @@ def punch_in_with_the_simulated_falcon():
     live.feel_playback = False
     run = start(scene, warm_s=1.5)  # homing, then the circle starts 1 s after it
     c = run.controller
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     off = []
 
     def follows_the_keys(frame):
-        curves = live_session.object_fcurves(probe)  # looked up again: an undo re-reads the action
+        curves = recording.object_fcurves(probe)  # looked up again: an undo re-reads the action
         want = [curves.find("location", index=i).evaluate(frame) for i in range(3)]
         off.append(math.dist(want, probe.location))
 

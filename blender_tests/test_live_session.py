@@ -24,7 +24,7 @@ import bpy
 from support import check, cube, empty_file, set_roles, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, live_session, recording  # noqa: E402
 
 
 def new_scene(probe_at=(0.5, 0.5, 0.5), fluid_density=1.2):
@@ -152,7 +152,7 @@ def simulated_hand_sweeps_the_probe():
     check(samples >= 5 * ticks, f"Record took the hand's poses between ticks ({samples} poses over {ticks} ticks)")
     check(n >= 0.8 * scene.hapticfluid_live.record_rate * seconds,
           f"keys at the record rate: {n} in {seconds:.1f} s at {scene.hapticfluid_live.record_rate}/s")
-    keyed = [p.co.y for p in live_session.object_fcurves(probe).find("location", index=0).keyframe_points]
+    keyed = [p.co.y for p in recording.object_fcurves(probe).find("location", index=0).keyframe_points]
     check(min(keyed) > 0.1 and max(keyed) < 0.9, f"the keys stay on the sweep: x {min(keyed):.3f} .. {max(keyed):.3f} m")
 
 
@@ -273,7 +273,7 @@ def mouse_moves_the_probe_and_record_keys_it():
         controller.tick()
     n = controller.stop_recording()
     check(n == 6, f"one key per 1/24 s ({n})")
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     compared = 0
     for path, slot in (("location", 1), ("rotation_euler", 2)):
         for index in range(3):
@@ -298,14 +298,14 @@ def record_keys_the_path_at_the_record_rate():
     samples = [(10.0, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)),
                (13.0, (0.3, 0.0, 0.0), (-math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5))),  # 90 deg about z, negated
                (13.5, (0.3, 0.1, 0.0), (-math.sqrt(0.5), 0.0, 0.0, -math.sqrt(0.5)))]
-    keys = live_session.resample(samples, 1.0, quaternion=True)
+    keys = recording.resample(samples, 1.0, quaternion=True)
     check([k[0] for k in keys] == [10.0, 11.0, 12.0, 13.0], f"a key per frame up to the last sample: {keys}")
     check(all(abs(k[1][0] - 0.1 * (k[0] - 10.0)) < 1e-9 and k[1][1] == 0.0 for k in keys),
           "locations on the straight path between the samples around each key")
     w, _, _, z = keys[1][2]
     check(abs(w * w + z * z - 1.0) < 1e-9 and w > 0.0 and z > 0.0 and abs(math.atan2(z, w) * 2.0 - math.pi / 6) < 0.02,
           f"a unit quaternion turned a third of the way on the shorter arc: {keys[1][2]}")
-    check(live_session.resample([], 2.0) == [] and len(live_session.resample(samples[:1], 2.0)) == 1,
+    check(recording.resample([], 2.0) == [] and len(recording.resample(samples[:1], 2.0)) == 1,
           "no samples: no keys; one sample: one key")
 
 
@@ -348,7 +348,7 @@ def mouse_turns_a_mesh_probe_and_record_keys_the_rotation():
     live_cells = sim.cell_classes()  # of the session's latest step, which used the turned pose
     n = c.stop_recording()
     check(n >= 8, f"Record keyed the turn ({n} keys)")
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     keyed = [tuple(fcurves.find("rotation_quaternion", index=i).evaluate(fr) for i in range(4))
              for fr in sorted({p.co.x for p in fcurves.find("rotation_quaternion", index=0).keyframe_points})]
     check(fcurves.find("rotation_euler", index=0) is None, "keyed in the object's rotation mode (quaternion only)")

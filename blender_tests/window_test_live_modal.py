@@ -70,9 +70,9 @@ def step():
             n = len(recording.samples)
             check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and not live.is_recording, "Record again ends it")
             probe = settings(scene).probe
-            from hapticfluid_blender.live import live_session
+            from hapticfluid_blender.live.recording import object_fcurves
 
-            fc = live_session.object_fcurves(probe).find("location", index=0)
+            fc = object_fcurves(probe).find("location", index=0)
             keyed = running().controller.keys_written
             span_s = (recording.samples[-1][0] - recording.samples[0][0]) / recording.fps
             check(fc is not None and len(fc.keyframe_points) == keyed and keyed >= int(span_s * live.record_rate),

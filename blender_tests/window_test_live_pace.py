@@ -40,7 +40,7 @@ from support import area, check, clear_objects, close_splash, cube, drive, fail,
     region, remove_on_exit, screenshot, set_roles, uv_sphere, window
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, recording  # noqa: E402
 
 MEASURE_S = float(os.environ.get("HAPTICFLUID_PACE_SECONDS", "15"))
 RESOLUTION = int(os.environ.get("HAPTICFLUID_PACE_RESOLUTION", "32"))
@@ -234,7 +234,7 @@ def distance_to_polyline(p, points):
 
 
 def key_positions(probe, frame_lo, frame_hi):
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     curves = [fcurves.find("location", index=i) for i in range(3)]
     frames = [k.co.x for k in curves[0].keyframe_points if frame_lo - 1e-3 <= k.co.x <= frame_hi + 1e-3]
     return [tuple(c.evaluate(f) for c in curves) for f in frames]

@@ -19,7 +19,7 @@ import bpy
 from support import check, drive, fail, invoke, live_scene, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender.live import live_ops, live_session  # noqa: E402
+from hapticfluid_blender.live import live_ops, recording  # noqa: E402
 
 CENTRE = (0.5, 0.5, 0.5)
 RADIUS_M = 0.1
@@ -42,13 +42,13 @@ def setup():
         probe.keyframe_insert("location", frame=frame)
     scene.frame_set(1)
     state["old"] = keys(probe)
-    fcurves = live_session.object_fcurves(probe)
+    fcurves = recording.object_fcurves(probe)
     state["played"] = {f: tuple(fcurves.find("location", index=i).evaluate(f) for i in range(3)) for f in range(1, 251)}
 
 
 def keys(probe):
-    fcurves = live_session.object_fcurves(probe)
-    return {(fc.data_path, fc.array_index): [live_session.key_state(p) for p in fc.keyframe_points]
+    fcurves = recording.object_fcurves(probe)
+    return {(fc.data_path, fc.array_index): [recording.key_state(p) for p in fc.keyframe_points]
             for fc in fcurves if fc.data_path in ("location", "rotation_euler")}
 
 
@@ -85,7 +85,7 @@ def step():
             check((a_key, b_key, looped) == (float(state["a"]), float(b), False),
                   f"the take covers the frames played, {state['a']}-{b} ({run.controller.last_take})")
             probe = settings(scene).probe
-            fcurves = live_session.object_fcurves(probe)
+            fcurves = recording.object_fcurves(probe)
             columns = [{p.co.x: p.co.y for p in fcurves.find("location", index=i).keyframe_points} for i in range(3)]
             frames = [f for f in sorted(columns[0]) if a_key <= f <= b_key]
             taken = [tuple(columns[i][f] for i in range(3)) for f in frames]

@@ -7,6 +7,14 @@ with Mantaflow. The add-on is a thin layer: properties describe the bake, operat
 ``hapticfluid.bake`` scene on Blender's main thread and run the bake on a worker thread that
 never touches ``bpy``; the result is a Volume object that Cycles renders. It needs the
 ``hapticfluid`` Python package (with its native module) importable from Blender's Python.
+
+Its command lines (a farm job's tasks, a bake without the UI) call two functions of this package
+and nothing else of the add-on, so its files can move without breaking a job:
+
+    blender --background scene.blend --python-use-system-env --python-exit-code 1 \
+        --python-expr "import hapticfluid_blender as a; a.bake_main()" -- [bake_blend.py's arguments]
+    blender --background --factory-startup --python-use-system-env --python-exit-code 1 \
+        --python-expr "import hapticfluid_blender as a; a.render_main()" -- [farm_render.py's arguments]
 """
 
 bl_info = {
@@ -90,3 +98,39 @@ def unregister():
     object_props.ROLE_CHANGED_HOOKS.clear()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)
+
+
+def _arguments(argv):
+    """A command line's arguments: ``argv``, or Blender's own after "--"."""
+    import sys
+
+    if argv is not None:
+        return list(argv)
+    return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+
+
+def bake_main(argv=None):
+    """Bake the open .blend's hapticfluid settings without the UI (bake/bake_blend.py: the
+    arguments), registering the add-on first unless it is; exits non-zero when the bake fails
+    (1) or an argument is bad (2)."""
+    import sys
+
+    import bpy
+
+    from .bake import bake_blend
+
+    if not hasattr(bpy.types.Object, "hapticfluid"):
+        # registered after the .blend loaded, so its load handlers did not run: register() itself
+        # moves an older file's scene settings onto the objects and clears a stale is_baking
+        register()
+    code = bake_blend.main(_arguments(argv))
+    if code:
+        sys.exit(code)
+
+
+def render_main(argv=None):
+    """Render a chunk of a farm job's baked frames (render/farm_render.py: the arguments); needs no
+    registration. Exits non-zero when a frame is not baked or an argument is bad."""
+    from .render import farm_render
+
+    farm_render.main(_arguments(argv))

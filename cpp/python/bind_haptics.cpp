@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <glm/gtc/quaternion.hpp>
 #include <limits>
 #include <optional>
 #include <string>
@@ -20,6 +21,7 @@
 #include "haptics/rendering/passivity_controller.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/convert_mesh.h"
 #include "python/settings_class.h"
 #include "session/field_snapshot.h"
 #include "session/haptic_session.h"
@@ -442,6 +444,16 @@ void addSessionReadings(py::class_<HapticSession>& c) {
       "Where the engine puts the probe's origin (world m) for device positions ((3,) or (N, 3),\n"
       "device frame, m): the workspace map, then the hold one cell from every wall. Draw and record\n"
       "the probe there.");
+  c.def_static(
+      "probe_rotation",
+      [](const py::object& transform) {
+        const glm::quat q = glm::quat_cast(HapticSession::probeRotation(toTransform(transform)));
+        return py::make_tuple(q.w, q.x, q.y, q.z);
+      },
+      py::arg("transform"),
+      "The rotation the engine takes from a probe's transform (4x4 local -> world, rows, m; may\n"
+      "scale or mirror) as a quaternion (w, x, y, z): Gram-Schmidt on its x, then y column, z = x\n"
+      "cross y; the rest is the probe's scale. A host device pushes this as the pose's orientation.");
   c.def_property_readonly(
       "workspace_box",
       [](const HapticSession& s) {

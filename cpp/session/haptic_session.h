@@ -185,8 +185,8 @@ class HapticSession {
 
   // The rotation part of a probe transform (local -> world, may scale or mirror): Gram-Schmidt
   // on its columns x, then y, with z = x cross y, so always a proper rotation; the rest
-  // (rotation^T * transform) is the probe's local scale, negative on z for a mirrored one. The
-  // host pushes the orientation of the same rule (the add-on's live_session.probe_rotation).
+  // (rotation^T * transform) is the probe's local scale, negative on z for a mirrored one. A
+  // host device pushes this rotation as its orientation (Python: HapticSession.probe_rotation).
   static glm::mat3 probeRotation(const glm::mat4& transform);
 
  private:

@@ -351,6 +351,8 @@ class HapticSession:
         **settings_by_name: Any,
     ) -> None: ...
     def probe_origin(self, positions: npt.ArrayLike) -> npt.NDArray[np.float32]: ...  # device m -> world m
+    @staticmethod
+    def probe_rotation(transform: Any) -> Tuple[float, float, float, float]: ...  # 4x4 -> (w, x, y, z)
     @property
     def workspace_box(self) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...  # world m (lo, hi)
     @property

@@ -2,12 +2,15 @@
 """One place that turns a scene description into engine objects, for the bake, the Blender add-on's
 live session, the demo and the command lines alike:
 
+- ``build(SceneDescription(settings, source, probe), device, session_settings)``: the one place a
+  Simulation (and a HapticSession) is made: the Simulation of a FluidSettings, its smoke source
+  and its probe at their first poses, and, given a device, the session over them;
 - ``grid(domain_size, resolution)``: the cubic cells of a domain (cells along its longest edge);
 - ``fluid_settings(...)``: a FluidSettings from the domain, the resolution and the fluid's settings
   by name (the engine's defaults for the rest);
-- ``place_probe(...)`` and ``place_source(...)``: how the engine takes a probe and a smoke source
-  (a sphere placed whole, its radius following the transform's largest scale; a mesh uploaded once,
-  then only its pose changes);
+- ``place_probe(sim, Probe(...))`` and ``place_source(sim, Source(...))``: how the engine takes a
+  probe and a smoke source (a sphere placed whole, its radius following the transform's largest
+  scale; a mesh uploaded once, then only its pose changes), at the start and at every later pose;
 - ``session_settings(...)``: a HapticSessionSettings from settings by name, the device's workspace
   fitted to the domain by the engine (``fit_workspace``) unless asked not to.
 
@@ -95,40 +98,69 @@ def sphere_radius(radius: float, matrix: Any) -> float:
     return float(radius * np.max(np.linalg.norm(m[:3, :3], axis=0)))
 
 
-def place_probe(sim: "hf.Simulation", shape: str, matrix: Any, radius: Optional[float] = None,
-                vertices: Optional[np.ndarray] = None, triangles: Optional[np.ndarray] = None,
-                velocity: Sequence[float] = (0.0, 0.0, 0.0),
-                angular_velocity: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
-    """Put the probe at ``matrix`` (4x4 local -> world, m) moving with ``velocity`` (m/s) and
-    ``angular_velocity`` (rad/s): a sphere of ``radius`` (m at scale 1) placed whole, or a mesh
-    (``vertices``, ``triangles``) uploaded the first time, then only moved (set_probe_pose: host side,
-    cheap)."""
-    m = np.asarray(matrix, dtype=np.float64)
-    v, w = tuple(float(x) for x in velocity), tuple(float(x) for x in angular_velocity)
-    if shape == "sphere":
-        sim.set_probe(tuple(m[:3, 3]), sphere_radius(radius, m), velocity=v, angular_velocity=w)
+@dataclass(frozen=True)
+class Probe:
+    """The probe at one pose: a sphere (``radius``, m at scale 1) or a closed mesh (``vertices``,
+    ``triangles``: its local frame, m) at ``matrix`` (4x4 local -> world, rows, m), moving with
+    ``velocity`` (m/s) and ``angular_velocity`` (rad/s, world axes)."""
+
+    shape: str  # "sphere" or "mesh"
+    matrix: Any
+    radius: Optional[float] = None
+    vertices: Any = None
+    triangles: Any = None
+    velocity: Sequence[float] = (0.0, 0.0, 0.0)
+    angular_velocity: Sequence[float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Source:
+    """The smoke source at one pose: a sphere (``centre``, ``radius``, m) or a closed mesh
+    (``vertices``, ``triangles``: its local frame, m) at ``matrix`` (4x4 local -> world, rows, m),
+    emitting ``density`` (concentration) and ``temperature`` (K above ambient), held in its cells or,
+    with ``emission`` 'rate', per second. The keys are those of a scene's source (the bake's JSON,
+    the add-on's source_dict): ``Source(**source_dict)``."""
+
+    shape: str = "sphere"  # "sphere" or "mesh"
+    density: float = 1.0
+    temperature: float = 0.0
+    emission: Any = "hold"
+    centre: Optional[Sequence[float]] = None
+    radius: Optional[float] = None
+    matrix: Any = None
+    vertices: Any = None
+    triangles: Any = None
+
+
+def place_probe(sim: "hf.Simulation", probe: Probe) -> None:
+    """Put the probe in place: a sphere placed whole, its radius following the transform's largest
+    scale; a mesh uploaded the first time, then only moved (set_probe_pose: host side, cheap)."""
+    m = np.asarray(probe.matrix, dtype=np.float64)
+    v = tuple(float(x) for x in probe.velocity)
+    w = tuple(float(x) for x in probe.angular_velocity)
+    if probe.shape == "sphere":
+        sim.set_probe(tuple(m[:3, 3]), sphere_radius(probe.radius, m), velocity=v, angular_velocity=w)
     elif (sim.probe or {}).get("kind") != "mesh":  # (Simulation.probe builds its dict on each read)
-        sim.set_mesh_probe(np.asarray(vertices, dtype=np.float32), np.asarray(triangles, dtype=np.int32), m,
-                           velocity=v, angular_velocity=w)
+        sim.set_mesh_probe(np.asarray(probe.vertices, dtype=np.float32), np.asarray(probe.triangles, dtype=np.int32),
+                           m, velocity=v, angular_velocity=w)
     else:
         sim.set_probe_pose(m, velocity=v, angular_velocity=w)
 
 
-def place_source(sim: "hf.Simulation", shape: str, density: float, temperature: float, emission: Any = "hold",
-                 centre: Optional[Sequence[float]] = None, radius: Optional[float] = None, matrix: Any = None,
-                 vertices: Optional[np.ndarray] = None, triangles: Optional[np.ndarray] = None) -> None:
-    """Put the smoke source in place: a sphere (``centre``, ``radius``, m) set once; a mesh
-    (``vertices``, ``triangles``) at ``matrix`` uploaded the first time, then only moved."""
+def place_source(sim: "hf.Simulation", source: Source) -> None:
+    """Put the smoke source in place: a sphere set once; a mesh uploaded the first time, then only
+    moved."""
     current = sim.smoke_source
-    if shape == "sphere":
+    if source.shape == "sphere":
         if current is None:
-            sim.set_smoke_source(tuple(float(x) for x in centre), float(radius), density=density,
-                                 temperature=temperature, emission=emission)
+            sim.set_smoke_source(tuple(float(x) for x in source.centre), float(source.radius), density=source.density,
+                                 temperature=source.temperature, emission=source.emission)
         return
-    m = np.asarray(matrix, dtype=np.float64)
+    m = np.asarray(source.matrix, dtype=np.float64)
     if current is None or current.get("kind") != "mesh":
-        sim.set_smoke_source_mesh(np.asarray(vertices, dtype=np.float32), np.asarray(triangles, dtype=np.int32), m,
-                                  density=density, temperature=temperature, emission=emission)
+        sim.set_smoke_source_mesh(np.asarray(source.vertices, dtype=np.float32),
+                                  np.asarray(source.triangles, dtype=np.int32), m, density=source.density,
+                                  temperature=source.temperature, emission=source.emission)
     else:
         sim.set_smoke_source_pose(m)
 
@@ -139,3 +171,38 @@ def session_settings(values: Optional[Mapping[str, Any]] = None,
     device's workspace to the domain (the largest uniform scale, its middle at the domain's centre
     unless an offset is given), else ``values``' workspace_scale is used."""
     return hf.HapticSessionSettings(**{"fit_workspace": fit_workspace, **dict(values or {})})
+
+
+@dataclass(frozen=True)
+class SceneDescription:
+    """What a simulation is made from: its FluidSettings (grid, fluid, solver, GL device), and the
+    smoke source and the probe at their first poses (None: none yet)."""
+
+    settings: "hf.FluidSettings"
+    source: Optional[Source] = None
+    probe: Optional[Probe] = None
+
+
+def build(scene: SceneDescription, device: Optional["hf.Device"] = None,
+          session_settings: Optional["hf.HapticSessionSettings"] = None
+          ) -> Tuple["hf.Simulation", Optional["hf.HapticSession"]]:
+    """The one place engine objects are made: the Simulation of ``scene.settings``, its smoke
+    source, then its probe put in place, then, given a ``device``, a HapticSession over them with
+    ``session_settings`` (the engine's defaults when None; see session_settings()), not started.
+    Returns (simulation, session or None); the caller owns both (close the simulation, stop the
+    session). Raises the engine's own error unchanged (InvalidArgumentError naming what it refuses,
+    MeshNotClosedError for the probe's mesh, GlError when no GL context can be made), after closing
+    the simulation it made."""
+    sim = hf.Simulation(scene.settings)
+    try:
+        if scene.source is not None:
+            place_source(sim, scene.source)
+        if scene.probe is not None:
+            place_probe(sim, scene.probe)
+        session = None
+        if device is not None:
+            session = hf.HapticSession(sim, device, session_settings)
+    except BaseException:
+        sim.close()
+        raise
+    return sim, session

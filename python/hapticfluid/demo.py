@@ -114,6 +114,13 @@ class DemoResult:
         return [p for p in (self.csv_path, self.png_path) if p is not None]
 
 
+def _translation(position: Sequence[float]) -> np.ndarray:
+    """The 4x4 transform that moves the origin to ``position`` (m)."""
+    m = np.eye(4)
+    m[:3, 3] = position
+    return m
+
+
 class _Sweep:
     """The probe's path: parked at x_c - A until t0, then x_c - A cos(w (t - t0))."""
 
@@ -273,7 +280,7 @@ def run_demo(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)  # fail on an unwritable directory before simulating
 
-    sim = hf.Simulation(
+    settings = hf.FluidSettings(
         resolution=resolution,
         domain_size=domain_size,
         origin=(0.0, 0.0, 0.0),
@@ -291,6 +298,8 @@ def run_demo(
         compute_residual=True,
         device=device,
     )
+    sim, _ = assembly.build(assembly.SceneDescription(settings))
+    # The source and the probe are placed in the engine's grid (its cells, origin and size).
     h = sim.cell_size
     origin = np.asarray(sim.origin, dtype=float)
     size = np.asarray(sim.domain_size, dtype=float)
@@ -298,8 +307,8 @@ def run_demo(
 
     src_centre = tuple(origin + size * np.asarray(scene.source_centre))
     src_radius = max(scene.source_radius * smallest, 1.5 * h)
-    sim.set_smoke_source(src_centre, src_radius, density=scene.source_density,
-                         temperature=scene.source_temperature)
+    assembly.place_source(sim, assembly.Source(centre=src_centre, radius=src_radius, density=scene.source_density,
+                                               temperature=scene.source_temperature))
 
     radius = max(scene.probe_radius * smallest, 1.5 * h)
     centre = (
@@ -347,7 +356,7 @@ def run_demo(
     for i in range(steps):
         t_end = (i + 1) * dt
         pos, vel = sweep.pose(t_end)
-        sim.set_probe(pos, radius, velocity=vel)
+        assembly.place_probe(sim, assembly.Probe("sphere", _translation(pos), radius=radius, velocity=vel))
         rep = sim.step(dt)
         force = np.asarray(rep.force, dtype=float)
         times[i], positions[i], velocities[i], forces[i] = t_end, pos, vel, force

@@ -112,10 +112,12 @@ def run_haptic(
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     host = device if isinstance(device, hf.HostDevice) else None
-    with hf.Simulation(resolution=tuple(resolution), domain_size=tuple(domain_size),
-                       fluid_density=fluid_density, gravity=tuple(gravity),
-                       pressure_iterations=iterations, pressure_solver=solver, device=gl_device) as sim:
-        session = hf.HapticSession(sim, device, trace=True, trace_seconds=seconds + 5.0, **session_args)
+    settings = hf.FluidSettings(resolution=tuple(resolution), domain_size=tuple(domain_size),
+                                fluid_density=fluid_density, gravity=tuple(gravity),
+                                pressure_iterations=iterations, pressure_solver=solver, device=gl_device)
+    sim, session = assembly.build(assembly.SceneDescription(settings), device,
+                                  hf.HapticSessionSettings(trace=True, trace_seconds=seconds + 5.0, **session_args))
+    with sim:
         log(f"haptic session: device {device.info().name!r}, {seconds:g} s, "
             f"grid {sim.resolution}, GL {sim.device['renderer']}")
         log(session.stats()["force_gain_reason"])

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The farm's bake task on a .blend: `python3 -m hapticfluid.farm bake` runs the add-on's
-bake_blend.py in Blender with the job's cache folder (not the .blend's own): a first chunk
+"""The farm's bake task on a .blend: `python3 -m hapticfluid.farm bake` runs the add-on's entry
+point bake_main in Blender with the job's cache folder (not the .blend's own): a first chunk
 (`--until 2`), the rest continuing from its checkpoint (frames 1-2 not rewritten), and a re-queued
 task that resumes the finished bake (nothing rewritten). Run by ctest (label farm): python3
 blend_bake_test.py BLENDER ADDON_DIR

@@ -52,7 +52,7 @@ try {
             assert.strictEqual(a[1], "{blender}");
             assert.deepStrictEqual(a.slice(a.indexOf("--") + 1),
                 ["--root", root, "--samples", "16", "--size", "320", "240", "caches/s", chunk, "renders/s"]);
-            assert.ok(a.includes("--background") && a.includes("import hapticfluid_blender.render.farm_render as r; r.main()"));
+            assert.ok(a.includes("--background") && a.includes("import hapticfluid_blender as a; a.render_main()"));
         }
     });
 } finally {

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's folders (docs/ARCHITECTURE.md, Layout): every module sits in one folder per concern,
 a folder imports only the folders before it in LAYERS, and no import, at the top of a module or
-inside a function, closes a circle. Read from the sources with ast: nothing imports bpy."""
+inside a function, closes a circle (a script's __main__ block, run as Blender's script and not as
+a module of the add-on, aside). Read from the sources with ast: nothing imports bpy."""
 
 import ast
 from pathlib import Path
@@ -22,13 +23,26 @@ def _modules():
     return found
 
 
+def _is_main_block(node):
+    """``if __name__ == "__main__":``: code that runs only when the file is Blender's script, where
+    the module is __main__ and not a module of the add-on."""
+    test = getattr(node, "test", None)
+    return (isinstance(node, ast.If) and isinstance(test, ast.Compare) and isinstance(test.left, ast.Name)
+            and test.left.id == "__name__" and any(getattr(c, "value", None) == "__main__" for c in test.comparators))
+
+
+def _module_body(path):
+    """The module's top-level statements, its __main__ block left out."""
+    return [n for n in ast.parse(path.read_text(encoding="utf-8")).body if not _is_main_block(n)]
+
+
 def _imports(modules):
     """Module -> the add-on modules it imports (a package's __init__ when no module matches)."""
     edges = {}
     for name, path in modules.items():
         package = name if path.name == "__init__.py" else name.rpartition(".")[0]
         targets = set()
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in (n for top in _module_body(path) for n in ast.walk(top)):
             if isinstance(node, ast.ImportFrom):
                 base = node.module or ""
                 if node.level:
@@ -65,8 +79,6 @@ def test_a_folder_imports_only_the_folders_before_it():
             continue
         for target in targets:
             other = _group(target)
-            if target == TOP and name.endswith(".bake_blend"):
-                continue  # the command-line script registers the whole add-on
             if other != group and (other is None or LAYERS.index(other) > LAYERS.index(group)):
                 bad.append(f"{name} -> {target}")
     assert not bad, f"imports against the layers {' <- '.join(LAYERS)}: {bad}"
@@ -98,3 +110,19 @@ def test_no_import_closes_a_circle():
         if name not in index:
             visit(name)
     assert circles == [], f"import circles in the add-on: {circles}"
+
+
+def test_the_package_names_only_the_add_ons_entry_points():
+    """The pip package (farm jobs) runs the add-on only through functions of its top package
+    (hapticfluid.farm.BLENDER_*_EXPR), so the add-on's files can move without it: no source or
+    job file of the package names an add-on module, and each function it calls is defined there."""
+    import re
+
+    package = ADDON.parents[1] / "python" / "hapticfluid"
+    named = [f"{p.relative_to(package)}: {m.group(0)}" for p in sorted(package.rglob("*"))
+             if p.suffix in (".py", ".yaml", ".js") for m in re.finditer(r"hapticfluid_blender\.\w+", p.read_text())]
+    assert not named, f"the package names the add-on's modules: {named}"
+    called = set(re.findall(r"import hapticfluid_blender as a; a\.(\w+)\(\)",
+                            (package / "farm" / "__init__.py").read_text()))
+    defined = {n.name for n in ast.parse((ADDON / "__init__.py").read_text()).body if isinstance(n, ast.FunctionDef)}
+    assert called and called <= defined, f"entry points {sorted(called)}, the add-on defines {sorted(defined)}"

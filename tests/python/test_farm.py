@@ -201,15 +201,26 @@ def test_the_chained_template_refuses_a_shipped_template_of_another_shape():
         farm.chained_openjd_template(text, [(1, 9)], "1-9")
 
 
-def test_a_blend_scene_is_baked_by_the_add_ons_script_into_the_job_s_cache(tmp_path, monkeypatch):
+def test_a_blend_scene_is_baked_by_the_add_ons_entry_point_into_the_job_s_cache(tmp_path, monkeypatch):
     monkeypatch.syspath_prepend(str(ADDON))
     cmd = bake_step.bake_command_blend("blender", tmp_path / "shot.blend", 96, tmp_path / "c")
     assert cmd[:3] == ["blender", "--background", str(tmp_path / "shot.blend")]
-    assert cmd[cmd.index("--python") + 1] == str(ADDON / "hapticfluid_blender" / "bake" / "bake_blend.py")
-    assert f"cache_dir = {str(tmp_path / 'c')!r}" in cmd[cmd.index("--python-expr") + 1]
-    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--resume"]
+    assert "--python" not in cmd  # no file of the add-on is named
+    assert cmd[cmd.index("--python-expr") + 1] == f"import sys; sys.path.insert(0, {str(ADDON)!r}); " \
+                                                  f"{farm.BLENDER_BAKE_EXPR}"
+    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--cache", str(tmp_path / "c"), "--resume"]
     cmd = bake_step.bake_command_blend("blender", tmp_path / "shot.blend", 96, tmp_path / "c", until=12)
-    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--resume", "--until", "12"]
+    assert cmd[cmd.index("--") + 1:] == ["--resolution", "96", "--cache", str(tmp_path / "c"), "--resume",
+                                         "--until", "12"]
+
+
+def test_the_job_files_render_through_the_add_ons_entry_point():
+    """The shipped OpenJD template and Flamenco job type call the add-on's render_main, as the
+    package's own constant says, and name none of the add-on's modules."""
+    for path in (farm.OPENJD_TEMPLATE, farm.FLAMENCO_JOB_TYPE):
+        text = path.read_text()
+        assert text.count(farm.BLENDER_RENDER_EXPR) == 1, path.name
+        assert not re.search(r"hapticfluid_blender\.\w", text), path.name
 
 
 def test_the_bake_task_names_a_missing_scene(tmp_path, caplog):

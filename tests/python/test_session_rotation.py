@@ -150,3 +150,27 @@ def test_bad_orientation_names_it(bad):
     host = hf.host_device()
     with pytest.raises(hf.InvalidArgumentError, match="orientation"):
         host.push_pose((0.0, 0.0, 0.0), orientation=bad)
+
+
+@pytest.mark.parametrize("mirror", [1.0, -1.0], ids=["proper", "mirrored"])
+def test_the_engines_probe_rotation_turns_the_probe_to_the_pushed_matrix(mirror):
+    """What the add-on's Mouse mode does each tick: push HapticSession.probe_rotation of the
+    object's matrix (scaled, turned, perhaps mirrored) as the orientation; the session then puts
+    the probe at that very matrix (its scale kept from the start)."""
+    vertices, triangles = meshes.box((0.3, 0.16, 0.1))
+    flip = np.diag([1.0, 1.0, mirror])
+    start = matrix(rotation((0, 0, 1), 0.4) @ flip)
+    turned = matrix(rotation((0.3, 0.2, 1.0), 0.9) @ flip)
+    q = hf.HapticSession.probe_rotation(turned)
+    assert len(q) == 4 and abs(np.linalg.norm(q) - 1.0) < 1e-6
+    with new_sim() as a:
+        a.set_mesh_probe(vertices, triangles, start)
+        host = hf.host_device(extrapolate=False)
+        host.push_pose(tuple(turned[:3, 3]), time=0.0, orientation=q)
+        session = session_for(a, host)
+        session.start()
+        wait_steps(session, 2)
+        session.stop()
+        np.testing.assert_allclose(a.probe["transform"], turned, atol=2e-6)
+    with pytest.raises(hf.InvalidArgumentError, match="transform"):
+        hf.HapticSession.probe_rotation(np.eye(3))

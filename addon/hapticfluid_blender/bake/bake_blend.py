@@ -1,16 +1,21 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Bake a .blend from the command line, without the UI:
+"""Bake a .blend from the command line, without the UI, through the add-on's entry point:
 
-    blender --background scene.blend --python-exit-code 1 --python addon/hapticfluid_blender/bake/bake_blend.py \
-        -- [--resume] [--resolution N] [--save | --until FRAME]
+    blender --background scene.blend --python-use-system-env --python-exit-code 1 \
+        --python-expr "import hapticfluid_blender as a; a.bake_main()" \
+        -- [--resume] [--resolution N] [--cache DIR] [--save | --until FRAME]
 
-Registers the add-on (the one this file is in) if needed, bakes with the scene's hapticfluid settings
-(the objects' roles: domain with the bake settings and cache folder, probe, source), and with --save stores the .blend with the Volume
-object pointing at the frames. --until FRAME bakes up to that frame and stops, keeping its
-checkpoint, so that the next `--resume --until` continues from it (a farm job's chained bake
-chunks): it runs hapticfluid.bake.bake on the exported scene directly, without the Volume object,
-so not with --save. Exits non-zero when the bake fails (1) or an argument is bad (2);
-keep --python-exit-code 1 so that an error Blender catches around the script also exits 1.
+or, with the add-on's folder not on Blender's path, this file as the script
+(``--python addon/hapticfluid_blender/bake/bake_blend.py -- ...``: it puts its add-on on the path
+and calls the same entry point). bake_main registers the add-on unless it is, then main() bakes
+with the scene's hapticfluid settings (the objects' roles: domain with the bake settings and cache
+folder, probe, source) and with --save stores the .blend with the Volume object pointing at the
+frames. --cache DIR bakes into DIR instead of the domain's cache folder (a farm job's shared
+cache). --until FRAME bakes up to that frame and stops, keeping its checkpoint, so that the next
+`--resume --until` continues from it (a farm job's chained bake chunks): it runs
+hapticfluid.bake.bake on the exported scene directly, without the Volume object, so not with
+--save. Exits non-zero when the bake fails (1) or an argument is bad (2); keep
+--python-exit-code 1 so that an error Blender catches around the script also exits 1.
 """
 
 import argparse
@@ -25,6 +30,8 @@ def main(argv):
     parser = argparse.ArgumentParser(prog="bake_blend.py", description=__doc__.split("\n\n")[0])
     parser.add_argument("--resume", action="store_true", help="continue after the last complete frame")
     parser.add_argument("--resolution", type=int, default=None, help="cells along the domain's longest edge")
+    parser.add_argument("--cache", default=None, metavar="DIR",
+                        help="bake into this folder instead of the domain's cache folder")
     parser.add_argument("--save", action="store_true", help="save the .blend after baking")
     parser.add_argument("--until", type=int, default=None, metavar="FRAME",
                         help="bake up to this frame, then stop keeping its checkpoint (a farm chunk; --resume "
@@ -35,18 +42,12 @@ def main(argv):
               "stores: drop --save (save after the last chunk with a plain --resume --save)", file=sys.stderr)
         return 2
 
-    addon_parent = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    if addon_parent not in sys.path:
-        sys.path.insert(0, addon_parent)
-    import hapticfluid_blender
-    from hapticfluid_blender.properties import object_props, roles
+    from ..properties import object_props, roles
 
-    if not hasattr(bpy.types.Object, "hapticfluid"):
-        # registered after the .blend loaded, so its load handlers did not run: register() itself
-        # moves an older file's scene settings onto the objects and clears a stale is_baking
-        hapticfluid_blender.register()
     scene = bpy.context.scene
     settings = roles.settings_of(scene)
+    if args.cache is not None and settings.domain is not None:  # else the bake refuses: no domain
+        settings.cache_dir = args.cache
     if args.resolution is not None:
         prop = object_props.HapticFluidDomainSettings.bl_rna.properties["resolution"]
         if not prop.hard_min <= args.resolution <= prop.hard_max:  # Blender would clamp it silently
@@ -75,7 +76,7 @@ def main(argv):
 def bake_until(scene, settings, until, resume):
     """Bake the scene up to frame ``until`` (a farm chunk) with hapticfluid.bake.bake, as the Bake
     operator exports it; 0 when done, 1 when the scene or the bake fails."""
-    from hapticfluid_blender.bake import blender_scene
+    from . import blender_scene
 
     try:
         from hapticfluid.bake import bake, scene_from_dict
@@ -91,7 +92,8 @@ def bake_until(scene, settings, until, resume):
     return 0 if result.status == "finished" else 1
 
 
-if __name__ == "__main__":
-    code = main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
-    if code:
-        sys.exit(code)
+if __name__ == "__main__":  # run as a script: the add-on this file is in, through its entry point
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+    import hapticfluid_blender
+
+    hapticfluid_blender.bake_main()

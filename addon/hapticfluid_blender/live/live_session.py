@@ -7,7 +7,7 @@ HapticSession and starts it, so a Falcon's firmware upload or the GL context nev
 Blender. ``tick()`` runs on the main thread ~30-60 times a second: it pushes the probe object's
 pose to the host device (Mouse, Timeline) or moves the object to the device pose (Falcon,
 Simulated Falcon), takes the newest field snapshot if its sequence changed, copies the stats
-into the scene's live properties and records keys while recording. ``stop()`` ramps the force
+into the scene's live properties and samples the take while recording (recording.py). ``stop()`` ramps the force
 down through the session's slew limit, joins the threads and returns a report (or None).
 
 Every bad setup raises (or, found by the worker, ends the session with) a ``SessionError`` whose
@@ -15,17 +15,17 @@ message starts with the fix.
 """
 
 import logging
-import math
 import os
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Tuple
 
 import bpy
 
 from ..bake import blender_scene
 from ..properties import roles
+from . import recording
 
 log = logging.getLogger(__name__)
 
@@ -35,7 +35,6 @@ SNAPSHOT_INTERVAL_S = 1.0 / 60.0       # newest fields for the viewport at most 
 # Falcon modes keep the device's poses of every haptic period this long (s) for Record: each tick
 # takes them, so Record keys the hand's path between ticks however rarely Blender ticks.
 TRACE_SECONDS = 5.0
-TRACE_SAMPLES_PER_KEY = 4              # of the trace, Record keeps this many poses per key interval
 STOP_TIMEOUT_S = 10.0                  # stop() waits this long for the simulation's current step
 
 
@@ -64,42 +63,6 @@ class LivePlan:
     hand_gesture: str = "rest"         # the simulated Falcon's hand (hapticfluid.hand_gestures)
     feel_playback: bool = True         # Falcon modes: guide the grip along the keys played (set_guide)
     viewport_first: bool = True        # on a CPU GL device the simulation yields the cores to drawing
-
-
-@dataclass
-class _Recording:
-    obj_name: str
-    rotation_path: str
-    start_frame: float
-    fps: float
-    interval_s: float
-    t0: float
-    # Frame-locked (the timeline plays): a sample's frame is the frame played when it was performed
-    # (clock_frames maps the clock to the played frame), and Record-off keys the frame then played
-    # (B), so the take replaces exactly the frames A..B that played. Otherwise the frame is
-    # start_frame + elapsed x fps (a performance recorded over a still timeline).
-    frame_locked: bool = False
-    clock_frames: List[Tuple[float, float]] = field(default_factory=list)  # (clock s, frame played)
-    muted: List[Tuple[str, int, bool]] = field(default_factory=list)  # (path, index, mute before) punched in
-    trace_t: float = -math.inf         # clock time of the last trace pose kept (s)
-    looped: bool = False               # the timeline jumped back: samples after it are not kept
-    # (frame, location, rotation) of the object at every tick: the motion performed, as Blender
-    # knew it (a drag moves the object once per pass of the event loop, as often as it redraws)
-    samples: List[Tuple[float, Tuple[float, ...], Tuple[float, ...]]] = field(default_factory=list)
-
-    def frame_at(self, t: float) -> Optional[float]:
-        """The frame a pose performed at clock time t belongs to; None before the take."""
-        if t < self.t0:
-            return None
-        if not self.frame_locked:
-            return self.start_frame + (t - self.t0) * self.fps
-        pairs = self.clock_frames
-        if not pairs or t <= pairs[0][0]:
-            return self.start_frame
-        for (ta, fa), (tb, fb) in zip(pairs, pairs[1:]):
-            if t <= tb:
-                return fa + (fb - fa) * (t - ta) / (tb - ta) if tb > ta else fb
-        return pairs[-1][1]
 
 
 def _import_hf():
@@ -227,46 +190,31 @@ class _Engine:
             settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid,
                                                thread_niceness=assembly.live_thread_niceness(software,
                                                                                              plan.viewport_first))
+            session_settings = assembly.session_settings(plan.session_args, plan.auto_workspace)
         except (hf.InvalidArgumentError, TypeError) as exc:
             raise SessionError(_fix_first(str(exc))) from None
-        source = None
-        if plan.source is not None:  # a mesh source is held where it is at Start
-            s = plan.source
-            source = dict(shape="mesh" if s.get("shape") == "mesh" else "sphere", density=s["density"],
-                          temperature=s["temperature"], centre=s.get("centre"), radius=s.get("radius"),
-                          matrix=s.get("matrix"), vertices=s.get("vertices"), triangles=s.get("triangles"))
-        shape = plan.probe_shape
-        probe = dict(shape=shape["shape"], matrix=plan.probe_matrix, radius=shape.get("radius"),
-                     vertices=shape.get("vertices"), triangles=shape.get("triangles"))
+        scene = assembly.SceneDescription(
+            settings,
+            source=None if plan.source is None else assembly.Source(**plan.source),  # held where it is at Start
+            probe=assembly.Probe(matrix=plan.probe_matrix, **plan.probe_shape))
         try:
-            self.sim = hf.Simulation(settings)
-        except hf.HapticFluidError as exc:
-            raise SessionError(_gl_context_problem(exc)) from None
-        try:
-            if source is not None:
-                assembly.place_source(self.sim, **source)
-        except hf.InvalidArgumentError as exc:
-            raise SessionError(_fix_first(f"smoke source: {exc}")) from None
-        try:
-            assembly.place_probe(self.sim, **probe)
-        except hf.MeshNotClosedError as exc:
+            self.sim, self.session = assembly.build(scene, self.device, session_settings)
+        except hf.MeshNotClosedError as exc:  # the source's mesh is checked closed before (source_mesh)
             raise SessionError(f"Close the probe '{plan.probe_name}' mesh (Edit Mode: Mesh > Clean Up > Fill Holes, "
                                f"then Mesh > Normals > Recalculate Outside) or use the Sphere probe shape: "
                                f"{exc}") from None
-        except hf.InvalidArgumentError as exc:
+        except hf.InvalidArgumentError as exc:  # the source, the probe or the session's settings
             raise SessionError(_fix_first(str(exc))) from None
+        except hf.HapticFluidError as exc:  # no GL context
+            raise SessionError(_gl_context_problem(exc)) from None
         self.resolution = settings.resolution
-        try:
-            self.session = hf.HapticSession(self.sim, self.device,
-                                            assembly.session_settings(plan.session_args, plan.auto_workspace))
-        except hf.InvalidArgumentError as exc:
-            raise SessionError(_fix_first(str(exc))) from None
         if plan.mode in DEVICE_MODES:  # where the engine maps the device's workspace
             lo, hi = self.session.workspace_box
             self.workspace_box = (tuple(float(x) for x in lo), tuple(float(x) for x in hi))
         if plan.mode in HOST_MODES:  # the first pose the haptic thread reads is the object's
             matrix = plan.probe_matrix
-            self.device.push_pose(tuple(matrix[r][3] for r in range(3)), orientation=probe_rotation(matrix))
+            self.device.push_pose(tuple(matrix[r][3] for r in range(3)),
+                                  orientation=hf.HapticSession.probe_rotation(matrix))
         self.session.start()
 
     @staticmethod
@@ -440,7 +388,7 @@ class LiveController:
         latest = session.latest()
         if self.plan.mode in HOST_MODES:  # location and rotation: the probe turns with the object
             m = self.probe.matrix_world
-            self.engine.device.push_pose(tuple(m.translation), orientation=probe_rotation(m))
+            self.engine.device.push_pose(tuple(m.translation), orientation=session.probe_rotation(m))
             self._check_scale(m)
         else:
             if self._plays_keys():  # the keys move the object (and, guided, the fluid's probe)
@@ -530,7 +478,7 @@ class LiveController:
         self._played_clock = last
         rate = last[2]
         ahead = min(1.0, rate * (now - last[0]))  # frames since the frame moved on
-        curves = object_fcurves(obj)
+        curves = recording.object_fcurves(obj)
         slope = []
         for i in range(3):
             fc = curves.find("location", index=i)
@@ -566,51 +514,22 @@ class LiveController:
         data = self.probe.animation_data
         if data is None or data.action is None:
             return False
-        return object_fcurves(self.probe).find("location", index=0) is not None
+        return recording.object_fcurves(self.probe).find("location", index=0) is not None
 
     def _take_trace(self):
         """Device modes: the device's poses since the last tick (one per haptic period); while
-        recording, those TRACE_SAMPLES_PER_KEY times per key interval become samples of the
-        object's location (where the engine puts the probe for that pose, less the object's parent offset)
-        at the frames they were performed at (played frames when frame-locked), so Record keys the
-        hand's path, not the straight line between ticks. Needs the controller's clock to be the
-        trace's (time.monotonic, CLOCK_MONOTONIC)."""
+        recording they become samples of the object's path (Recording.add_trace, at the origins the
+        engine put the probe at), so Record keys the hand's path, not the straight line between
+        ticks. Needs the controller's clock to be the trace's (time.monotonic, CLOCK_MONOTONIC)."""
         trace = self.session.trace()
         r = self.recording
         if r is None or self.clock is not time.monotonic:
             return
-        if r.frame_locked:
-            self._mark_frame(self.clock())  # after trace(): every pose it gave is older than this
+        if r.frame_locked:  # after trace(): every pose it gave is older than this
+            r.mark_frame(self.clock(), float(self.scene.frame_current_final))
         if r.looped or not len(trace["time"]):
             return
-        obj = self.probe
-        world_now = obj.matrix_world.translation
-        parent = tuple(world_now[i] - obj.location[i] for i in range(3))  # a parent's translation
-        rotation = tuple(getattr(obj, r.rotation_path))  # Falcon modes keep the start rotation
-        spacing = r.interval_s / TRACE_SAMPLES_PER_KEY
-        origins = self.session.probe_origin(trace["position"])  # where the engine put the probe
-        for t, w in zip(trace["time"], origins):
-            t = float(t)
-            if t < r.trace_t + spacing:
-                continue
-            frame = r.frame_at(t)
-            if frame is None or (r.samples and frame <= r.samples[-1][0]):
-                continue
-            r.trace_t = t
-            location = tuple(float(w[i]) - parent[i] for i in range(3))
-            r.samples.append((frame, location, rotation))
-
-    def _mark_frame(self, t):
-        """Frame-locked recording: the frame played at clock time t (kept when it moved on). A
-        frame before the last one (playback looped at the end frame, or the user scrubbed back)
-        ends the take's samples: the keys cover the frames played once, in order."""
-        r = self.recording
-        frame = float(self.scene.frame_current_final)
-        last = r.clock_frames[-1][1] if r.clock_frames else -math.inf
-        if frame < last:
-            r.looped = True
-        elif frame > last:
-            r.clock_frames.append((t, frame))
+        r.add_trace(trace["time"], self.session.probe_origin(trace["position"]), self.probe)
 
     def _update_drawer(self, latest):
         snap = self.session.snapshot()
@@ -659,20 +578,10 @@ class LiveController:
         Record-off so the performance, not the existing keys, moves the probe."""
         if self.state != "running":
             raise SessionError("Start the live session first: Record keys the motion performed during it")
-        scene = self.scene
-        obj = self.probe
-        path = {"QUATERNION": "rotation_quaternion", "AXIS_ANGLE": "rotation_axis_angle"}.get(
-            obj.rotation_mode, "rotation_euler")
         now = self.clock()
         locked = self.plan.mode == "TIMELINE" or bool(self.timeline_playing())
-        r = _Recording(obj_name=obj.name, rotation_path=path, start_frame=float(scene.frame_current_final),
-                       fps=scene.render.fps / scene.render.fps_base, interval_s=1.0 / self.live.record_rate,
-                       t0=now, frame_locked=locked)
-        if locked:
-            r.clock_frames.append((now, r.start_frame))
-            if self.plan.mode != "TIMELINE":
-                r.muted = _mute_channels(obj, ("location", path))
-        self.recording = r
+        self.recording = recording.Recording.start(self.probe, self.scene, now, self.live.record_rate, locked,
+                                                   punch_in=self.plan.mode != "TIMELINE")
         self.live.is_recording = True
         if self.plan.mode in DEVICE_MODES:  # the object played the keys until now: the grip's pose at A
             self._release_guide()  # the probe goes back to the grip, which the guide kept near the keys
@@ -680,29 +589,17 @@ class LiveController:
         self._sample(now)
 
     def _sample(self, now):
-        r = self.recording
-        if r.frame_locked:
-            self._mark_frame(now)
-            if r.looped:
-                return
-            frame = float(self.scene.frame_current_final)
-        else:
-            frame = r.start_frame + (now - r.t0) * r.fps
-        if r.samples and frame <= r.samples[-1][0]:
-            return
-        obj = self.probe
-        r.samples.append((frame, tuple(obj.location), tuple(getattr(obj, r.rotation_path))))
+        self.recording.sample(now, float(self.scene.frame_current_final), self.probe)
 
     def stop_recording(self, before_write=None) -> int:
         """Writes the motion performed as keys at the record rate (replacing the keys in their frame
-        range, every key outside it left as it was, bit for bit); returns the number of poses keyed.
-        Each key is the pose at its time on the path performed: between two samples, location and
-        Euler or axis-angle rotation linearly, a quaternion normalized-linearly (resample), so keys
-        come at the record rate however often Blender redrew while recording. Frame-locked, the
-        take ends with a key at B, the frame played at Record-off, from the pose performed there,
-        so the F-curves stay continuous into the keys after B. before_write() runs after muted
-        channels are restored and before any key changes (the Record operator pushes an undo step
-        there, so one undo restores the old keys)."""
+        range, every key outside it left as it was, bit for bit: recording.write_keys); returns the
+        number of poses keyed. Each key is the pose at its time on the path performed
+        (recording.resample), so keys come at the record rate however often Blender redrew while
+        recording. Frame-locked, the take ends with a key at B, the frame played at Record-off, from
+        the pose performed there, so the F-curves stay continuous into the keys after B.
+        before_write() runs after muted channels are restored and before any key changes (the Record
+        operator pushes an undo step there, so one undo restores the old keys)."""
         r, self.recording = self.recording, None
         self.live.is_recording = False
         if r is None:
@@ -715,17 +612,13 @@ class LiveController:
         if r.frame_locked and not r.looped:
             if self.plan.mode in DEVICE_MODES and self.state == "running":
                 self._follow_device(self.session.latest())
-            self.recording = r
-            self._sample(self.clock())  # the pose at B, unless a tick sampled B already
-            self.recording = None
-        _restore_mutes(obj, r.muted)
-        if not r.samples or (r.frame_locked and len(r.samples) < 2):  # locked and no frame played: no take
+            r.sample(self.clock(), float(self.scene.frame_current_final), obj)  # B, unless a tick sampled it
+        keys = r.keys(obj)
+        if not keys:  # locked and no frame played, or nothing performed: no take
             return 0
-        keys = resample(r.samples, r.interval_s * r.fps, quaternion=r.rotation_path == "rotation_quaternion",
-                        end=r.frame_locked)
         if before_write is not None:
             before_write()
-        write_keys(obj, r.rotation_path, keys)
+        recording.write_keys(obj, r.rotation_path, keys)
         self.keys_written += len(keys)
         self.last_take = (keys[0][0], keys[-1][0], r.looped)
         return len(keys)
@@ -762,148 +655,3 @@ def timeline_playing() -> bool:
     """Whether Blender plays the animation (in any window)."""
     wm = bpy.context.window_manager
     return any(w.screen is not None and w.screen.is_animation_playing for w in (wm.windows if wm else ()))
-
-
-def _mute_channels(obj, paths) -> List[Tuple[str, int, bool]]:
-    """Mutes the object's F-curves of those paths (so playback leaves the channels to the
-    performance); returns (path, index, mute before) to restore."""
-    data = obj.animation_data
-    if data is None or data.action is None:
-        return []
-    muted = []
-    for fc in object_fcurves(obj):
-        if fc.data_path in paths:
-            muted.append((fc.data_path, fc.array_index, fc.mute))
-            fc.mute = True
-    return muted
-
-
-def _restore_mutes(obj, muted):
-    if not muted or obj.animation_data is None or obj.animation_data.action is None:
-        return
-    fcurves = object_fcurves(obj)
-    for path, index, before in muted:
-        fc = fcurves.find(path, index=index)
-        if fc is not None:
-            fc.mute = before
-
-
-def probe_rotation(matrix) -> Tuple[float, float, float, float]:
-    """The rotation of a probe's matrix_world (rows or a mathutils Matrix) as a quaternion
-    (w, x, y, z), by the engine's rule (HapticSession::probeRotation): Gram-Schmidt on the x, then
-    y column, z = x cross y, so a scaled or mirrored matrix gives the same proper rotation there
-    and here; the engine keeps the rest as the probe's scale."""
-    from mathutils import Matrix, Vector
-
-    cols = [Vector([matrix[r][c] for r in range(3)]) for c in range(2)]
-    x = cols[0].normalized()
-    y = (cols[1] - cols[1].dot(x) * x).normalized()
-    q = Matrix((x, y, x.cross(y))).transposed().to_quaternion()
-    return (q.w, q.x, q.y, q.z)
-
-
-def resample(samples, frames_per_key, quaternion=False, end=False):
-    """(frame, location, rotation) samples at uneven frames -> the same path at frames
-    samples[0] + k * frames_per_key up to the last sample's frame (end: and at the last sample's
-    own frame, when the grid misses it): linear between the two samples around each, a quaternion
-    rotation (w, x, y, z) normalized-linearly on the shorter arc."""
-    if not samples:
-        return []
-    out = []
-    first, last = samples[0][0], samples[-1][0]
-    frames = []
-    k = 0
-    while first + k * frames_per_key <= last + 1e-9:
-        frames.append(first + k * frames_per_key)
-        k += 1
-    if end and last - frames[-1] > 1e-6:
-        frames.append(last)
-    i = 0
-    for frame in frames:
-        while i + 1 < len(samples) - 1 and samples[i + 1][0] < frame:
-            i += 1
-        a = samples[i]
-        b = samples[min(i + 1, len(samples) - 1)]
-        span = b[0] - a[0]
-        w = 0.0 if span <= 0.0 else min(1.0, max(0.0, (frame - a[0]) / span))
-        location = tuple(x + w * (y - x) for x, y in zip(a[1], b[1]))
-        rb = b[2]
-        if quaternion and sum(x * y for x, y in zip(a[2], rb)) < 0.0:
-            rb = tuple(-y for y in rb)  # the shorter way round
-        rotation = tuple(x + w * (y - x) for x, y in zip(a[2], rb))
-        if quaternion:
-            norm = math.sqrt(sum(c * c for c in rotation)) or 1.0
-            rotation = tuple(c / norm for c in rotation)
-        out.append((frame, location, rotation))
-    return out
-
-
-# What a key is besides its point: kept, with co and handles, for every key outside a take.
-_KEY_FIELDS = ("handle_left_type", "handle_right_type", "interpolation", "easing", "back", "amplitude", "period",
-               "type")
-
-
-def key_state(point):
-    """A keyframe point as plain values: co, handle_left, handle_right, then _KEY_FIELDS."""
-    return (tuple(point.co), tuple(point.handle_left), tuple(point.handle_right)) + tuple(
-        getattr(point, name) for name in _KEY_FIELDS)
-
-
-def write_keys(obj, rotation_path, samples):
-    """Keys location and rotation at each (frame, location, rotation) sample into the object's
-    action, first removing the keys of those channels within the samples' frame range. Keys
-    outside the range keep their co, handles, handle types and interpolation bit for bit: Blender
-    recomputes every automatic handle of a curve when keys are added (fc.update()), which would
-    move the handles of the keys around the take, so theirs are put back as they were."""
-    lo = min(s[0] for s in samples) - 1e-4
-    hi = max(s[0] for s in samples) + 1e-4
-    channels = (("location", 1), (rotation_path, 2))
-    data = obj.animation_data
-    fcurves = object_fcurves(obj) if data is not None and data.action is not None else None
-    kept = {}
-    for path, slot in channels:
-        for index in range(len(samples[0][slot])):
-            fc = fcurves.find(path, index=index) if fcurves is not None else None
-            if fc is not None:
-                kept[(path, index)] = [key_state(p) for p in fc.keyframe_points if not lo <= p.co.x <= hi]
-            else:  # makes the action, its slot and the F-curves as Blender does (a key inside the range)
-                obj.keyframe_insert(path, frame=samples[0][0])
-                fcurves = object_fcurves(obj)
-    for path, slot in channels:
-        for index in range(len(samples[0][slot])):
-            fc = fcurves.find(path, index=index)
-            points = fc.keyframe_points
-            for k in reversed(range(len(points))):
-                if lo <= points[k].co.x <= hi:
-                    points.remove(points[k], fast=True)
-            for s in samples:
-                points.insert(s[0], s[slot][index], options={"FAST"})
-            fc.update()
-            outside = [p for p in points if not lo <= p.co.x <= hi]
-            before = kept.get((path, index), [])
-            if len(outside) != len(before):  # keys made by keyframe_insert above lie inside the range
-                raise RuntimeError(f"{path}[{index}]: {len(before)} keys outside frames {lo:.4g}..{hi:.4g} "
-                                   f"became {len(outside)}")
-            for p, state in zip(outside, before):
-                _put_back(p, state)
-
-
-def _put_back(point, state):
-    co, left, right = state[:3]
-    for name, value in zip(_KEY_FIELDS, state[3:]):
-        if getattr(point, name) != value:
-            setattr(point, name, value)
-    point.co = co
-    point.handle_left = left
-    point.handle_right = right
-
-
-def object_fcurves(obj):
-    """The F-curves animating the object: on the action up to Blender 4.x, in the action slot's
-    channel bag from 4.4 (only there in 5.0)."""
-    data = obj.animation_data
-    if hasattr(data.action, "fcurves"):
-        return data.action.fcurves
-    from bpy_extras import anim_utils
-
-    return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot).fcurves

@@ -2,8 +2,10 @@
 """The render task of a farm job, run inside Blender: render a chunk of baked frames in one session.
 
     blender --background --factory-startup --python-use-system-env --python-exit-code 1 \
-        --python-expr "import hapticfluid_blender.render.farm_render as r; r.main()" -- \
+        --python-expr "import hapticfluid_blender as a; a.render_main()" -- \
         [--root ROOT] [--size W H] [--samples N] [--density D] CACHE FRAMES OUTDIR
+
+(the add-on's render_main, the entry the farm's job files name, calls main here).
 
 The arguments and the checks (a frame not baked yet is an error, so a render never shows an empty
 volume) are hapticfluid.farm.chunks'; the scene is render_scene's. Writes OUTDIR/frame_####.png per
@@ -12,7 +14,6 @@ frame, each complete or not at all.
 
 import logging
 import os
-import sys
 from typing import List, Sequence
 
 log = logging.getLogger(__name__)
@@ -45,7 +46,6 @@ def render(argv: Sequence[str]) -> List[str]:
     return written
 
 
-def main() -> None:
+def main(argv: Sequence[str]) -> None:
     logging.basicConfig(level=logging.INFO, format="hapticfluid farm_render: %(message)s")
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     render(argv)

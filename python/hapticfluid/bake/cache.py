@@ -28,12 +28,14 @@ import json
 import os
 import re
 import tempfile
+import time
 import zipfile
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
+import hapticfluid
 from hapticfluid import HapticFluidError
 from hapticfluid.files import atomic_write
 
@@ -290,6 +292,104 @@ def read_manifest(cache_dir: "str | os.PathLike") -> Optional[Dict[str, Any]]:
     if not isinstance(manifest, dict):
         raise BakeError(f"bake manifest '{path}' is not a JSON object (it holds a {type(manifest).__name__}); {fix}")
     return manifest
+
+
+def manifest_records(manifest: Optional[Dict[str, Any]]) -> Dict[int, Dict[str, Any]]:
+    """The manifest's per-frame records by frame number ({} if it has none or they are malformed)."""
+    raw = manifest.get("frame_records") if isinstance(manifest, dict) else None
+    if not isinstance(raw, dict):
+        return {}
+    out: Dict[int, Dict[str, Any]] = {}
+    for key, value in raw.items():
+        try:
+            frame = int(key)
+        except (TypeError, ValueError):
+            continue
+        if isinstance(value, dict):
+            out[frame] = value
+    return out
+
+
+class BakeManifest:
+    """The cache's manifest as one bake session writes it: the scene and its inputs
+    (plan.InputsLedger), every frame done with its record (size, SHA-256 and the inputs it
+    consumed), the kept checkpoints, and one entry per bake session. A session whose plan keeps
+    the frames before its first frame to write keeps their records and the earlier sessions'
+    entries from ``previous`` (the manifest read before the bake). record_frame() runs on the
+    writer thread, one frame after the other; save() writes the manifest whole (atomic)."""
+
+    def __init__(self, cache_dir: "str | os.PathLike", scene: Any, ledger: Any,
+                 previous: Optional[Dict[str, Any]] = None) -> None:
+        self.cache_dir = Path(cache_dir)
+        self._scene, self._ledger, self._previous = scene, ledger, previous or {}
+        self.data: Dict[str, Any] = {
+            "format": "hapticfluid-bake",
+            "hapticfluid_version": hapticfluid.__version__,
+            "openvdb_version": hapticfluid.openvdb_version(),
+            "scene": scene.to_dict(),
+            "inputs": ledger.manifest_entry(),
+            "frame_files": f"{DATA_DIR}/{FRAME_PREFIX}####.vdb",
+            "frames_done": [],
+            "last_frame": None,
+            "complete": False,
+            "checkpoint_every": scene.checkpoint_every,
+            "checkpoints": [],
+            "sessions": [],
+            "frame_records": {},
+        }
+        self.session: Dict[str, Any] = {}
+        self._t0 = time.perf_counter()  # the session's seconds count from here
+
+    def start_session(self, plan: Any, resumed_from: Optional[int], device: Optional[str]) -> None:
+        """This session's entry (the plan's text, the checkpoint it resumed from, the GL device)
+        and the frames the plan keeps with their records (a legacy cache's records get their
+        inputs: they matched its checkpoint). Then the cache is made ready for the first frame to
+        write: a plan that keeps no frame frees the earlier bake; one that does removes the
+        checkpoints from that frame on (states the re-bake changes). Saves nothing."""
+        scene, write_from = self._scene, plan.first_frame
+        if plan.keeps_frames:
+            sessions = self._previous.get("sessions", [])
+            self.data["sessions"] = list(sessions) if isinstance(sessions, list) else []
+            self.data["frames_done"] = list(range(scene.frame_start, write_from))
+            self.data["frame_records"] = {str(f): r for f, r in manifest_records(self._previous).items()
+                                          if scene.frame_start <= f < write_from}
+            for f in self.data["frames_done"]:
+                self.data["frame_records"].setdefault(str(f), {}).setdefault("inputs", self._ledger.frames[f])
+            remove_checkpoints_from(self.cache_dir, write_from)
+        else:
+            free_cache_locked(self.cache_dir)
+            prepare_cache(self.cache_dir)
+        self.data["last_frame"] = plan.last_kept_frame
+        self.session = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0, "seconds": 0.0,
+                        "device": device, "plan": plan.text}
+        if plan.damaged:
+            self.session["rebaked_damaged_frames"] = sorted(plan.damaged)
+        self.data["sessions"].append(self.session)
+        self.data["checkpoints"] = [{"frame": f, "bytes": kept_checkpoint_path(self.cache_dir, f).stat().st_size}
+                                    for f in list_kept_checkpoints(self.cache_dir)]
+
+    @property
+    def last_frame(self) -> Optional[int]:
+        return self.data["last_frame"]
+
+    def record_frame(self, job: Any, record: Dict[str, Any], kept: Optional[Path]) -> None:
+        """Frame ``job.frame`` is written: its ``record`` (size, SHA-256, inputs), the checkpoint
+        ``kept`` for it (None: none kept), and this session's count, time and solver figures
+        (``job.pressure``)."""
+        frame = job.frame
+        self.data["frame_records"][str(frame)] = record
+        if kept is not None:
+            self.data["checkpoints"] = [c for c in self.data["checkpoints"] if c["frame"] != frame] + [
+                {"frame": frame, "bytes": kept.stat().st_size}]
+        self.data["frames_done"].append(frame)
+        self.data["last_frame"] = frame
+        self.data["complete"] = frame == self._scene.frame_end
+        self.session["frames"] += 1
+        self.session["seconds"] = time.perf_counter() - self._t0
+        self.session["pressure"] = job.pressure
+
+    def save(self) -> None:
+        write_manifest(self.cache_dir, self.data)
 
 
 # ---- checkpoint ----------------------------------------------------------------------------

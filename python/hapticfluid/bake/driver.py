@@ -89,8 +89,9 @@ class BakeResult:
 def apply_probe(sim: "hf.Simulation", probe: ProbeSpec, motion: Motion) -> None:
     """Put the probe where the trajectory says for one substep (assembly.place_probe: a sphere
     placed whole, its radius following the transform's scale; a mesh uploaded once, then only moved)."""
-    assembly.place_probe(sim, probe.shape, motion.pose.matrix(), radius=probe.radius, vertices=probe.vertices,
-                         triangles=probe.triangles, velocity=motion.velocity, angular_velocity=motion.angular_velocity)
+    assembly.place_probe(sim, assembly.Probe(probe.shape, motion.pose.matrix(), radius=probe.radius,
+                                             vertices=probe.vertices, triangles=probe.triangles,
+                                             velocity=motion.velocity, angular_velocity=motion.angular_velocity))
 
 
 def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: int, n: int, dt: float) -> None:
@@ -101,13 +102,18 @@ def _apply_substep_probe(sim: "hf.Simulation", probe: ProbeSpec, frame: int, s: 
     apply_probe(sim, probe, probe.trajectory.motion(a, b, dt))
 
 
+def source_at(source: SmokeSource, frame_time: float) -> "assembly.Source":
+    """The smoke source where it is at ``frame_time`` (frames): a sphere stays put; a mesh is at
+    its trajectory's pose."""
+    matrix = None if source.shape == "sphere" else source.trajectory.pose(frame_time).matrix()
+    return assembly.Source(source.shape, source.density, source.temperature, source.emission, centre=source.centre,
+                           radius=source.radius, matrix=matrix, vertices=source.vertices, triangles=source.triangles)
+
+
 def apply_source(sim: "hf.Simulation", source: SmokeSource, frame_time: float) -> None:
     """Put the smoke source where it is at ``frame_time`` (frames) (assembly.place_source: a
     sphere set once; a mesh uploaded once, then only moved)."""
-    matrix = None if source.shape == "sphere" else source.trajectory.pose(frame_time).matrix()
-    assembly.place_source(sim, source.shape, source.density, source.temperature, source.emission,
-                          centre=source.centre, radius=source.radius, matrix=matrix, vertices=source.vertices,
-                          triangles=source.triangles)
+    assembly.place_source(sim, source_at(source, frame_time))
 
 
 def _apply_substep_source(sim: "hf.Simulation", source: SmokeSource, frame: int, s: int, n: int) -> None:
@@ -153,14 +159,19 @@ def check_trajectory(sim: "hf.Simulation", scene: BakeScene, first: int,
     return True
 
 
-def make_simulation(scene: BakeScene) -> "hf.Simulation":
-    """The scene's Simulation (assembly.fluid_settings), its smoke source at the pose before the
-    first frame (each substep moves a mesh source)."""
+def scene_description(scene: BakeScene) -> "assembly.SceneDescription":
+    """What the bake's Simulation is made from (assembly.build): the scene's FluidSettings
+    (assembly.fluid_settings) and its smoke source at the pose before the first frame (each
+    substep moves a mesh source). No probe: each substep places it."""
     settings = assembly.fluid_settings(scene.domain_origin, scene.domain_size, scene.resolution, scene.fluid,
                                        device=scene.device)
-    sim = hf.Simulation(settings)
-    if scene.source is not None:
-        apply_source(sim, scene.source, scene.frame_start - 1)
+    source = None if scene.source is None else source_at(scene.source, scene.frame_start - 1)
+    return assembly.SceneDescription(settings, source=source)
+
+
+def make_simulation(scene: BakeScene) -> "hf.Simulation":
+    """The scene's Simulation, made by assembly.build (no session)."""
+    sim, _ = assembly.build(scene_description(scene))
     return sim
 
 
@@ -292,10 +303,31 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
                             scene.frame_end if until is None else until)
 
 
-def _start_state(fingerprint: Dict[str, Any], cache_dir: Path, plan: _plan.RebakePlan,
-                 ledger: _plan.InputsLedger, say: Callable[[str], None]) -> Tuple[Optional[int], Optional[Dict[str, Any]]]:
+def _plan_for(scene: BakeScene, cache_dir: Path, resume: bool, ledger: _plan.InputsLedger,
+              say: Callable[[str], None]) -> Tuple[_plan.RebakePlan, Optional[Dict[str, Any]]]:
+    """What this bake does (plan.rebake_plan; resume: what the cache lacks, checking every frame
+    it keeps) and the cache's manifest before it (resume only: the frames kept keep their records)."""
+    if not resume:
+        return _plan.rebake_plan(scene, resume=False), None
+    _cache.remove_temporaries(cache_dir)
+    plan = _plan.rebake_plan(scene, check_files=True, ledger=ledger)
+    for f in sorted(plan.damaged):
+        say(f"damaged: frame {f}: {plan.damaged[f]} ({_cache.FRAME_PREFIX}{f:04d}.vdb)")
+    try:
+        return plan, _cache.read_manifest(cache_dir)
+    except _cache.BakeError as exc:  # resume needs only the checkpoint; the manifest is rewritten
+        say(f"{exc}: resuming without it (every frame file is checked against its header)")
+        _log.warning("%s", exc)
+        return plan, None
+
+
+def _start_state(scene: BakeScene, cache_dir: Path, plan: _plan.RebakePlan, ledger: _plan.InputsLedger,
+                 say: Callable[[str], None]) -> Tuple[Optional[int], Optional[Dict[str, Any]]]:
     """(frame, state) of the latest usable checkpoint the plan allows, or (None, None) to start
     from rest. A checkpoint that fails its checks is reported and the one before it tried."""
+    if not plan.keeps_frames or plan.from_rest:
+        return None, None
+    fingerprint = scene.fingerprint()
     for frame in reversed(plan.checkpoints):
         path = _plan.checkpoint_file(cache_dir, frame)
         try:
@@ -308,180 +340,131 @@ def _start_state(fingerprint: Dict[str, Any], cache_dir: Path, plan: _plan.Rebak
             say(f"checkpoint '{path}' holds frame {at}, not {frame}: trying an earlier checkpoint")
             continue
         return at, state
+    say(f"no usable checkpoint before frame {plan.first_frame}: the bake replays from frame {scene.frame_start}")
     return None, None
 
 
 def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
                  progress: Optional[Callable[[BakeProgress], None]], is_cancelled: Callable[[], bool],
                  say: Callable[[str], None], until: int) -> BakeResult:
-    fingerprint = scene.fingerprint()
     ledger = _plan.InputsLedger(scene)
-    old: Dict[str, Any] = {}
-    if not resume:
-        _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
-        plan = _plan.RebakePlan("fresh", scene.frame_start, scene.frame_end, scene.frame_start, scene.frame_start - 1,
-                                f"bake every frame, {scene.frame_start}-{scene.frame_end}, from the start")
-    else:
-        _cache.remove_temporaries(cache_dir)
-        plan = _plan.rebake_plan(scene, check_files=True, ledger=ledger)
-        for f in sorted(plan.damaged):
-            say(f"damaged: frame {f}: {plan.damaged[f]} ({_cache.FRAME_PREFIX}{f:04d}.vdb)")
-        try:
-            old = _cache.read_manifest(cache_dir) or {}
-        except _cache.BakeError as exc:  # resume needs only the checkpoint; the manifest is rewritten
-            say(f"{exc}: resuming without it (every frame file is checked against its header)")
-            _log.warning("%s", exc)
+    plan, previous = _plan_for(scene, cache_dir, resume, ledger, say)
     say(plan.text)
-    damaged = tuple(sorted(plan.damaged))
-    write_from = plan.first_frame
-    if write_from is None or write_from > until:
+
+    def result(status: str, written: int = 0, resumed_from: Optional[int] = None, seconds: float = 0.0,
+               last_frame: Optional[int] = None) -> BakeResult:
+        return BakeResult(status=status, cache_dir=cache_dir, frames_written=written, last_frame=last_frame,
+                          resumed_from=resumed_from, seconds=seconds,
+                          seconds_per_frame=seconds / written if written else float("nan"),
+                          damaged_frames=tuple(sorted(plan.damaged)), plan=plan)
+
+    if plan.first_frame is None or plan.first_frame > until:
         say(f"nothing to bake up to frame {until}")
-        last = (write_from - 1) if write_from is not None else scene.frame_end
-        return BakeResult(status="finished", cache_dir=cache_dir, frames_written=0, last_frame=last,
-                          resumed_from=None, seconds=0.0, seconds_per_frame=float("nan"), damaged_frames=damaged,
-                          plan=plan)
-    keep_old = plan.kind not in ("fresh", "settings")
-    resumed_from, state = (None, None)
-    if keep_old and plan.checkpoint_frame >= scene.frame_start:
-        resumed_from, state = _start_state(fingerprint, cache_dir, plan, ledger, say)
-        if resumed_from is None:
-            say(f"no usable checkpoint before frame {write_from}: the bake replays from frame {scene.frame_start}")
-
-    manifest: Dict[str, Any] = {
-        "format": "hapticfluid-bake",
-        "hapticfluid_version": hf.__version__,
-        "openvdb_version": hf.openvdb_version(),
-        "scene": scene.to_dict(),
-        "inputs": ledger.manifest_entry(),
-        "frame_files": f"{_cache.DATA_DIR}/{_cache.FRAME_PREFIX}####.vdb",
-        "frames_done": [],
-        "last_frame": None,
-        "complete": False,
-        "checkpoint_every": scene.checkpoint_every,
-        "checkpoints": [],
-        "sessions": [],
-    }
-    if keep_old:
-        sessions = old.get("sessions", [])
-        manifest["sessions"] = list(sessions) if isinstance(sessions, list) else []
+        return result("finished", last_frame=scene.frame_end if plan.first_frame is None else plan.first_frame - 1)
+    resumed_from, state = _start_state(scene, cache_dir, plan, ledger, say)
     first = scene.frame_start if resumed_from is None else resumed_from + 1
-    manifest["frames_done"] = list(range(scene.frame_start, write_from)) if keep_old else []
-    manifest["frame_records"] = {str(f): r for f, r in _verify.records_of(old).items()
-                                 if scene.frame_start <= f < write_from} if keep_old else {}
-    for f in manifest["frames_done"]:  # a legacy cache's records get their inputs (they matched its checkpoint)
-        manifest["frame_records"].setdefault(str(f), {}).setdefault("inputs", ledger.frames[f])
-    manifest["last_frame"] = write_from - 1 if write_from > scene.frame_start and keep_old else None
-    session: Dict[str, Any] = {"started_unix": time.time(), "resumed_from": resumed_from, "frames": 0,
-                               "seconds": 0.0, "device": None, "plan": plan.text}
-    if damaged:
-        session["rebaked_damaged_frames"] = list(damaged)
-    manifest["sessions"].append(session)
-
+    manifest = _cache.BakeManifest(cache_dir, scene, ledger, previous)
     t0 = time.perf_counter()
-    written = 0
-    status = "finished"
-    solver = _SolverTally()
     with make_simulation(scene) as sim:
-        session["device"] = sim.device.get("renderer")
         # a bad pose fails here, and a cancel returns here, before the old bake is touched
         if not check_trajectory(sim, scene, first, is_cancelled) or is_cancelled():
             say("cancelled before the first step; the cache is as it was")
-            return BakeResult(status="cancelled", cache_dir=cache_dir, frames_written=0,
-                              last_frame=manifest["last_frame"], resumed_from=resumed_from,
-                              seconds=time.perf_counter() - t0, seconds_per_frame=float("nan"),
-                              damaged_frames=damaged, plan=plan)
+            return result("cancelled", resumed_from=resumed_from, seconds=time.perf_counter() - t0,
+                          last_frame=plan.last_kept_frame)
         if state is not None:
             sim.set_state(state)
-        if not keep_old:
-            _cache.free_cache_locked(cache_dir)
-            _cache.prepare_cache(cache_dir)
-        else:
-            _cache.remove_checkpoints_from(cache_dir, write_from)  # states the re-bake changes
-        manifest["checkpoints"] = [{"frame": f, "bytes": _cache.kept_checkpoint_path(cache_dir, f).stat().st_size}
-                                   for f in _cache.list_kept_checkpoints(cache_dir)]
-        _cache.write_manifest(cache_dir, manifest)
-        say(f"baking frames {write_from}..{until} of {scene.frame_start}..{scene.frame_end} at "
+        manifest.start_session(plan, resumed_from, sim.device.get("renderer"))
+        manifest.save()
+        say(f"baking frames {plan.first_frame}..{until} of {scene.frame_start}..{scene.frame_end} at "
             f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "
-            f"{session['device']} into {cache_dir}"
+            f"{manifest.session['device']} into {cache_dir}"
             + (f", from the checkpoint at {resumed_from}" if resumed_from is not None else ""))
-        files_written = [0]  # the writer thread's count (`written` is this thread's, as reported)
-
-        def keep(frame: int) -> bool:
-            every = scene.checkpoint_every
-            return (every > 0 and (frame - scene.frame_start + 1) % every == 0) or (frame == until < scene.frame_end)
-
-        def write_job(job: _writer.FrameJob) -> None:  # on the writer thread, one frame after the other
-            path = write_frame(scene, job.state, job.frame, job.substeps)
-            record = _verify.frame_record(path)
-            record["inputs"] = ledger.frames[job.frame]
-            manifest["frame_records"][str(job.frame)] = record
-            _cache.save_checkpoint(cache_dir, job.frame, job.state, fingerprint, inputs_sha256=ledger.chain(job.frame))
-            if keep(job.frame):
-                kept = _cache.keep_checkpoint(cache_dir, job.frame)
-                manifest["checkpoints"] = [c for c in manifest["checkpoints"] if c["frame"] != job.frame] + [
-                    {"frame": job.frame, "bytes": kept.stat().st_size}]
-            manifest["frames_done"].append(job.frame)
-            manifest["last_frame"] = job.frame
-            manifest["complete"] = job.frame == scene.frame_end
-            files_written[0] += 1
-            session["frames"] = files_written[0]
-            session["seconds"] = time.perf_counter() - t0
-            session["pressure"] = job.pressure
-            _cache.write_manifest(cache_dir, manifest)
-
-        def report_written() -> None:  # on this thread: the log and progress callbacks
-            nonlocal written
-            for w in writer.finished():
-                written += 1
-                done = _progress(scene, w.frame, write_from, written, w.substeps, w.substeps, t0, True)
-                say(f"frame {w.frame}: {w.substeps} substeps, {w.step_s:.2f} s; files {w.write_s:.2f} s on the writer "
-                    f"thread; {done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
-                if progress is not None:
-                    progress(done)
-
-        writer = _writer.FrameWriter(write_job)
-        try:
-            for frame in range(first, until + 1):
-                n = substeps_for_frame(scene, sim, frame)
-                dt = scene.frame_dt / n
-                frame_t0 = time.perf_counter()
-                for s in range(n):
-                    report_written()
-                    writer.check()
-                    if is_cancelled():
-                        status = "cancelled"
-                        break
-                    if scene.probe is not None:
-                        _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
-                    if scene.source is not None:
-                        _apply_substep_source(sim, scene.source, frame, s, n)
-                    solver.add(sim.step(dt))
-                    if progress is not None:
-                        progress(_progress(scene, frame, write_from, written, s + 1, n, t0, False))
-                if status == "cancelled":
-                    break
-                if frame < write_from:  # replaying up to the first frame to write: this one's file is kept
-                    continue
-                frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
-                writer.put(_writer.FrameJob(frame, n, frame_state, time.perf_counter() - frame_t0,
-                                            pressure=solver.record()))
-        except BaseException as exc:
-            # A second Ctrl-C stops now (the frame being written still lands whole); any other
-            # error lets the frames already stepped (sound) land before it surfaces.
-            writer.close(abort=isinstance(exc, KeyboardInterrupt))
-            report_written()
-            raise
-        writer.close()
-        report_written()
-        writer.check()
+        status, written = _run_frames(sim, scene, ledger, plan, manifest, range(first, until + 1),
+                                      _Callbacks(progress, is_cancelled, say, t0))
     seconds = time.perf_counter() - t0
     if status == "cancelled":
         say(f"cancelled; {written} frame(s) written this session; resume continues after frame "
-            f"{manifest['last_frame']}")
-    return BakeResult(status=status, cache_dir=cache_dir, frames_written=written,
-                      last_frame=manifest["last_frame"], resumed_from=resumed_from, seconds=seconds,
-                      seconds_per_frame=seconds / written if written else float("nan"),
-                      damaged_frames=damaged, plan=plan)
+            f"{manifest.last_frame}")
+    return result(status, written, resumed_from, seconds, manifest.last_frame)
+
+
+@dataclass(frozen=True)
+class _Callbacks:
+    """A bake session's callers: progress and log (on the bake's thread), cancel, and its start."""
+
+    progress: Optional[Callable[[BakeProgress], None]]
+    is_cancelled: Callable[[], bool]
+    say: Callable[[str], None]
+    t0: float  # time.perf_counter() when the session started
+
+
+def _run_frames(sim: "hf.Simulation", scene: BakeScene, ledger: _plan.InputsLedger, plan: _plan.RebakePlan,
+                manifest: "_cache.BakeManifest", frames: range, calls: _Callbacks) -> Tuple[str, int]:
+    """Step ``frames`` (substeps_for_frame each, the probe and source moved per substep) and hand
+    every frame from the plan's first frame to write on to the writer thread: its file, its
+    checkpoint (kept every checkpoint_every frames and at a chunk's end), its record in the
+    manifest, in that order. Frames before it are replayed without writing (their files are kept).
+    Returns (status, frames written): 'finished', or 'cancelled' when asked between substeps."""
+    write_from, until = plan.first_frame, frames[-1]
+    fingerprint = scene.fingerprint()
+    every = scene.checkpoint_every
+    written, status, solver = 0, "finished", _SolverTally()
+
+    def write_job(job: _writer.FrameJob) -> None:  # on the writer thread, one frame after the other
+        path = write_frame(scene, job.state, job.frame, job.substeps)
+        record = {**_verify.frame_record(path), "inputs": ledger.frames[job.frame]}
+        _cache.save_checkpoint(manifest.cache_dir, job.frame, job.state, fingerprint,
+                               inputs_sha256=ledger.chain(job.frame))
+        keep = (every > 0 and (job.frame - scene.frame_start + 1) % every == 0) or (job.frame == until < scene.frame_end)
+        manifest.record_frame(job, record, _cache.keep_checkpoint(manifest.cache_dir, job.frame) if keep else None)
+        manifest.save()
+
+    def report_written() -> None:  # on this thread: the log and progress callbacks
+        nonlocal written
+        for w in writer.finished():
+            written += 1
+            done = _progress(scene, w.frame, write_from, written, w.substeps, w.substeps, calls.t0, True)
+            calls.say(f"frame {w.frame}: {w.substeps} substeps, {w.step_s:.2f} s; files {w.write_s:.2f} s on the "
+                      f"writer thread; {done.frames_done}/{scene.frame_count} done, about {done.eta_s:.0f} s left")
+            if calls.progress is not None:
+                calls.progress(done)
+
+    writer = _writer.FrameWriter(write_job)
+    try:
+        for frame in frames:
+            n = substeps_for_frame(scene, sim, frame)
+            dt = scene.frame_dt / n
+            frame_t0 = time.perf_counter()
+            for s in range(n):
+                report_written()
+                writer.check()
+                if calls.is_cancelled():
+                    status = "cancelled"
+                    break
+                if scene.probe is not None:
+                    _apply_substep_probe(sim, scene.probe, frame, s, n, dt)
+                if scene.source is not None:
+                    _apply_substep_source(sim, scene.source, frame, s, n)
+                solver.add(sim.step(dt))
+                if calls.progress is not None:
+                    calls.progress(_progress(scene, frame, write_from, written, s + 1, n, calls.t0, False))
+            if status == "cancelled":
+                break
+            if frame < write_from:  # replaying up to the first frame to write: this one's file is kept
+                continue
+            frame_state = sim.state()  # one read of the fields: the frame file and the checkpoint
+            writer.put(_writer.FrameJob(frame, n, frame_state, time.perf_counter() - frame_t0,
+                                        pressure=solver.record()))
+    except BaseException as exc:
+        # A second Ctrl-C stops now (the frame being written still lands whole); any other
+        # error lets the frames already stepped (sound) land before it surfaces.
+        writer.close(abort=isinstance(exc, KeyboardInterrupt))
+        report_written()
+        raise
+    writer.close()
+    report_written()
+    writer.check()
+    return status, written
 
 
 def _progress(scene: BakeScene, frame: int, first: int, written: int, substep: int, substeps: int,

@@ -82,6 +82,19 @@ class RebakePlan:
     def from_rest(self) -> bool:
         return self.checkpoint_frame < self.frame_start
 
+    @property
+    def keeps_frames(self) -> bool:
+        """Whether the frames before first_frame stay (a fresh bake and a changed setting keep none:
+        the cache's earlier bake is freed)."""
+        return self.kind not in ("fresh", "settings")
+
+    @property
+    def last_kept_frame(self) -> Optional[int]:
+        """The last frame kept as it is before the first frame to write (None: none is kept)."""
+        if self.first_frame is None:
+            return self.frame_end
+        return self.first_frame - 1 if self.keeps_frames and self.first_frame > self.frame_start else None
+
 
 def _span(a: int, b: int) -> str:
     return f"{a}" if a == b else f"{a}-{b}"
@@ -91,16 +104,21 @@ def _from(checkpoint: int, start: int) -> str:
     return "from the start" if checkpoint < start else f"from the checkpoint at {checkpoint}"
 
 
-def rebake_plan(scene: BakeScene, check_files: bool = True, ledger: Optional[InputsLedger] = None) -> RebakePlan:
+def rebake_plan(scene: BakeScene, check_files: bool = True, ledger: Optional[InputsLedger] = None,
+                resume: bool = True) -> RebakePlan:
     """Compare the cache's manifest with ``scene`` and say what a bake (resume) does.
 
     check_files: read every frame file the plan would keep and compare its size and SHA-256
         with the manifest's record (as resume does before it trusts them); False checks that
         each exists with its recorded size only (cheap enough for a panel).
+    resume: False says what a bake that starts over does: every frame, from rest (kind "fresh").
     Raises BakeError when the folder holds frames no hapticfluid bake wrote."""
-    ledger = ledger or InputsLedger(scene)
     start, end = scene.frame_start, scene.frame_end
     cache_dir = Path(scene.cache_dir)
+    if not resume:
+        _cache.check_frames_are_ours(cache_dir)  # never start work that would then free others' frames
+        return RebakePlan("fresh", start, end, start, start - 1, f"bake every frame, {start}-{end}, from the start")
+    ledger = ledger or InputsLedger(scene)
     if not cache_dir.is_dir():
         return RebakePlan("fresh", start, end, start, start - 1, f"nothing baked yet: bake {_span(start, end)}")
     _cache.check_frames_are_ours(cache_dir)
@@ -122,7 +140,7 @@ def rebake_plan(scene: BakeScene, check_files: bool = True, ledger: Optional[Inp
         return RebakePlan("settings", start, end, start, start - 1,
                           f"{what} changed: re-bake every frame, {_span(start, end)}", changed=changed)
 
-    records = _verify.records_of(manifest)
+    records = _cache.manifest_records(manifest)
     done = set(_verify.claimed_frames(manifest))
     first_changed, changed_what = None, ()
     first_missing = None
@@ -197,7 +215,7 @@ def _legacy_plan(scene: BakeScene, cache_dir: Path, manifest: Optional[Dict[str,
                               f"the cache has no usable checkpoint: re-bake every frame, {_span(start, end)}")
         return RebakePlan("fresh", start, end, start, start - 1, f"nothing baked yet: bake {_span(start, end)}")
     latest = min(latest, end)
-    damaged = _damaged_frames(cache_dir, range(start, latest + 1), _verify.records_of(manifest), check_files)
+    damaged = _damaged_frames(cache_dir, range(start, latest + 1), _cache.manifest_records(manifest), check_files)
     if damaged:
         first = min(damaged)
         return RebakePlan("damaged", start, end, first, start - 1,

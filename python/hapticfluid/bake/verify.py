@@ -86,22 +86,6 @@ class VerifyReport:
         return [f"frame {f}: {self.damaged[f]} ({_cache.FRAME_PREFIX}{f:04d}.vdb)" for f in sorted(self.damaged)]
 
 
-def records_of(manifest: Optional[Dict[str, Any]]) -> Dict[int, Dict[str, Any]]:
-    """The manifest's per-frame records by frame number ({} if it has none or they are malformed)."""
-    raw = manifest.get("frame_records") if isinstance(manifest, dict) else None
-    if not isinstance(raw, dict):
-        return {}
-    out: Dict[int, Dict[str, Any]] = {}
-    for key, value in raw.items():
-        try:
-            frame = int(key)
-        except (TypeError, ValueError):
-            continue
-        if isinstance(value, dict):
-            out[frame] = value
-    return out
-
-
 def verify_frames(cache_dir: "str | os.PathLike", frames: Iterable[int],
                   records: Dict[int, Dict[str, Any]], read: bool = True) -> VerifyReport:
     report = VerifyReport()
@@ -128,4 +112,4 @@ def verify_cache(cache_dir: "str | os.PathLike") -> VerifyReport:
     manifest = _cache.read_manifest(cache_dir)
     if manifest is None:
         raise _cache.BakeError(f"'{cache_dir}' holds no {_cache.MANIFEST_FILE}: there is no bake to verify there")
-    return verify_frames(cache_dir, claimed_frames(manifest), records_of(manifest))
+    return verify_frames(cache_dir, claimed_frames(manifest), _cache.manifest_records(manifest))

@@ -20,8 +20,8 @@ type builds the chain itself from its ``bake_chunk_size`` setting.
 
 :func:`write_openjd_job` and :func:`write_flamenco_job` write them for one scene into a folder,
 with every path made relative to the farm's shared root; the worker-side commands are
-``python3 -m hapticfluid.farm bake`` (:mod:`hapticfluid.farm.bake_step`) and Blender running
-:mod:`hapticfluid_blender.render.farm_render` (its arguments: :mod:`hapticfluid.farm.chunks`). See docs/FARM.md.
+``python3 -m hapticfluid.farm bake`` (:mod:`hapticfluid.farm.bake_step`) and Blender running the
+add-on's ``render_main`` (BLENDER_RENDER_EXPR; its arguments: :mod:`hapticfluid.farm.chunks`). See docs/FARM.md.
 """
 
 from __future__ import annotations
@@ -45,6 +45,12 @@ OPENJD_PARAMETERS_FILE = "parameters.json"  # openjd run -p file://...: {name: v
 DEADLINE_PARAMETERS_FILE = "parameter_values.json"  # deadline bundle submit: {"parameterValues": [...]}
 FLAMENCO_JOB_FILE = "flamenco_job.json"
 SCENE_SUFFIXES = (".json", ".blend")
+# The add-on's command-line entry points, run inside Blender (--python-expr): the functions of its
+# package that the farm's tasks call, so the package never names the add-on's modules. The job
+# files (OPENJD_TEMPLATE, FLAMENCO_JOB_TYPE) spell the render one out (tests/python/test_farm.py
+# checks they agree).
+BLENDER_BAKE_EXPR = "import hapticfluid_blender as a; a.bake_main()"
+BLENDER_RENDER_EXPR = "import hapticfluid_blender as a; a.render_main()"
 
 
 def template_text(path: Path) -> str:

@@ -2,16 +2,17 @@
 """The bake task of a farm job: ``python3 -m hapticfluid.farm bake --root ROOT SCENE --resolution N
 --cache CACHE [--until LAST]``.
 
-Bakes a hapticfluid scene (.json) with ``python3 -m hapticfluid bake --resume``, or a .blend with
-the add-on's ``bake_blend.py --resume`` in Blender, into CACHE. ``--resume`` is the bake's lazy
-cache: on an empty cache it starts from the first frame; otherwise it keeps every sound frame and
-bakes from the latest kept checkpoint before the first frame that is missing, damaged or whose
-inputs changed. So one command serves the first run, every re-queue (a worker that died, was
-preempted or lost the task continues from the latest checkpoint) and every chunk of a chained
-bake: ``--until LAST`` stops after frame LAST, leaving the checkpoint the next chunk starts from.
-A checkpoint from other settings (resolution, scene) is refused with the bake's own error, never
-deleted. A second worker given the same task (or a chunk run beside the one before it) is
-refused by the cache's lock (exit 1, the message names the cache) while the first one bakes.
+Bakes a hapticfluid scene (.json) with ``python3 -m hapticfluid bake --resume``, or a .blend in
+Blender with the add-on's entry point (``bake_main``, given ``--cache CACHE --resume``), into CACHE.
+``--resume`` is the bake's lazy cache: on an empty cache it starts from the first frame; otherwise
+it keeps every sound frame and bakes from the latest kept checkpoint before the first frame that
+is missing, damaged or whose inputs changed. So one command serves the first run, every re-queue
+(a worker that died, was preempted or lost the task continues from the latest checkpoint) and
+every chunk of a chained bake: ``--until LAST`` stops after frame LAST, leaving the checkpoint the
+next chunk starts from. A checkpoint from other settings (resolution, scene) is refused with the
+bake's own error, never deleted. A second worker given the same task (or a chunk run beside the
+one before it) is refused by the cache's lock (exit 1, the message names the cache) while the
+first one bakes.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import subprocess
 from pathlib import Path
 from typing import List, Optional
 
-from hapticfluid.farm import resolve
+from hapticfluid.farm import BLENDER_BAKE_EXPR, resolve
 
 log = logging.getLogger(__name__)
 
@@ -51,15 +52,12 @@ def addon_folder() -> Path:
 
 def bake_command_blend(blender: str, scene: Path, resolution: int, cache: Path,
                        until: Optional[int] = None) -> List[str]:
-    """The Blender command line that bakes a .blend's hapticfluid settings into ``cache``."""
-    folder = addon_folder()
-    setup = ("import sys, bpy; sys.path.insert(0, {parent!r}); import hapticfluid_blender as a; a.register(); "
-             "from hapticfluid_blender.properties import object_props, roles; object_props.clear_stale_bake_state(); "
-             "roles.settings_of(bpy.context.scene).cache_dir = {cache!r}"
-             ).format(parent=str(folder.parent), cache=str(cache))
+    """The Blender command line that bakes a .blend's hapticfluid settings into ``cache``: the
+    add-on's entry point (BLENDER_BAKE_EXPR), with the add-on's folder put on Blender's path."""
+    setup = f"import sys; sys.path.insert(0, {str(addon_folder().parent)!r}); {BLENDER_BAKE_EXPR}"
     # --python-use-system-env: Blender 4.x reads PYTHONPATH (where hapticfluid may be) only with it.
     args = [blender, "--background", str(scene), "--python-use-system-env", "--python-exit-code", "1", "--python-expr", setup,
-            "--python", str(folder / "bake" / "bake_blend.py"), "--", "--resolution", str(resolution), "--resume"]
+            "--", "--resolution", str(resolution), "--cache", str(cache), "--resume"]
     return args + _until_args(until)
 
 

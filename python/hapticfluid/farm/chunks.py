@@ -1,16 +1,16 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The render task's arguments and checks, without Blender (the task itself runs inside Blender:
-addon/hapticfluid_blender/render/farm_render.py):
+the add-on's entry point render_main, farm.BLENDER_RENDER_EXPR):
 
     blender --background --factory-startup --python-use-system-env --python-exit-code 1 \
-        --python-expr "import hapticfluid_blender.render.farm_render as r; r.main()" -- \
+        --python-expr "import hapticfluid_blender as a; a.render_main()" -- \
         [--root ROOT] [--size W H] [--samples N] [--density D] CACHE FRAMES OUTDIR
 
 FRAMES is a range expression (``5-8``, as an OpenJD CHUNK[INT] task parameter expands, or a
 single frame). Reads the cache's manifest for the domain and the baked frames (a frame not
 baked yet is an error, so a render never shows an empty volume), shows the frames as a Volume
 with the add-on's smoke material (the add-on must be importable, installed or on PYTHONPATH),
-frames the domain with a camera, lights it (hapticfluid_blender.render.render_scene), and writes
+frames the domain with a camera, lights it (the add-on's render scene), and writes
 OUTDIR/frame_####.png per frame, each complete or not at all (written under a temporary name,
 then renamed). Cycles on the CPU (``--factory-startup`` leaves no GPU compute device enabled).
 """

@@ -120,7 +120,7 @@ function compileJob(job) {
             const render = author.Task(`render-${chunk}`, RENDER_TASK_TYPE);
             render.addCommand(withPythonPath(s, s.blender || "{blender}", [
                 "--background", "--factory-startup", "--python-use-system-env", "--python-exit-code", "1",
-                "--python-expr", "import hapticfluid_blender.render.farm_render as r; r.main()", "--",
+                "--python-expr", "import hapticfluid_blender as a; a.render_main()", "--",
                 "--root", root, "--samples", String(s.render_samples || 16),
                 "--size", String(s.render_width || 320), String(s.render_height || 240),
                 s.cache_dir, chunk, s.output_dir]));
