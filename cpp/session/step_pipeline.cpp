@@ -52,6 +52,12 @@ const StepPipeline::Stage StepPipeline::kStages[] = {
     {"force", &StepPipeline::force, nullptr},
 };
 
+std::vector<const char*> StepPipeline::stageNames() {
+  std::vector<const char*> names;
+  for (const Stage& stage : kStages) names.push_back(stage.name);
+  return names;
+}
+
 StepPipeline::StepPipeline(const fluid::Grid& g)
     : grid_(g), solver_(g), sphere_(g), classifier_(g), force_(g),
       reducer_(std::max(force::ForceReducer::partialsNeeded(g), fluid::rowCount(g.res)), kResultSlots) {}
@@ -63,8 +69,10 @@ StepReport StepPipeline::step(const StepInputs& in) {
   timer_.begin();
   for (const Stage& stage : kStages) {
     if (stage.runs && !stage.runs(in.params)) continue;
+    if (hook_.before) hook_.before(stage.name);
     (this->*stage.run)(pass);
     timer_.mark(stage.name);
+    if (hook_.after) hook_.after(stage.name);
   }
   return report(pass, reducer_.readResults());  // the step's one read-back
 }

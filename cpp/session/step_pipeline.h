@@ -6,6 +6,7 @@
 // force, torque, centroid and residual sums. Made, used and destroyed on the GL thread only
 // (it holds GL objects); the Simulation copies the host state into StepInputs for it.
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -57,6 +58,17 @@ class StepPipeline {
   // step does the whole grid (the tests compare the two).
   void setLimitToProbeMoves(bool on) { limit_to_probe_moves_ = on; }
 
+  // Called on the device thread around every stage that runs (tests compare the backends stage by
+  // stage with it: tests/cpp/test_session_backends.cpp): before(name) may overwrite fields(),
+  // after(name) may read them. Empty: none.
+  struct StageHook {
+    std::function<void(const char* stage)> before;
+    std::function<void(const char* stage)> after;
+  };
+  void setStageHook(StageHook hook) { hook_ = std::move(hook); }
+  // The stages in step order.
+  static std::vector<const char*> stageNames();
+
  private:
   struct Pass;  // one step in flight: its inputs and what the stages hand on
   struct Stage {
@@ -91,6 +103,7 @@ class StepPipeline {
   fluid::Grid grid_;
   std::optional<Footprint> footprint_;  // none before the first step
   bool limit_to_probe_moves_ = true;
+  StageHook hook_;
   fluid::FluidSolver solver_;
   obstacle::SphereProbe sphere_;
   std::unique_ptr<obstacle::MeshProbe> mesh_;  // its programs made on first use

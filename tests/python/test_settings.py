@@ -21,8 +21,10 @@ def test_fluid_settings_are_the_engines_defaults_and_a_simulation_keeps_them():
     with hf.Simulation(given) as sim:
         used = sim.settings
     for name in hf.FluidSettings.fields():
-        if name != "device":  # the request ('') against the device in use
+        if name not in ("device", "backend", "cpu_threads"):  # requests ('', 0) against what is in use
             assert getattr(used, name) == getattr(given, name), name
+    assert used.backend == sim.device["backend"] and used.backend in ("gpu", "cpu")
+    assert used.cpu_threads == sim.device["threads"]
     # Keywords set the settings of the same names on a copy: the object given is not changed.
     with hf.Simulation(given, vorticity=0.5) as sim:
         assert sim.vorticity == pytest.approx(0.5)
