@@ -27,26 +27,42 @@ IMAGE_RO(r32f, 3, u_coarse_x);
 UNIFORM(int, u_colour);      // 0 or 1
 UNIFORM(int, u_zero_guess);  // 1: x starts at 0, so the other colour's values are taken as 0
 
+// A face's part of a sum: v where mask m links face d, else 0.
+float linkedPart(uint m, int d, float v) { return ((m >> uint(d)) & 1u) != 0u ? v : 0.0f; }
+
+// One cell's new x from its loaded neighbourhood: m its mask; w_lo, w_hi the open fractions of its
+// -x, -y, -z and +x, +y, +z faces; x_lo, x_hi its neighbours' x across them (any value where m has
+// no link: it is not used); b its right-hand side. Branch-free and on vectors, so the CPU's row
+// loop (cpu/kernels/mg_smooth.cpp) vectorizes it; the same arithmetic as skipping the unlinked
+// neighbours (adding 0 is exact).
+float smoothedValue(uint m, vec3 w_lo, vec3 w_hi, vec3 x_lo, vec3 x_hi, float b) {
+  float n = (m & NB_OPEN_TOP) != 0u ? w_hi.z : 0.0f;
+  n += linkedPart(m, 0, w_lo.x);
+  n += linkedPart(m, 1, w_hi.x);
+  n += linkedPart(m, 2, w_lo.y);
+  n += linkedPart(m, 3, w_hi.y);
+  n += linkedPart(m, 4, w_lo.z);
+  n += linkedPart(m, 5, w_hi.z);
+  float sum = 0.0f;
+  if (u_zero_guess == 0) {
+    sum += linkedPart(m, 0, w_lo.x * x_lo.x);
+    sum += linkedPart(m, 1, w_hi.x * x_hi.x);
+    sum += linkedPart(m, 2, w_lo.y * x_lo.y);
+    sum += linkedPart(m, 3, w_hi.y * x_hi.y);
+    sum += linkedPart(m, 4, w_lo.z * x_lo.z);
+    sum += linkedPart(m, 5, w_hi.z * x_hi.z);
+  }
+  return ((m & NB_SOLID) != 0u || n == 0.0f) ? 0.0f : (b + sum) / n;
+}
+
 void main() {
   ivec3 g = ivec3(gl_GlobalInvocationID);
   ivec3 c = ivec3(2 * g.x + ((g.y + g.z + u_colour) & 1), g.y, g.z);
   if (!inGrid(c)) return;
-  uint m = imageLoad(u_mask, c).x;
-  float w[6];
-  FACE_OPEN_ALL(u_faces, c, w);
-  float n = (m & NB_OPEN_TOP) != 0u ? w[5] : 0.0f;
-  UNROLL for (int d = 0; d < 6; ++d) {
-    if (((m >> uint(d)) & 1u) != 0u) n += w[d];
-  }
-  if ((m & NB_SOLID) != 0u || n == 0.0f) {
-    imageStore(u_x, c, vec4(0.0f));
-    return;
-  }
-  float sum = 0.0f;
-  if (u_zero_guess == 0) {
-    UNROLL for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) sum += w[d] * NEIGHBOUR_X(c + NEIGHBOUR[d]);
-    }
-  }
-  imageStore(u_x, c, vec4((imageLoad(u_b, c).x + sum) / n));
+  vec3 w_lo = vec3(imageLoad(u_faces, c));
+  vec3 w_hi = vec3(imageLoad(u_faces, c + ivec3(1, 0, 0)).x, imageLoad(u_faces, c + ivec3(0, 1, 0)).y,
+                   imageLoad(u_faces, c + ivec3(0, 0, 1)).z);
+  vec3 x_lo = vec3(NEIGHBOUR_X(c - ivec3(1, 0, 0)), NEIGHBOUR_X(c - ivec3(0, 1, 0)), NEIGHBOUR_X(c - ivec3(0, 0, 1)));
+  vec3 x_hi = vec3(NEIGHBOUR_X(c + ivec3(1, 0, 0)), NEIGHBOUR_X(c + ivec3(0, 1, 0)), NEIGHBOUR_X(c + ivec3(0, 0, 1)));
+  imageStore(u_x, c, vec4(smoothedValue(imageLoad(u_mask, c).x, w_lo, w_hi, x_lo, x_hi, imageLoad(u_b, c).x)));
 }

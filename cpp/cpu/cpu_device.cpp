@@ -82,14 +82,37 @@ class CpuTexture final : public compute::TextureImpl {
     b.size = size_;
     b.stride_y = size_.x;
     b.stride_z = size_.x * size_.y;
+    b.plane = format_ == compute::TexelFormat::RGBA32F ? texels() : 0;
     b.format = imageFormat(format_);
   }
   void clear() override { std::memset(block_.data(), 0, block_.bytes()); }
+  // The caller's layout is x fastest with a texel's channels together; a 4-channel texture keeps
+  // them in planes (glsl.h), so those two are reordered.
   void download(void* dst, std::size_t bytes) const override {
-    std::memcpy(dst, block_.data(), bytes);
+    if (format_ == compute::TexelFormat::RGBA32F) {
+      const float* planes = reinterpret_cast<const float*>(block_.data());
+      float* out = static_cast<float*>(dst);
+      const std::size_t n = texels();
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t ch = 0; ch < 4; ++ch) out[4 * i + ch] = planes[ch * n + i];
+      }
+    } else {
+      std::memcpy(dst, block_.data(), bytes);
+    }
     compute::countSync();
   }
-  void upload(const void* src, std::size_t bytes) override { std::memcpy(block_.data(), src, bytes); }
+  void upload(const void* src, std::size_t bytes) override {
+    if (format_ == compute::TexelFormat::RGBA32F) {
+      float* planes = reinterpret_cast<float*>(block_.data());
+      const float* in = static_cast<const float*>(src);
+      const std::size_t n = texels();
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t ch = 0; ch < 4; ++ch) planes[ch * n + i] = in[4 * i + ch];
+      }
+    } else {
+      std::memcpy(block_.data(), src, bytes);
+    }
+  }
 
  private:
   static std::size_t checkedBytes(const glm::ivec3& size, compute::TexelFormat format, const std::string& label) {
@@ -102,6 +125,8 @@ class CpuTexture final : public compute::TextureImpl {
     }
     return texels * compute::texelBytes(format);
   }
+
+  std::size_t texels() const { return static_cast<std::size_t>(size_.x) * size_.y * size_.z; }
 
   Bindings& bindings_;
   HostBlock block_;
@@ -228,13 +253,14 @@ class CpuStageTimer final : public compute::TimerImpl {
 
 class CpuDevice final : public compute::Device {
  public:
-  explicit CpuDevice(int threads) : pool_(threads) {
+  CpuDevice(int threads, bool x86_v3) : pool_(threads) {
+    bindings_.x86_v3 = x86_v3;
     info_.backend = compute::Backend::Cpu;
     info_.threads = pool_.threads();
-    info_.renderer = "hapticfluid CPU kernels, " + std::to_string(pool_.threads()) + " thread" +
-                     (pool_.threads() == 1 ? "" : "s");
+    info_.renderer = std::string("hapticfluid CPU kernels (") + (x86_v3 ? "AVX2" : "baseline") + "), " +
+                     std::to_string(pool_.threads()) + " thread" + (pool_.threads() == 1 ? "" : "s");
     info_.vendor = "hapticfluid";
-    info_.version = kernelInstructionSet();
+    info_.version = x86_v3 ? "C++ kernels, x86-64-v3 (AVX2, FMA)" : "C++ kernels, x86-64 baseline";
     info_.platform = "cpu";
     info_.memory_bytes = static_cast<std::size_t>(hostAvailableKb()) * 1024;
     info_.max_3d_texture_size = kMaxAxisTexels;
@@ -255,16 +281,6 @@ class CpuDevice final : public compute::Device {
   std::unique_ptr<compute::TimerImpl> makeTimer() override { return std::make_unique<CpuStageTimer>(); }
 
  private:
-  static std::string kernelInstructionSet() {
-#if defined(__AVX2__)
-    return "C++ kernels, x86-64 AVX2";
-#elif defined(__x86_64__)
-    return "C++ kernels, x86-64";
-#else
-    return "C++ kernels";
-#endif
-  }
-
   Bindings bindings_;
   ThreadPool pool_;
   compute::DeviceInfo info_;
@@ -306,13 +322,14 @@ int resolveThreads(int requested) {
   return n == 0 ? coresAvailable() : n;
 }
 
-std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> niceness) {
+std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> niceness, std::optional<bool> x86_v3) {
   const int n = resolveThreads(threads);
   const std::string refused = lowerCurrentThreadPriority(niceness.value_or(0));
 #if defined(__linux__)
   nameCurrentThread("hf-cpu");  // the pool's threads inherit the name and the niceness
 #endif
-  auto device = std::make_unique<CpuDevice>(n);
+  if (x86_v3 && *x86_v3 && !cpuHasX86V3()) throw InvalidArgument("this CPU cannot run the x86-64-v3 (AVX2) kernels");
+  auto device = std::make_unique<CpuDevice>(n, x86_v3.value_or(cpuHasX86V3()));
   if (!refused.empty()) device->mutableInfo().warning = "thread priority: " + refused;
   return device;
 }

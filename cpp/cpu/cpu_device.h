@@ -23,14 +23,17 @@ inline constexpr int kMaxThreads = 256;
 int resolveThreads(int requested);
 
 // Makes the device on the calling thread, which becomes its thread; `niceness` as for the GL
-// device (the pool's threads are started after it is applied, so they share it).
-std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> niceness);
+// device (the pool's threads are started after it is applied, so they share it). `x86_v3`:
+// run the x86-64-v3 build of the loops (cpu/kernel.h); none: when the CPU has it.
+std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> niceness,
+                                               std::optional<bool> x86_v3 = std::nullopt);
 
 // A worker thread with a CPU device.
 class CpuWorker : public compute::ComputeWorker {
  public:
-  explicit CpuWorker(int threads = 0, std::optional<int> niceness = std::nullopt)
-      : ComputeWorker([threads, niceness] { return makeCpuDevice(threads, niceness); }) {}
+  explicit CpuWorker(int threads = 0, std::optional<int> niceness = std::nullopt,
+                     std::optional<bool> x86_v3 = std::nullopt)
+      : ComputeWorker([threads, niceness, x86_v3] { return makeCpuDevice(threads, niceness, x86_v3); }) {}
 };
 
 }  // namespace hf::cpu

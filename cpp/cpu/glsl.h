@@ -37,6 +37,9 @@ struct ImageBinding {
   glm::ivec3 size{0};
   int stride_y = 0;  // texels from one row to the next (size.x)
   int stride_z = 0;  // texels from one slice to the next (size.x * size.y); below 2^31
+  // A 4-channel image is kept as 4 planes, one per channel, this many floats apart (so that row
+  // loops load each channel contiguously); 0 for 1-channel images.
+  std::size_t plane = 0;
   ImageFormat format = ImageFormat::R32F;
 };
 
@@ -90,26 +93,35 @@ namespace glsl {
 using namespace glm;  // vec3, ivec3, mix, clamp, ... under their GLSL names
 using uint = unsigned int;
 
+// Each format's texels and how a texel at index i is read and written.
 struct r32f {
-  using texel = float;
   using value = vec4;
   static constexpr ImageFormat format = ImageFormat::R32F;
-  static value load(const float& t) { return value(t, 0.0f, 0.0f, 1.0f); }
-  static void store(float& t, const value& v) { t = v.x; }
+  static value load(const ImageBinding& im, int i) { return value(static_cast<const float*>(im.data)[i], 0.0f, 0.0f, 1.0f); }
+  static void store(const ImageBinding& im, int i, const value& v) { static_cast<float*>(im.data)[i] = v.x; }
 };
 struct rgba32f {
-  using texel = vec4;
   using value = vec4;
   static constexpr ImageFormat format = ImageFormat::RGBA32F;
-  static value load(const vec4& t) { return t; }
-  static void store(vec4& t, const value& v) { t = v; }
+  static value load(const ImageBinding& im, int i) {
+    const float* p = static_cast<const float*>(im.data) + i;
+    return value(p[0], p[im.plane], p[2 * im.plane], p[3 * im.plane]);
+  }
+  static void store(const ImageBinding& im, int i, const value& v) {
+    float* p = static_cast<float*>(im.data) + i;
+    p[0] = v.x;
+    p[im.plane] = v.y;
+    p[2 * im.plane] = v.z;
+    p[3 * im.plane] = v.w;
+  }
 };
 struct r8ui {
-  using texel = std::uint8_t;
   using value = uvec4;
   static constexpr ImageFormat format = ImageFormat::R8UI;
-  static value load(const std::uint8_t& t) { return value(t, 0u, 0u, 1u); }
-  static void store(std::uint8_t& t, const value& v) { t = static_cast<std::uint8_t>(v.x); }
+  static value load(const ImageBinding& im, int i) { return value(static_cast<const std::uint8_t*>(im.data)[i], 0u, 0u, 1u); }
+  static void store(const ImageBinding& im, int i, const value& v) {
+    static_cast<std::uint8_t*>(im.data)[i] = static_cast<std::uint8_t>(v.x);
+  }
 };
 
 // One image uniform of a kernel (IMAGE_* / UIMAGE_*).
@@ -124,9 +136,7 @@ struct Image : ImageBinding {
            static_cast<unsigned>(c.y) < static_cast<unsigned>(size.y) &&
            static_cast<unsigned>(c.z) < static_cast<unsigned>(size.z);
   }
-  typename Format::texel& at(const ivec3& c) const {
-    return static_cast<typename Format::texel*>(data)[c.x + stride_y * c.y + stride_z * c.z];
-  }
+  int index(const ivec3& c) const { return c.x + stride_y * c.y + stride_z * c.z; }
 };
 
 // The same image where the kernel's runner has proven every access in range (cpu/kernel.h:
@@ -139,23 +149,23 @@ struct UncheckedImage : Image<Format> {
 
 template <class Format>
 typename Format::value imageLoad(const UncheckedImage<Format>& image, const ivec3& c) {
-  return Format::load(image.at(c));
+  return Format::load(image, image.index(c));
 }
 
 template <class Format>
 void imageStore(const UncheckedImage<Format>& image, const ivec3& c, const typename Format::value& v) {
-  Format::store(image.at(c), v);
+  Format::store(image, image.index(c), v);
 }
 
 template <class Format>
 typename Format::value imageLoad(const Image<Format>& image, const ivec3& c) {
   if (!image.contains(c)) return typename Format::value(0);
-  return Format::load(image.at(c));
+  return Format::load(image, image.index(c));
 }
 
 template <class Format>
 void imageStore(const Image<Format>& image, const ivec3& c, const typename Format::value& v) {
-  if (image.contains(c)) Format::store(image.at(c), v);
+  if (image.contains(c)) Format::store(image, image.index(c), v);
 }
 
 template <class Format>

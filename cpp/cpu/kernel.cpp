@@ -2,6 +2,7 @@
 #include "cpu/kernel.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -38,7 +39,24 @@ int defineValue(const compute::Defines& defines, const char* name, int fallback)
   return fallback;
 }
 
+bool detectX86V3() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (const char* env = std::getenv(kCpuIsaEnv); env != nullptr && std::strcmp(env, "baseline") == 0) return false;
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+         __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("f16c") && __builtin_cpu_supports("lzcnt") &&
+         __builtin_cpu_supports("movbe") && __builtin_cpu_supports("popcnt");
+#else
+  return false;
+#endif
+}
+
 }  // namespace
+
+bool cpuHasX86V3() {
+  static const bool v3 = detectX86V3();
+  return v3;
+}
 
 namespace glsl {
 void barrierUnavailable() {

@@ -33,6 +33,7 @@ inline constexpr int kBufferBindings = 8;
 struct Bindings {
   std::array<ImageBinding, kImageUnits> images{};
   std::array<BufferBinding, kBufferBindings> buffers{};
+  bool x86_v3 = false;  // the device runs the x86-64-v3 build of every loop (see runBest)
 };
 
 class CpuKernel {
@@ -44,6 +45,43 @@ class CpuKernel {
   virtual void run(const glm::ivec3& invocations, const glm::ivec3& local_size, const Bindings& bindings,
                    ThreadPool& pool) = 0;
 };
+
+// ---- instruction sets ------------------------------------------------------------------------
+// Every runner's loop is compiled twice: for the x86-64 baseline and for x86-64-v3 (AVX2, FMA,
+// BMI2), picked when the module loads by what the CPU has; the row loops vectorize 8 wide with
+// the latter. The kernels are built with -ffp-contract=off, so both give the same bits.
+
+// The environment variable that forces the baseline build ("baseline").
+inline constexpr const char* kCpuIsaEnv = "HAPTICFLUID_CPU_ISA";
+
+// True when this CPU runs the x86-64-v3 build and HAPTICFLUID_CPU_ISA does not say "baseline"
+// (a device takes this when it is made unless told otherwise: cpu_device.h).
+bool cpuHasX86V3();
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define HF_X86_V3 __attribute__((target("avx2,fma,bmi,bmi2,f16c,lzcnt,movbe,popcnt"), flatten))
+template <class F>
+HF_X86_V3 void runX86V3(const F& f) {
+  f();
+}
+#endif
+
+template <class F>
+__attribute__((flatten)) void runBaseline(const F& f) {
+  f();
+}
+
+// Runs f (a loop over cells, inlined) with the x86-64-v3 build when `x86_v3`, else the baseline.
+template <class F>
+void runBest(bool x86_v3, const F& f) {
+#if defined(HF_X86_V3)
+  if (x86_v3) {
+    runX86V3(f);
+    return;
+  }
+#endif
+  runBaseline(f);
+}
 
 // Below this many invocations a dispatch runs on the calling thread alone (waking the pool
 // costs more than a small level of the multigrid).
@@ -72,7 +110,7 @@ void forRows(const glm::ivec3& n, ThreadPool& pool, Row&& row, Chunk&& chunk) {
 // Each thread runs a copy of the kernel: its bound images and uniforms are then locals the
 // compiler can keep in registers.
 template <class K>
-void runInvocation(K& k, glsl::Invocation& inv, int x, int y, int z) {
+inline void runInvocation(K& k, glsl::Invocation& inv, int x, int y, int z) {
   inv.global_id = glm::uvec3(static_cast<unsigned>(x), static_cast<unsigned>(y), static_cast<unsigned>(z));
   k.hf_main(inv);
 }
@@ -82,18 +120,22 @@ template <class K>
 class InvocationRunner final : public CpuKernel {
  public:
   KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings&, ThreadPool& pool) override {
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     forRows(
         n, pool,
         [&](int y, int z) {
-          K k(kernel_);
-          glsl::Invocation inv;
-          for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+          runBest(bindings.x86_v3, [&] {
+            K k(kernel_);
+            glsl::Invocation inv;
+            for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+          });
         },
         [&](int x0, int x1) {
-          K k(kernel_);
-          glsl::Invocation inv;
-          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          runBest(bindings.x86_v3, [&] {
+            K k(kernel_);
+            glsl::Invocation inv;
+            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          });
         });
   }
 
@@ -110,25 +152,29 @@ template <class K, class KU>
 class InteriorRunner final : public CpuKernel {
  public:
   KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings&, ThreadPool& pool) override {
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     forRows(
         n, pool,
         [&](int y, int z) {
-          K k(checked_);
-          glsl::Invocation inv;
-          if (y == 0 || z == 0 || y == n.y - 1 || z == n.z - 1 || n.x < 3) {
-            for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
-            return;
-          }
-          KU ku(unchecked_);
-          runInvocation(k, inv, 0, y, z);
-          for (int x = 1; x < n.x - 1; ++x) runInvocation(ku, inv, x, y, z);
-          runInvocation(k, inv, n.x - 1, y, z);
+          runBest(bindings.x86_v3, [&] {
+            K k(checked_);
+            glsl::Invocation inv;
+            if (y == 0 || z == 0 || y == n.y - 1 || z == n.z - 1 || n.x < 3) {
+              for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+              return;
+            }
+            KU ku(unchecked_);
+            runInvocation(k, inv, 0, y, z);
+            for (int x = 1; x < n.x - 1; ++x) runInvocation(ku, inv, x, y, z);
+            runInvocation(k, inv, n.x - 1, y, z);
+          });
         },
         [&](int x0, int x1) {
-          K k(checked_);
-          glsl::Invocation inv;
-          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          runBest(bindings.x86_v3, [&] {
+            K k(checked_);
+            glsl::Invocation inv;
+            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          });
         });
   }
 
@@ -145,18 +191,22 @@ template <class KU>
 class UncheckedRunner final : public CpuKernel {
  public:
   KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings&, ThreadPool& pool) override {
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     forRows(
         n, pool,
         [&](int y, int z) {
-          KU k(kernel_);
-          glsl::Invocation inv;
-          for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+          runBest(bindings.x86_v3, [&] {
+            KU k(kernel_);
+            glsl::Invocation inv;
+            for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
+          });
         },
         [&](int x0, int x1) {
-          KU k(kernel_);
-          glsl::Invocation inv;
-          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          runBest(bindings.x86_v3, [&] {
+            KU k(kernel_);
+            glsl::Invocation inv;
+            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          });
         });
   }
 
