@@ -40,16 +40,19 @@ py::array_t<float> readField(Simulation& sim, Field f) {
   return fieldArray(std::move(data), sim.fieldShape(f));
 }
 
-// A read/write property over one FluidParams member; the setter validates before applying.
-template <class T, class Get, class Set>
-void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set, const char* doc) {
-  c.def_property(
-      name, [get](const Simulation& s) { return get(s.params()); },
-      [set, name](Simulation& s, const py::object& value) {
-        const T v = settingArg<T>(value, name);
-        s.updateParams([&](fluid::FluidParams& p) { set(p, v); });
-      },
-      doc);
+// The fluid's settings as properties: read from the settings in use, written as one change that
+// applies if the engine's checks pass (Simulation::updateParams).
+void addParamProperties(py::class_<Simulation>& c) {
+  for (const Setting<fluid::FluidParams>& row : fluidParamSettings().rows()) {
+    c.def_property(
+        row.name.c_str(), [get = row.get](const Simulation& s) { return get(s.params()); },
+        [set = row.set, qualified = "Simulation." + row.name](Simulation& s, const py::object& value) {
+          fluid::FluidParams changed = s.params();
+          set(changed, value, qualified);
+          s.updateParams([&changed](fluid::FluidParams& p) { p = changed; });
+        },
+        (row.doc + " As FluidSettings." + row.name + ", changed between steps.").c_str());
+  }
 }
 
 // The checkpoint's arrays by their Python names, in the dict state() returns.
@@ -514,59 +517,7 @@ a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can
   c.def_property_readonly("time", &Simulation::timeS, "Simulated time since the start or reset (s).");
   c.def_property_readonly("steps", &Simulation::steps, "Steps taken since the start or reset.");
 
-  paramProperty<float>(c, "fluid_density", [](const fluid::FluidParams& p) { return p.density_kg_m3; },
-                       [](fluid::FluidParams& p, float v) { p.density_kg_m3 = v; }, "Fluid density rho (kg/m^3).");
-  paramProperty<Vec3>(c, "gravity",
-                      [](const fluid::FluidParams& p) {
-                        return py::make_tuple(p.gravity_m_s2.x, p.gravity_m_s2.y, p.gravity_m_s2.z);
-                      },
-                      [](fluid::FluidParams& p, const Vec3& v) { p.gravity_m_s2 = toVec3(v); },
-                      "Gravity (m/s^2).");
-  paramProperty<bool>(c, "open_top", [](const fluid::FluidParams& p) { return p.open_top; },
-                      [](fluid::FluidParams& p, bool v) { p.open_top = v; }, "+z wall open to 0 Pa.");
-  paramProperty<fluid::Advection>(c, "advection", [](const fluid::FluidParams& p) { return p.advection; },
-                                  [](fluid::FluidParams& p, fluid::Advection v) { p.advection = v; },
-                                  "Advection scheme: an Advection or its name.");
-  paramProperty<float>(c, "vorticity", [](const fluid::FluidParams& p) { return p.vorticity_confinement; },
-                       [](fluid::FluidParams& p, float v) { p.vorticity_confinement = v; },
-                       "Vorticity confinement epsilon (dimensionless).");
-  paramProperty<float>(c, "smoke_weight", [](const fluid::FluidParams& p) { return p.smoke_weight_m_s2; },
-                       [](fluid::FluidParams& p, float v) { p.smoke_weight_m_s2 = v; },
-                       "Downward acceleration per unit smoke concentration (m/s^2).");
-  paramProperty<float>(c, "heat_buoyancy", [](const fluid::FluidParams& p) { return p.heat_buoyancy_m_s2_k; },
-                       [](fluid::FluidParams& p, float v) { p.heat_buoyancy_m_s2_k = v; },
-                       "Upward acceleration per kelvin above ambient (m/s^2/K).");
-  paramProperty<float>(c, "smoke_dissipation", [](const fluid::FluidParams& p) { return p.density_dissipation_1_s; },
-                       [](fluid::FluidParams& p, float v) { p.density_dissipation_1_s = v; },
-                       "Smoke fade rate (1/s).");
-  paramProperty<float>(c, "heat_dissipation",
-                       [](const fluid::FluidParams& p) { return p.temperature_dissipation_1_s; },
-                       [](fluid::FluidParams& p, float v) { p.temperature_dissipation_1_s = v; },
-                       "Heat fade rate (1/s).");
-  paramProperty<bool>(c, "conserve_smoke", [](const fluid::FluidParams& p) { return p.conserve_smoke; },
-                      [](fluid::FluidParams& p, bool v) { p.conserve_smoke = v; },
-                      "Advection keeps the totals of smoke and heat (less the outflow through an open top),\n"
-                      "without new extrema; off: the raw transport, which loses some.");
-  paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
-                     [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; },
-                     "Jacobi sweeps or multigrid CG iterations per step (the most, with a pressure_tolerance).");
-  paramProperty<fluid::PressureSolverKind>(c, "pressure_solver", [](const fluid::FluidParams& p) { return p.pressure_solver; },
-                                           [](fluid::FluidParams& p, fluid::PressureSolverKind v) { p.pressure_solver = v; },
-                                           "Pressure solver: a PressureSolver or its name.");
-  paramProperty<float>(c, "pressure_tolerance", [](const fluid::FluidParams& p) { return p.pressure_tolerance; },
-                       [](fluid::FluidParams& p, float v) { p.pressure_tolerance = v; },
-                       "Relative residual (dimensionless) at which the pressure solve stops; 0 = run exactly\n"
-                       "pressure_iterations. 0 or 1e-7 .. 1 (exclusive).");
-  paramProperty<bool>(c, "compute_residual", [](const fluid::FluidParams& p) { return p.compute_residual; },
-                      [](fluid::FluidParams& p, bool v) { p.compute_residual = v; },
-                      "Measure the pressure residual each step.");
-  paramProperty<bool>(c, "cut_cells", [](const fluid::FluidParams& p) { return p.cut_cells; },
-                      [](fluid::FluidParams& p, bool v) { p.cut_cells = v; },
-                      "Cut cells for the probe, sphere or mesh (on by default): the open fractions of the faces\n"
-                      "around it from its geometry, used in the divergence, pressure solve, projection and force,\n"
-                      "so the force changes continuously as it moves. Off: faces are open or covered by the\n"
-                      "probe's voxels (whole cells switch in one step).");
-
+  addParamProperties(c);
   addProbeMethods(c);
   addSourceMethods(c);
   addStepMethods(c);
