@@ -12,6 +12,7 @@
 #include "python/convert.h"
 #include "python/convert_mesh.h"
 #include "python/ensure_array.h"
+#include "python/named_args.h"
 #include "python/settings_class.h"
 #include "session/simulation.h"
 
@@ -167,8 +168,8 @@ void addStepReport(py::module_& m) {
 
 // The probe: a sphere or a closed mesh, its pose, and what the simulation holds.
 void addProbeMethods(py::class_<Simulation>& c) {
-  c.def(
-      "set_probe",
+  defNamed(
+      c, "set_probe",
       [](Simulation& s, const Vec3& centre, float radius, const Vec3& velocity, const Vec3& angular_velocity) {
         obstacle::SpherePose pose;
         pose.centre_m = toVec3(centre);
@@ -181,8 +182,8 @@ void addProbeMethods(py::class_<Simulation>& c) {
       py::arg("angular_velocity") = Vec3{0, 0, 0},
       "Place the spherical probe: centre (m, world), radius (m, >= one cell), linear velocity (m/s)\n"
       "and angular velocity (rad/s) imposed on the fluid faces it covers. It must lie inside the domain.");
-  c.def(
-      "set_mesh_probe",
+  defNamed(
+      c, "set_mesh_probe",
       [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
          const Vec3& velocity, const Vec3& angular_velocity, const std::optional<Vec3>& torque_centre) {
         obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
@@ -219,8 +220,8 @@ posed mesh's bounding box (a conservative one, from the local box and bounding s
 keep one cell of fluid from every wall. Raises InvalidArgumentError otherwise, saying what to
 change; nothing changes then.
 )doc");
-  c.def(
-      "set_probe_pose",
+  defNamed(
+      c, "set_probe_pose",
       [](Simulation& s, const py::object& transform, const Vec3& velocity, const Vec3& angular_velocity) {
         obstacle::RigidPose pose;
         pose.transform = toTransform(transform);
@@ -272,8 +273,8 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
 
 // The smoke source: a sphere or a closed mesh, its pose, and what the simulation holds.
 void addSourceMethods(py::class_<Simulation>& c) {
-  c.def(
-      "set_smoke_source",
+  defNamed(
+      c, "set_smoke_source",
       [](Simulation& s, const Vec3& centre, float radius, float density, float temperature,
          const py::object& emission) {
         fluid::SmokeSource src;
@@ -290,8 +291,8 @@ void addSourceMethods(py::class_<Simulation>& c) {
       "Emit smoke in a sphere (replaces any source): centre (m), radius (m). emission 'hold': its cells\n"
       "are held at least at `density` (concentration) and `temperature` (K above ambient); 'rate':\n"
       "`density` (concentration per second) and `temperature` (K/s) are added per second.");
-  c.def(
-      "set_smoke_source_mesh",
+  defNamed(
+      c, "set_smoke_source_mesh",
       [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
          float density, float temperature, const py::object& emission) {
         obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
@@ -366,8 +367,8 @@ Raises InvalidArgumentError if there is no mesh source or the pose is refused.
 
 // Stepping and the object's lifetime.
 void addStepMethods(py::class_<Simulation>& c) {
-  c.def(
-      "step",
+  defNamed(
+      c, "step",
       [](Simulation& s, double dt) {
         FlushLogAfter flush;  // the simulation's once-only warning, on logger "hapticfluid.fluid"
         py::gil_scoped_release release;
@@ -397,8 +398,8 @@ void addFieldMethods(py::class_<Simulation>& c) {
         "Smoke concentration, float32 (nx, ny, nz).");
   c.def("temperature", [](Simulation& s) { return readField(s, Field::Temperature); },
         "Temperature above ambient (K), float32 (nx, ny, nz).");
-  c.def(
-      "pressure",
+  defNamed(
+      c, "pressure",
       [](Simulation& s, bool hydrostatic) {
         return readField(s, hydrostatic ? Field::Pressure : Field::DynamicPressure);
       },
@@ -429,8 +430,8 @@ void addFieldMethods(py::class_<Simulation>& c) {
         "(m/s on faces), 'density', 'temperature' (K), 'pressure' (dynamic pressure, Pa: the next\n"
         "solve's warm start) and the scalars 'time' (s) and 'steps'. Probe, source and settings are\n"
         "not included. Restoring it with set_state() makes later steps bit-identical.");
-  c.def(
-      "set_state",
+  defNamed(
+      c, "set_state",
       [](Simulation& s, const py::dict& d) {
         session::SimulationState st = stateFromDict(s, d);
         py::gil_scoped_release release;
@@ -443,8 +444,8 @@ void addFieldMethods(py::class_<Simulation>& c) {
 
 // Module functions and constants of the simulation.
 void addConstants(py::module_& m) {
-  m.def(
-      "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
+  defNamed(
+      m, "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
       py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
   m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
   m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
