@@ -144,8 +144,8 @@ def probes(tmp):
     scene.collection.objects.link(empty)
     empty.location = (0.5, 0.5, 0.5)
     s.probe, s.probe_shape = empty, "SPHERE"
-    text = refused(bpy.ops.hapticfluid.bake, "make the sphere probe 'Pointer' smaller", "Empty's Size (1)",
-                   "radius 1 m")
+    text = refused(bpy.ops.hapticfluid.bake, "resize the sphere probe 'Pointer'", "Empty's Size (1)",
+                   "radius 1 m", "the radius must be at most")
     check("[" not in text, f"no coordinate ranges in the message: {text}")
     empty.empty_display_size = 0.1
     radius = blender_scene.scene_dict(scene, s)["probe"]["radius"]

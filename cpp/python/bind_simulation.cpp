@@ -8,6 +8,7 @@
 #include "emitter/mesh_source.h"
 #include "fluid/grid_checks.h"
 #include "fluid/validate.h"
+#include "obstacle/probe_checks.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/convert_mesh.h"
@@ -462,6 +463,38 @@ void addConstants(py::module_& m) {
   m.attr("CELL_INSIDE") = 3;
 }
 
+// The engine's checks of a probe's place in a grid, without a simulation (no GL): what
+// set_probe, set_mesh_probe and set_probe_pose would refuse, for a bake to check its keys first.
+void addProbeChecks(py::module_& m) {
+  defNamed(
+      m, "check_sphere_probe",
+      [](const session::SimulationConfig& settings, const Vec3& centre, float radius) {
+        obstacle::SpherePose pose;
+        pose.centre_m = toVec3(centre);
+        pose.radius_m = radius;
+        obstacle::validatePose(pose, fluid::makeGrid(settings.resolution, settings.domain_size_m, settings.origin_m));
+      },
+      py::arg("settings"), py::arg("centre"), py::arg("radius"),
+      "Raise InvalidArgumentError as Simulation.set_probe would for a sphere of `radius` (m) at `centre`\n"
+      "(m) in the grid of `settings` (a FluidSettings): a radius under one cell, or less than one cell of\n"
+      "fluid between the sphere and a wall. Makes no simulation.");
+  defNamed(
+      m, "check_mesh_probe",
+      [](const session::SimulationConfig& settings, const py::array& vertices, const py::array& triangles,
+         const py::object& transform) {
+        const obstacle::MeshExtent extent = obstacle::meshExtent(toMesh(vertices, triangles));
+        obstacle::RigidPose pose;
+        pose.transform = toTransform(transform);
+        obstacle::validatePose(extent, pose,
+                               fluid::makeGrid(settings.resolution, settings.domain_size_m, settings.origin_m));
+      },
+      py::arg("settings"), py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(),
+      "Raise InvalidArgumentError as Simulation.set_mesh_probe would for the pose: the mesh's conservative\n"
+      "world box at `transform` (4x4 local -> world, m; None: the identity) keeping less than one cell of\n"
+      "fluid from a wall of the grid of `settings` (a FluidSettings), or a transform it cannot use. The\n"
+      "arrays as set_mesh_probe takes them; whether the mesh is closed is not checked. Makes no simulation.");
+}
+
 }  // namespace
 
 void addSimulation(py::module_& m) {
@@ -524,6 +557,7 @@ a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can
   addStepMethods(c);
   addFieldMethods(c);
   addConstants(m);
+  addProbeChecks(m);
 }
 
 }  // namespace hf::python

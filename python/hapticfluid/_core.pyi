@@ -267,6 +267,14 @@ class Simulation:
     def state(self) -> Dict[str, object]: ...  # float32 arrays + 'time' (s), 'steps'
     def set_state(self, state: Mapping[str, object]) -> None: ...
 
+def check_sphere_probe(settings: FluidSettings, centre: Vec3, radius: float) -> None: ...  # m; as set_probe checks
+def check_mesh_probe(
+    settings: FluidSettings,
+    vertices: npt.ArrayLike,  # (N, 3) m, local frame
+    triangles: npt.ArrayLike,  # (M, 3) int vertex indices
+    transform: Optional[Matrix4] = None,  # local -> world, m
+) -> None: ...  # as set_mesh_probe checks the pose
+
 # ---- haptics (device frame and SI units: m, m/s, N; times on time.monotonic()) ----
 
 class DeviceInfo:

@@ -72,6 +72,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+import hapticfluid as hf
 from hapticfluid import Advection, FluidSettings, InvalidArgumentError, PressureSolver, assembly
 from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
 
@@ -311,42 +312,33 @@ class BakeScene:
                 for f, p in zip(self.probe.trajectory.frames, self.probe.trajectory.poses)]
 
     def check_probe_path(self) -> None:
-        """The sphere stays a cell plus a hair from every wall at every key, hence (positions
-        and radii interpolate linearly, the allowed set is convex) everywhere in between."""
-        # Coordinates near 1e308 overflow in the checks and the rounding of the message (inf is
-        # refused all the same): no numpy RuntimeWarning on top of the error.
-        with np.errstate(over="ignore", invalid="ignore"):
-            self._check_probe_path()
-
-    def _check_probe_path(self) -> None:
+        """The engine's checks of the probe's place (hapticfluid.check_sphere_probe,
+        check_mesh_probe: one cell of fluid from every wall, a sphere at least a cell wide) at
+        every key, hence everywhere in between for a sphere (positions and radii interpolate
+        linearly and the allowed set is convex); the bake hands the engine every substep's pose
+        before its first step as well (driver.check_trajectory)."""
         if self.probe is None:
             return
-        h = self.cell_size
-        origin = np.asarray(self.domain_origin)
-        lo = origin + h * 1.001
-        hi = origin + np.asarray(self.grid_size) - h * 1.001
-        if self.probe.shape == "mesh":  # exact at the keys; the engine checks every substep's pose
-            for frame, matrix in self.probe.trajectory.keys:
-                world = self.probe.vertices @ matrix[:3, :3].T + matrix[:3, 3]
-                if np.any(world.min(axis=0) < lo) or np.any(world.max(axis=0) > hi):
-                    raise InvalidArgumentError(
-                        f"probe mesh at frame {frame:g} spans {np.round(world.min(axis=0), 4).tolist()} .. "
-                        f"{np.round(world.max(axis=0), 4).tolist()} m; it must keep one cell ({h:.4g} m) of "
-                        f"fluid from every wall: stay within {np.round(lo, 4).tolist()} .. "
-                        f"{np.round(hi, 4).tolist()} m")
-            return
-        for frame, centre, radius in self.probe_spheres():
-            if radius < h:
-                raise InvalidArgumentError(
-                    f"probe radius {radius:.4g} m (key at frame {frame:g}) is under one cell ({h:.4g} m) at "
-                    f"resolution {self.resolution}: raise the radius or the resolution")
-            if np.any(centre - radius < lo) or np.any(centre + radius > hi):
-                raise InvalidArgumentError(
-                    f"probe sphere at frame {frame:g} (centre {np.round(centre, 4).tolist()} m, radius "
-                    f"{radius:.4g} m) must keep one cell ({h:.4g} m) of fluid from every wall of the domain "
-                    f"{np.round(origin, 4).tolist()} .. {np.round(origin + self.grid_size, 4).tolist()} m; its "
-                    f"centre must stay within {np.round(lo + radius, 4).tolist()} .. "
-                    f"{np.round(hi - radius, 4).tolist()} m")
+        grid = assembly.fluid_settings(self.domain_origin, self.domain_size, self.resolution)
+        # Coordinates near 1e308 overflow in float32 and in the scale (the engine refuses inf all
+        # the same): no numpy RuntimeWarning on top of its error.
+        if self.probe.shape == "mesh":
+            with np.errstate(over="ignore", invalid="ignore"):
+                vertices = np.asarray(self.probe.vertices, dtype=np.float32)
+            triangles = np.asarray(self.probe.triangles, dtype=np.int32)
+            checks = [(frame, lambda m=matrix: hf.check_mesh_probe(grid, vertices, triangles, m))
+                      for frame, matrix in self.probe.trajectory.keys]
+        else:
+            with np.errstate(over="ignore", invalid="ignore"):
+                spheres = self.probe_spheres()
+            checks = [(frame, lambda c=centre, r=radius: hf.check_sphere_probe(grid, tuple(map(float, c)), r))
+                      for frame, centre, radius in spheres]
+        for frame, check in checks:
+            try:
+                check()
+            except InvalidArgumentError as exc:
+                raise InvalidArgumentError(f"the probe at frame {frame:g} (a key) at resolution {self.resolution}: "
+                                           f"{exc}") from None
 
 
 def _key_matrix(where: str, key: Dict[str, Any]) -> np.ndarray:
