@@ -19,6 +19,42 @@ ROLE_ITEMS = (
 ROLE_LABELS = {key: name for key, name, _ in ROLE_ITEMS}
 
 
+def _engine_limits():
+    """The ranges the engine takes (hapticfluid.FluidSettings.limits(), the smoke source's
+    MAX_SOURCE_DENSITY and MAX_SOURCE_TEMPERATURE_K), by setting; {} without the package (no bake
+    can run then, and the panel says why)."""
+    try:
+        import hapticfluid
+    except ImportError:
+        return {}
+    limits = hapticfluid.FluidSettings.limits()
+    limits["source_density"] = {"min": 0.0, "max": hapticfluid.MAX_SOURCE_DENSITY, "max_exclusive": False}
+    limits["source_temperature"] = {"min": 0.0, "max": hapticfluid.MAX_SOURCE_TEMPERATURE_K, "max_exclusive": False}
+    return limits
+
+
+_LIMITS = _engine_limits()
+
+
+def _below(x):
+    """The largest float32 below x > 0 (Blender's properties hold float32: an excluded maximum)."""
+    import struct
+
+    return struct.unpack("<f", struct.pack("<I", struct.unpack("<I", struct.pack("<f", x))[0] - 1))[0]
+
+
+def _limits(setting, integer=False, **soft):
+    """A property's min and max: the engine's range of ``setting``, so a field offers exactly what
+    the bake takes; ``soft`` (soft_min, soft_max) only narrows the slider's range inside it."""
+    r = _LIMITS.get(setting)
+    if r is None:
+        return soft
+    hi = _below(r["max"]) if r["max_exclusive"] else r["max"]
+    out = {"min": int(r["min"]) if integer else r["min"], "max": int(hi) if integer else hi}
+    out.update({k: max(out["min"], min(out["max"], v)) for k, v in soft.items()})
+    return out
+
+
 class HapticFluidProbeSettings(bpy.types.PropertyGroup):
     """The probe's settings, on the object holding the Probe role."""
 
@@ -33,9 +69,9 @@ class HapticFluidProbeSettings(bpy.types.PropertyGroup):
 class HapticFluidSourceSettings(bpy.types.PropertyGroup):
     """The smoke source's settings, on the object holding the Smoke Source role."""
 
-    source_density: FloatProperty(name="Source Density", default=1.0, min=0.0, max=1000.0,
+    source_density: FloatProperty(name="Source Density", default=1.0, **_limits("source_density"),
                                   description="Smoke concentration held in the emitter (dimensionless)")
-    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, min=0.0, max=10000.0,
+    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, **_limits("source_temperature"),
                                       description="Temperature above ambient held in the emitter (K)")
 
 
@@ -81,17 +117,17 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
         description="Keep the simulation's full state every this many frames (0: only the latest), so that "
                     "after a change Resume re-bakes from the checkpoint before it instead of from the start; "
                     "each costs the size shown below on disk")
-    fluid_density: FloatProperty(name="Fluid Density (kg/m³)", default=1.2, min=1e-3, max=1e5, unit="NONE",
+    fluid_density: FloatProperty(name="Fluid Density (kg/m³)", default=1.2, **_limits("fluid_density"), unit="NONE",
                                  description="Density of the fluid (kg/m^3): 1.2 air, 1000 water")
     open_top: BoolProperty(name="Open Top", default=True,
                            description="The domain's top is open (smoke leaves) instead of a lid")
-    vorticity: FloatProperty(name="Vorticity", default=0.4, min=0.0, max=100.0,
+    vorticity: FloatProperty(name="Vorticity", default=0.4, **_limits("vorticity", soft_max=100.0),
                              description="Vorticity confinement (dimensionless): curlier smoke")
-    heat_buoyancy: FloatProperty(name="Heat Buoyancy (m/s²/K)", default=1.0, min=0.0, max=1000.0,
+    heat_buoyancy: FloatProperty(name="Heat Buoyancy (m/s²/K)", default=1.0, **_limits("heat_buoyancy", soft_min=0.0),
                                  description="Upward acceleration per kelvin above ambient (m/s^2/K)")
-    smoke_dissipation: FloatProperty(name="Smoke Dissipation (1/s)", default=0.05, min=0.0, max=1000.0,
+    smoke_dissipation: FloatProperty(name="Smoke Dissipation (1/s)", default=0.05, **_limits("smoke_dissipation"),
                                      description="Rate the smoke fades (1/s)")
-    heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, min=0.0, max=1000.0,
+    heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, **_limits("heat_dissipation"),
                                     description="Rate the heat fades (1/s)")
     pressure_solver: EnumProperty(
         name="Pressure Solver", default="JACOBI",
@@ -99,10 +135,11 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
                ("MULTIGRID", "Multigrid", "Conjugate gradient with a multigrid V-cycle: a few iterations "
                                           "reach a small residual")),
         description="How the pressure is solved each step")
-    pressure_iterations: IntProperty(name="Pressure Iterations", default=40, min=1, max=100000,
+    pressure_iterations: IntProperty(name="Pressure Iterations", default=40, **_limits("pressure_iterations", True),
                                      description="Jacobi sweeps or multigrid iterations per step "
                                                  "(the cap when a tolerance is set)")
-    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=0.0, min=0.0, max=0.5, precision=6,
+    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=0.0, precision=6,
+                                      **_limits("pressure_tolerance", soft_max=0.5),
                                       description="Stop the pressure solve at this relative residual "
                                                   "(dimensionless); 0 runs the fixed iteration count")
     density_scale: FloatProperty(name="Render Density", default=20.0, min=0.0, max=10000.0,

@@ -73,7 +73,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 import hapticfluid as hf
-from hapticfluid import Advection, FluidSettings, InvalidArgumentError, PressureSolver, assembly
+from hapticfluid import FluidSettings, InvalidArgumentError, assembly
 from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
 
 GRID_NAMES = ("density", "velocity", "pressure")
@@ -430,6 +430,23 @@ def _source(value: Any) -> SmokeSource:
                        trajectory=_trajectory("source.keys", s.get("keys")), **values)
 
 
+def _fluid(value: Any) -> Dict[str, Any]:
+    """The fluid's settings: FLUID_DEFAULTS with those given, each checked by the engine's
+    FluidSettings (its types and ranges, FluidSettings.limits()) and refused with its message
+    under the key's name. Kept as given (numbers as floats, vectors as tuples, enums by name)."""
+    fluid = dict(FLUID_DEFAULTS)
+    settings = FluidSettings()
+    for k, v in _table("fluid", value, FLUID_KEYS).items():
+        try:
+            setattr(settings, k, v)
+        except (TypeError, InvalidArgumentError) as exc:
+            raise _err(f"fluid.{k}", str(exc)) from None
+        default = FLUID_DEFAULTS[k]
+        fluid[k] = (tuple(float(x) for x in v) if isinstance(default, tuple) else _json_value(v)
+                    if isinstance(default, str) else type(default)(v))
+    return fluid
+
+
 def _check_step_range(fps: float, substeps: Any, max_substeps: int) -> None:
     """The simulation steps (frame time / substeps) must be ones the engine takes; found here,
     not at the first step of a bake that has already freed the old one."""
@@ -461,27 +478,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         raise _err("domain.size", f"edges must be > 0 m, got {list(size)}")
     resolution = _resolution("resolution", top["resolution"])
 
-    fluid = dict(FLUID_DEFAULTS)
-    for k, v in _table("fluid", top.get("fluid", {}), FLUID_KEYS).items():
-        if k == "gravity":
-            fluid[k] = _vec("fluid.gravity", v)
-        elif k == "open_top":
-            if not isinstance(v, bool):
-                raise _err("fluid.open_top", f"expected true or false, got {v!r}")
-            fluid[k] = v
-        elif k in ("advection", "pressure_solver"):
-            names = tuple((Advection if k == "advection" else PressureSolver).__members__)
-            if not isinstance(v, str) or v not in names:
-                raise _err(f"fluid.{k}", "must be " + " or ".join(repr(n) for n in names) + f", got {v!r}")
-            fluid[k] = v
-        elif k == "pressure_iterations":
-            fluid[k] = _integer("fluid.pressure_iterations", v, 1)
-        elif k == "fluid_density":
-            fluid[k] = _number("fluid.fluid_density", v, positive=True)  # kg/m^3
-        elif k == "pressure_tolerance":
-            fluid[k] = _number("fluid.pressure_tolerance", v, minimum=0.0)
-        else:
-            fluid[k] = _number(f"fluid.{k}", v)
+    fluid = _fluid(top.get("fluid", {}))
 
     source = None if top.get("source") is None else _source(top["source"])
 
