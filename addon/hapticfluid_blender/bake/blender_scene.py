@@ -157,22 +157,19 @@ def probe_shape_dict(probe, shape):
     return {"shape": "sphere", "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
 
 
-def scene_dict(scene, settings):
-    """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
-    lo, hi = domain_box(settings)
-    if settings.frame_end < settings.frame_start:
-        raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
-    fps = scene.render.fps / scene.render.fps_base
-    data = {
-        "domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]},
+def settings_dict(scene, settings):
+    """The scene dict's entries read from the settings alone (no object, no frame_set: cheap
+    enough for a panel's draw): resolution, fluid, frames, substeps, cfl, max_substeps and the
+    cache's grids and format (its folder: scene_dict)."""
+    return {
         "resolution": settings.resolution,
         "fluid": fluid_dict(scene, settings),
-        "frames": {"start": settings.frame_start, "end": settings.frame_end, "fps": fps},
+        "frames": {"start": settings.frame_start, "end": settings.frame_end,
+                   "fps": scene.render.fps / scene.render.fps_base},
         "substeps": "adaptive" if settings.adaptive_substeps else settings.substeps,
         "cfl": settings.cfl,
         "max_substeps": settings.max_substeps,
         "cache": {
-            "directory": cache_folder(settings),
             "grids": ["density"] + (["velocity"] if settings.write_velocity else [])
                      + (["pressure"] if settings.write_pressure else []),
             "compression": settings.compression,
@@ -181,6 +178,15 @@ def scene_dict(scene, settings):
             "checkpoint_every": settings.checkpoint_every,
         },
     }
+
+
+def scene_dict(scene, settings):
+    """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
+    lo, hi = domain_box(settings)
+    if settings.frame_end < settings.frame_start:
+        raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
+    data = {"domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]}, **settings_dict(scene, settings)}
+    data["cache"]["directory"] = cache_folder(settings)
     source = source_dict(settings)
     moving = [obj for obj in (settings.probe, settings.source if source and "matrix" in source else None) if obj]
     keys = _sample_keys(scene, moving, settings.frame_start - 1, settings.frame_end)

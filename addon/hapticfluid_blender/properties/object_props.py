@@ -155,7 +155,7 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
     status: StringProperty(name="Status", default="", description="What the last bake did")
     baked_inputs: StringProperty(
         name="Baked Inputs", default="",
-        description="The settings the cache was baked from (JSON of cache_inputs), for 'cache out of date'")
+        description="What the cache was baked from (JSON of bake.cache_plan.inputs), for 'cache out of date'")
     # The domain's display before the bake turned it into a wire frame; Free restores it.
     domain_display_saved: BoolProperty(name="Domain Display Saved", default=False,
                                        description="The two properties below hold the domain's display")
@@ -212,67 +212,12 @@ def clear_stale_bake_state(_filepath=None):
             settings.status = INTERRUPTED_NOTE
 
 
-# Settings the cache depends on (frame_end is not one: raising it and pressing Resume extends
-# the cache). Display-only settings (density_scale) and the status are left out.
-CACHE_SETTINGS = ("probe_shape", "resolution", "frame_start", "substeps", "adaptive_substeps", "cfl", "max_substeps",
-                  "cache_dir", "write_velocity", "write_pressure", "half_float", "compression", "tolerance",
-                  "fluid_density", "open_top", "vorticity", "heat_buoyancy", "smoke_dissipation", "heat_dissipation",
-                  "source_density", "source_temperature", "pressure_solver", "pressure_iterations",
-                  "pressure_tolerance")
-# The roles as cache_inputs names them (the names the scene-level pointers had before roles, so a
-# cache baked then and migrated is not out of date).
-ROLE_INPUT_NAMES = {"domain": "Domain", "probe": "Probe", "source": "Smoke Source"}
-
-
 def ui_name(key):
     """The UI name of a setting of any role (units included), e.g. 'Fluid Density (kg/m³)'."""
     for cls in (HapticFluidDomainSettings, HapticFluidProbeSettings, HapticFluidSourceSettings):
         if key in cls.__annotations__:
             return cls.bl_rna.properties[key].name
     raise KeyError(key)
-
-
-def cache_inputs(scene, settings):
-    """What the cache is made from, cheap enough for a panel's draw: the settings above (by their
-    UI names), the objects' names, the domain's and the source's world placement and size (both
-    read at the current frame by the bake), gravity and frame rate. The probe and the smoke source
-    count by their names only: their animation is read with frame_set on every frame, too slow
-    for a draw, and their placement at the current frame changes as the timeline plays.
-    ``settings`` is ``roles.settings_of(scene)``."""
-    out = {}
-    for key in CACHE_SETTINGS:
-        value = getattr(settings, key)
-        out[ui_name(key)] = round(value, 9) if isinstance(value, float) else value
-    for key, name in ROLE_INPUT_NAMES.items():
-        obj = getattr(settings, key)
-        if obj is None or key in ("probe", "source"):  # animated: read per frame by the bake
-            out[name] = None if obj is None else obj.name
-            continue
-        out[name] = [obj.name, [round(v, 6) for row in obj.matrix_world for v in row],
-                     [round(v, 6) for v in obj.dimensions]]
-    out["Gravity"] = [round(v, 6) for v in scene.gravity] if scene.use_gravity else [0.0, 0.0, 0.0]
-    out["Frame Rate"] = round(scene.render.fps / scene.render.fps_base, 6)
-    return out
-
-
-def cache_inputs_json(scene, settings) -> str:
-    import json
-
-    return json.dumps(cache_inputs(scene, settings), sort_keys=True)
-
-
-def changed_cache_inputs(scene, settings):
-    """The names of the settings changed since the bake ([] if none, or no bake recorded)."""
-    import json
-
-    if not settings.baked_inputs:
-        return []
-    try:
-        baked = json.loads(settings.baked_inputs)
-    except ValueError:
-        return ["(unreadable record)"]
-    now = json.loads(cache_inputs_json(scene, settings))  # the same rounding and JSON types
-    return sorted(k for k in set(baked) | set(now) if baked.get(k) != now.get(k))
 
 
 def attach():

@@ -97,6 +97,31 @@ def _json_value(value: Any) -> Any:
 
 FLUID_DEFAULTS: Dict[str, Any] = {k: _json_value(getattr(FluidSettings(), k)) for k in FLUID_KEYS}
 
+# What shapes the frames: the fingerprint's entries (BakeScene.fingerprint, which a resume must
+# match; grid_resolution is derived from two of them), each with the scene key it comes from. The
+# list of what makes a cache stale: the add-on reads it too (cache_inputs), so its "cache out of
+# date" names what the re-bake plan compares. frames.end, cache.directory, cache.checkpoint_every
+# and device shape no frame.
+CACHE_INPUTS: Dict[str, str] = {
+    "domain_origin": "domain.origin", "domain_size": "domain.size", "resolution": "resolution",
+    "frame_start": "frames.start", "fps": "frames.fps", "fluid": "fluid", "source": "source", "probe": "probe",
+    "substeps": "substeps", "cfl": "cfl", "max_substeps": "max_substeps", "grids": "cache.grids",
+    "compression": "cache.compression", "half_float": "cache.half_float", "tolerance": "cache.tolerance",
+}
+
+
+def cache_inputs(data: Dict[str, Any]) -> Dict[str, Any]:
+    """The values of a scene dict (the JSON form, unchecked; it may stand in for the probe and
+    the source with what a host can read at once) at CACHE_INPUTS' keys, by their fingerprint
+    names; cache.settings_differences names what differs between two ('fluid.vorticity')."""
+    out: Dict[str, Any] = {}
+    for name, path in CACHE_INPUTS.items():
+        value: Any = data
+        for part in path.split("."):
+            value = value.get(part) if isinstance(value, dict) else None
+        out[name] = value
+    return out
+
 
 def _err(where: str, message: str) -> InvalidArgumentError:
     return InvalidArgumentError(f"scene {where}: {message}")
@@ -256,7 +281,8 @@ class BakeScene:
 
     # ---- what a resume must match ------------------------------------------------------
     def fingerprint(self) -> Dict[str, Any]:
-        """Everything that shapes the frames (not where they go): a resume must match it."""
+        """Everything that shapes the frames (not where they go), CACHE_INPUTS' entries: a resume
+        must match it."""
         probe = None
         if self.probe is not None:
             probe = {"shape": self.probe.shape, "radius": self.probe.radius,
@@ -264,17 +290,11 @@ class BakeScene:
             if self.probe.shape == "mesh":  # the mesh by its digest: the manifest stays small
                 probe.update(vertex_count=len(self.probe.vertices), triangle_count=len(self.probe.triangles),
                              mesh_sha256=self.probe.mesh_digest())
-        source = None if self.source is None else self.source.fingerprint()
-        fluid = {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.fluid.items()}
-        return {
-            "domain_origin": list(self.domain_origin), "domain_size": list(self.domain_size),
-            "resolution": self.resolution, "grid_resolution": list(self.grid_resolution),
-            "frame_start": self.frame_start, "fps": self.fps, "fluid": fluid, "source": source,
-            "probe": probe, "substeps": self.substeps, "cfl": self.cfl,
-            "max_substeps": self.max_substeps, "grids": list(self.grids),
-            "compression": self.compression, "half_float": self.half_float,
-            "tolerance": self.tolerance,
-        }
+        parts = {"fluid": {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.fluid.items()},
+                 "source": None if self.source is None else self.source.fingerprint(), "probe": probe}
+        out = {name: parts[name] if name in parts else getattr(self, name) for name in CACHE_INPUTS}
+        out["grid_resolution"] = self.grid_resolution
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in out.items()}
 
     def global_fingerprint(self) -> Dict[str, Any]:
         """The fingerprint without the keyed poses: what every frame depends on, so a change
