@@ -155,8 +155,8 @@ auto methodOf(F f) {
 // c.def(name, f, extra...) with f's typed arguments named when their type is wrong.
 template <class T, class... Options, class F, class... Extra>
 py::class_<T, Options...>& defNamed(py::class_<T, Options...>& c, const char* name, F f, const Extra&... extra) {
-  auto info = std::make_shared<const detail::CallInfo>(
-      detail::CallInfo{py::str(c.attr("__name__")).template cast<std::string>() + "." + name, detail::argNames(extra...)});
+  const std::string qualname = py::str(c.attr("__name__")).template cast<std::string>() + "." + name;
+  auto info = std::make_shared<const detail::CallInfo>(detail::CallInfo{qualname, detail::argNames(extra...)});
   auto method = detail::methodOf<T>(std::move(f));
   using S = detail::Signature<decltype(method)>;
   return c.def(name, S::template Apply<detail::WrapMethod>::function(std::move(method), std::move(info)), extra...);
