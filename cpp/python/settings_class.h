@@ -54,8 +54,8 @@ T settingArg(const py::handle& value, const std::string& name) {
     return enumArg<T>(value, name);
   } else {
     if constexpr (std::is_arithmetic_v<T>) {
-      const bool is_flag = py::isinstance<py::bool_>(value) ||
-                           std::string(Py_TYPE(value.ptr())->tp_name) == "numpy.bool_";
+      const std::string type = Py_TYPE(value.ptr())->tp_name;  // numpy's flag: numpy.bool_ (numpy.bool in 2.x)
+      const bool is_flag = py::isinstance<py::bool_>(value) || type == "numpy.bool_" || type == "numpy.bool";
       if (is_flag != std::is_same_v<T, bool>) throw py::type_error(wrongType<T>(value, name));
     }
     return castArg<T>(value, name.c_str());
