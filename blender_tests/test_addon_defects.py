@@ -21,7 +21,7 @@ import bpy
 from support import SOURCE_DIR as SOURCE, bake_scene, check, cube, refused, settings
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
-from hapticfluid_blender.bake import blender_scene  # noqa: E402
+from hapticfluid_blender.bake import blender_scene, cache_plan  # noqa: E402
 from hapticfluid_blender.properties import object_props  # noqa: E402
 from hapticfluid_blender.render import volume  # noqa: E402
 from hapticfluid_blender.ui import panels, physics_panels, prefs  # noqa: E402
@@ -144,8 +144,8 @@ def probes(tmp):
     scene.collection.objects.link(empty)
     empty.location = (0.5, 0.5, 0.5)
     s.probe, s.probe_shape = empty, "SPHERE"
-    text = refused(bpy.ops.hapticfluid.bake, "make the sphere probe 'Pointer' smaller", "Empty's Size (1)",
-                   "radius 1 m")
+    text = refused(bpy.ops.hapticfluid.bake, "resize the sphere probe 'Pointer'", "Empty's Size (1)",
+                   "radius 1 m", "the radius must be at most")
     check("[" not in text, f"no coordinate ranges in the message: {text}")
     empty.empty_display_size = 0.1
     radius = blender_scene.scene_dict(scene, s)["probe"]["radius"]
@@ -218,22 +218,35 @@ def bake_cycle(tmp):
           "changing Render Density after the bake updates the material (Cycles' and EEVEE's shaders) and the "
           "viewport density together")
     check(s.domain.display_type == "WIRE" and s.domain.hide_render, "the domain shows as a wire frame after the bake")
-    check(object_props.changed_cache_inputs(scene, s) == [], "right after the bake the cache is up to date")
+    check(cache_plan.changed_inputs(scene, s) == [], "right after the bake the cache is up to date")
+    from hapticfluid.bake.scene import CACHE_INPUTS
+
+    check(set(cache_plan.inputs(scene, s)) == set(CACHE_INPUTS),
+          f"the record holds what the package lists as the cache's inputs: {sorted(cache_plan.inputs(scene, s))}")
     scene.frame_set(3)  # playing the timeline does not change the inputs
-    check(object_props.changed_cache_inputs(scene, s) == [], "moving the timeline keeps the cache up to date")
+    check(cache_plan.changed_inputs(scene, s) == [], "moving the timeline keeps the cache up to date")
 
     s.frame_end = 3  # raise End and Resume: the bake is extended
-    check(object_props.changed_cache_inputs(scene, s) == [], "raising End alone does not put the cache out of date")
+    check(cache_plan.changed_inputs(scene, s) == [], "raising End alone does not put the cache out of date")
     check(bpy.ops.hapticfluid.bake_resume() == {"FINISHED"}, f"Resume after raising End: {s.status}")
     check(os.path.exists(os.path.join(tmp, "cycle", "data", "fluid_data_0003.vdb"))
           and s.volume_object.data.frame_duration == 3, "Resume baked frame 3 and the Volume shows frames 1..3")
 
     s.vorticity = 0.9
-    check(object_props.changed_cache_inputs(scene, s) == ["Vorticity"], "a changed fluid setting is named")
+    check(cache_plan.changed_inputs(scene, s) == ["fluid.vorticity"],
+          "a changed fluid setting is named as the re-bake plan names it")
     labels = " ".join(draw(panels.HAPTICFLUID_PT_bake).labels())
-    check("Bake again" in labels and "cache is out of date" in labels and "Vorticity" in labels,
+    check("Bake again" in labels and "cache is out of date" in labels and "fluid.vorticity" in labels,
           f"the panel says the cache is out of date: {labels}")
     s.vorticity = 0.4
+    s.source_density, s.cache_dir = 2.0, s.cache_dir + "_elsewhere"
+    check(cache_plan.changed_inputs(scene, s) == ["source.density"],
+          f"the source's settings count, the cache's folder does not: {cache_plan.changed_inputs(scene, s)}")
+    s.source_density, s.cache_dir = 1.0, s.cache_dir[:-len("_elsewhere")]
+    record = s.baked_inputs
+    s.baked_inputs = '{"Vorticity": 0.4, "Resolution": 12}'  # a record from before the package's list
+    check(cache_plan.changed_inputs(scene, s) == [], "an old record is no answer (the plan says)")
+    s.baked_inputs = record
 
     layout = draw(panels.HAPTICFLUID_PT_bake)
     check(not any("out of date" in t for t in layout.labels()), "set back: no warning")
@@ -241,7 +254,7 @@ def bake_cycle(tmp):
     check(bpy.ops.hapticfluid.bake_resume() == {"FINISHED"}
           and "fluid.vorticity changed: re-bake every frame, 1-3" in s.status,
           f"Resume after a changed setting re-bakes every frame and says why: {s.status}")
-    check(object_props.changed_cache_inputs(scene, s) == [], "after it the cache is up to date")
+    check(cache_plan.changed_inputs(scene, s) == [], "after it the cache is up to date")
     s.is_baking, s.progress = True, 0.25
     layout = draw(panels.HAPTICFLUID_PT_bake)
     bars = [(kw, owner) for kind, kw, owner in layout.log if kind == "prop" and kw["name"] == "progress"]
@@ -262,7 +275,7 @@ def bake_cycle(tmp):
     check(s.volume_object is None and not any(o.type == "VOLUME" for o in bpy.data.objects),
           "Free removed the Volume object showing the deleted frames")
     check(s.domain.display_type == "TEXTURED" and not s.domain.hide_render, "Free restored the domain's display")
-    check(object_props.changed_cache_inputs(scene, s) == [], "no cache, nothing out of date")
+    check(cache_plan.changed_inputs(scene, s) == [], "no cache, nothing out of date")
     check("invoke" in vars(hapticfluid_blender.operators.bake_ops.HAPTICFLUID_OT_bake_free),
           "Free has an invoke (invoke_confirm: it asks before deleting when clicked)")
 

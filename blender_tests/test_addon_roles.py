@@ -6,7 +6,8 @@ keeps its settings on the object; a duplicated domain is refused at Bake with bo
 Physics tab's button and panels draw per role. roles.settings_of reads each setting from the
 role that owns it. A .blend saved with the old scene-level layout migrates on load (and when the
 add-on is enabled after the file was opened) with every setting kept and a log line; a .blend
-saved with roles reopens with them. The timeline's cache bar range follows the bake."""
+saved with roles reopens with them. The timeline's cache bar range follows the bake. The fluid's
+fields offer the engine's ranges (FluidSettings.limits()), the bake's scene check the same."""
 
 import logging
 import os
@@ -245,9 +246,51 @@ def cache_bar_range(tmp):
     check(cache_bar._handle is None, "no draw handler in background mode")
 
 
+def limits_are_the_engines(tmp):
+    """The fluid's and the source's fields offer what the engine takes: their min and max are
+    hapticfluid.FluidSettings.limits() (MAX_SOURCE_DENSITY, MAX_SOURCE_TEMPERATURE_K for the
+    source; an excluded max is the float32 below it), the slider's range inside them. One answer
+    to "is 500 allowed?": the field takes it and so does the bake's scene check."""
+    import hapticfluid as hf
+    from hapticfluid.bake import scene_from_dict
+
+    from hapticfluid_blender.bake import blender_scene
+
+    def near(a, b):
+        return abs(a - b) <= 1e-6 * max(1.0, abs(b))
+
+    ranges = dict(hf.FluidSettings.limits(),
+                  source_density={"min": 0.0, "max": hf.MAX_SOURCE_DENSITY, "max_exclusive": False},
+                  source_temperature={"min": 0.0, "max": hf.MAX_SOURCE_TEMPERATURE_K, "max_exclusive": False})
+    seen = []
+    for cls in (object_props.HapticFluidDomainSettings, object_props.HapticFluidSourceSettings):
+        for name, r in ranges.items():
+            if name not in cls.bl_rna.properties:
+                continue
+            p = cls.bl_rna.properties[name]
+            top = p.hard_max < r["max"] and near(p.hard_max, r["max"]) if r["max_exclusive"] else near(p.hard_max,
+                                                                                                     r["max"])
+            check(near(p.hard_min, r["min"]) and top and p.hard_min <= p.soft_min <= p.soft_max <= p.hard_max,
+                  f"{name}: the field's {p.hard_min}..{p.hard_max} (slider {p.soft_min}..{p.soft_max}) is the "
+                  f"engine's {r}")
+            seen.append(name)
+    check({"fluid_density", "vorticity", "heat_buoyancy", "smoke_dissipation", "heat_dissipation",
+           "pressure_iterations", "pressure_tolerance", "source_density", "source_temperature"} <= set(seen),
+          f"every fluid and source field with an engine range reads it: {seen}")
+    scene, s, _domain, _probe, _source = bake_scene(os.path.join(tmp, "limits"), resolution=12,
+                                                    frames=(1, 1))
+    s.vorticity = 500.0
+    check(s.vorticity == 500.0, f"the field takes vorticity 500 ({s.vorticity})")
+    baked = scene_from_dict(blender_scene.scene_dict(scene, s))
+    check(baked.fluid["vorticity"] == 500.0, "and so does the bake's scene check")
+    s.vorticity = 2000.0
+    check(s.vorticity == 1000.0, f"the field stops at the engine's 1000 ({s.vorticity})")
+
+
 def main():
     hapticfluid_blender.register()
     with tempfile.TemporaryDirectory() as tmp:
+        limits_are_the_engines(tmp)
         physics_tab(*set_role_operator())
         old_file_migrates(tmp)
         old_file_without_domain(tmp)

@@ -23,13 +23,17 @@ void requireInRange(float v, float lo, float hi, const char* name, const char* u
   }
 }
 
+void requireInRange(float v, const Range& r, const char* name, const char* unit) {
+  requireInRange(v, static_cast<float>(r.min), static_cast<float>(r.max), name, unit);
+}
+
 }  // namespace
 
 void validate(const FluidParams& p) {
   requireFinite(p.density_kg_m3, "fluid density");
-  if (p.density_kg_m3 < kMinFluidDensity || p.density_kg_m3 > kMaxFluidDensity) {
-    throw InvalidArgument("fluid density must be between " + num(kMinFluidDensity) + " and " + num(kMaxFluidDensity) +
-                          " kg/m^3 (air is 1.2, water 1000), got " + num(p.density_kg_m3));
+  if (p.density_kg_m3 < kFluidDensityRange.min || p.density_kg_m3 > kFluidDensityRange.max) {
+    throw InvalidArgument("fluid density must be between " + num(kFluidDensityRange.min) + " and " +
+                          num(kFluidDensityRange.max) + " kg/m^3 (air is 1.2, water 1000), got " + num(p.density_kg_m3));
   }
   for (int a = 0; a < 3; ++a) requireFinite(p.gravity_m_s2[a], "gravity (m/s^2)");
   if (glm::length(p.gravity_m_s2) > kMaxGravity) {
@@ -40,20 +44,21 @@ void validate(const FluidParams& p) {
     throw InvalidArgument("an open top needs gravity along -z (or none): the opening must be a surface of "
                           "constant pressure; got gravity " + vecText(p.gravity_m_s2) + " m/s^2");
   }
-  requireInRange(p.vorticity_confinement, 0.0f, kMaxFactor, "vorticity confinement", "(dimensionless)");
-  requireInRange(p.smoke_weight_m_s2, -kMaxGravity, kMaxGravity, "smoke weight", "m/s^2");
-  requireInRange(p.heat_buoyancy_m_s2_k, -kMaxGravity, kMaxGravity, "heat buoyancy", "m/s^2/K");
-  requireInRange(p.density_dissipation_1_s, 0.0f, kMaxFactor, "smoke dissipation", "1/s");
-  requireInRange(p.temperature_dissipation_1_s, 0.0f, kMaxFactor, "heat dissipation", "1/s");
-  if (p.pressure_iterations < 1 || p.pressure_iterations > kMaxPressureIterations) {
-    throw InvalidArgument("pressure iterations must be between 1 and " + std::to_string(kMaxPressureIterations) +
-                          ", got " + std::to_string(p.pressure_iterations));
+  requireInRange(p.vorticity_confinement, kVorticityRange, "vorticity confinement", "(dimensionless)");
+  requireInRange(p.smoke_weight_m_s2, kSmokeWeightRange, "smoke weight", "m/s^2");
+  requireInRange(p.heat_buoyancy_m_s2_k, kHeatBuoyancyRange, "heat buoyancy", "m/s^2/K");
+  requireInRange(p.density_dissipation_1_s, kDissipationRange, "smoke dissipation", "1/s");
+  requireInRange(p.temperature_dissipation_1_s, kDissipationRange, "heat dissipation", "1/s");
+  if (p.pressure_iterations < kPressureIterationsRange.min || p.pressure_iterations > kPressureIterationsRange.max) {
+    throw InvalidArgument("pressure iterations must be between " + num(kPressureIterationsRange.min) + " and " +
+                          num(kPressureIterationsRange.max) + ", got " + std::to_string(p.pressure_iterations));
   }
   requireFinite(p.pressure_tolerance, "pressure tolerance");
-  if (p.pressure_tolerance != 0.0f && (p.pressure_tolerance < kMinPressureTolerance || p.pressure_tolerance >= 1.0f)) {
+  if (p.pressure_tolerance != 0.0f &&
+      (p.pressure_tolerance < kMinPressureTolerance || p.pressure_tolerance >= kPressureToleranceRange.max)) {
     throw InvalidArgument("pressure tolerance (relative residual, dimensionless) must be 0 (run a fixed number of "
-                          "iterations) or between " + num(kMinPressureTolerance) + " and 1 (exclusive), got " +
-                          num(p.pressure_tolerance));
+                          "iterations) or between " + num(kMinPressureTolerance) + " and " +
+                          num(kPressureToleranceRange.max) + " (exclusive), got " + num(p.pressure_tolerance));
   }
   if (p.pressure_solver != PressureSolverKind::Jacobi && p.pressure_solver != PressureSolverKind::Multigrid) {
     throw InvalidArgument("pressure solver must be Jacobi or Multigrid");

@@ -3,6 +3,7 @@
 // Checks of user-supplied settings; each throws hf::InvalidArgument saying what to change.
 // The ranges keep every derived quantity (rho h / dt, rho g L, face forces) a normal float;
 // they are wide enough for any smoke or liquid a person can move a probe through.
+#include "common/range.h"
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
 
@@ -23,6 +24,18 @@ inline constexpr float kMinTimeStep = 1e-6f;      // s
 inline constexpr float kMaxTimeStep = 10.0f;      // s
 inline constexpr float kMaxProbeSpeed = 1e3f;     // m/s (incompressible flow is long gone by then)
 inline constexpr float kMaxProbeSpin = 1e4f;      // rad/s
+
+// The range of each FluidParams setting that has one: validate() checks these, and the bindings
+// report them (FluidSettings.limits()) for the add-on's fields and the bake's checks.
+inline constexpr Range kFluidDensityRange{kMinFluidDensity, kMaxFluidDensity};  // kg/m^3
+inline constexpr Range kVorticityRange{0.0, kMaxFactor};                       // dimensionless
+inline constexpr Range kSmokeWeightRange{-kMaxGravity, kMaxGravity};           // m/s^2 per concentration
+inline constexpr Range kHeatBuoyancyRange{-kMaxGravity, kMaxGravity};          // m/s^2/K
+inline constexpr Range kDissipationRange{0.0, kMaxFactor};                     // 1/s, smoke and heat
+inline constexpr Range kPressureIterationsRange{1.0, kMaxPressureIterations};
+// 0 runs a fixed count; otherwise at least kMinPressureTolerance (and the grid's floor,
+// grid_checks.h) and below 1.
+inline constexpr Range kPressureToleranceRange{0.0, 1.0, true};
 
 void validate(const FluidParams& params);
 void validate(const SmokeSource& source, const Grid& grid);

@@ -10,6 +10,7 @@
 #include "gl/gl_device.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/named_args.h"
 
 namespace py = pybind11;
 
@@ -18,8 +19,8 @@ namespace hf::python {
 void addDevice(py::module_& m) {
   m.def("list_egl_devices", [] { return gl::listDevices(); }, py::call_guard<py::gil_scoped_release>(),
         "One line per EGL device the engine can choose from: index, hardware or software.");
-  m.def(
-      "probe_device",
+  defNamed(
+      m, "probe_device",
       [](const std::string& request) {
         compute::DeviceInfo info;
         {
@@ -48,8 +49,8 @@ void addDevice(py::module_& m) {
       "Compute dispatches, the shader invocations they launched (workgroups x local size) and\n"
       "GPU-to-CPU syncs (read-backs) since the process started, all simulations together:\n"
       "{'dispatches': int, 'invocations': int, 'syncs': int}.");
-  m.def(
-      "measure_dispatch_floor",
+  defNamed(
+      m, "measure_dispatch_floor",
       [](const std::array<int, 3>& resolution, int repeats, const std::string& device) {
         gl::DispatchFloor f;
         {

@@ -15,6 +15,7 @@
 #include "haptics/falcon/falcon.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/named_args.h"
 
 namespace py = pybind11;
 
@@ -51,16 +52,16 @@ py::dict statsDict(const haptics::falcon::FalconStats& s) {
 void addFalcon(py::module_& m) {
   // Device, DeviceInfo and DeviceState are registered by addHaptics, which runs first.
 
-  py::class_<FalconDevice, Device, std::shared_ptr<FalconDevice>>(
+  py::class_<FalconDevice, Device, std::shared_ptr<FalconDevice>> falcon(
       m, "FalconDevice",
       "A Novint Falcon (or the simulated one) driven over USB; made by open_falcon() or\n"
       "open_simulated_falcon(). Each read() is one packet exchange; a force from write_force()\n"
-      "goes out with the next read(), and only once the Falcon is homed.")
-      .def("stats", [](const FalconDevice& d) { return statsDict(d.stats()); },
-           "Counters: packets, missed_replies, force_clamps (above max_force), command_clamps (int16),\n"
-           "forward_failures, upload_attempts, firmware_uploaded.")
-      .def(
-          "home",
+      "goes out with the next read(), and only once the Falcon is homed.");
+  falcon.def("stats", [](const FalconDevice& d) { return statsDict(d.stats()); },
+             "Counters: packets, missed_replies, force_clamps (above max_force), command_clamps (int16),\n"
+             "forward_failures, upload_attempts, firmware_uploaded.");
+  defNamed(
+          falcon, "home",
           [](FalconDevice& d, double timeout) {
             const haptics::DeviceClaim claim(d, "home() it");
             d.home(timeout);
@@ -70,8 +71,8 @@ void addFalcon(py::module_& m) {
            "homed). timeout in s; raises HapticFluidError with instructions when it passes, or while\n"
            "a HapticSession drives the device.");
 
-  m.def(
-      "list_falcons",
+  defNamed(
+      m, "list_falcons",
       [](bool probe_firmware) {
         std::vector<haptics::falcon::FalconListing> found;
         {
@@ -100,8 +101,8 @@ void addFalcon(py::module_& m) {
       "packets. None plugged in: an empty list.");
   m.def("falcon_udev_rule", &haptics::falcon::udevRule,
         "The udev rule that lets a logged-in user open the Falcon, and how to install it.");
-  m.def(
-      "open_falcon",
+  defNamed(
+      m, "open_falcon",
       [](std::optional<std::string> firmware, int index, bool home, double homing_timeout,
          float max_force) -> DevicePtr {
         py::gil_scoped_release release;
@@ -119,8 +120,8 @@ void addFalcon(py::module_& m) {
       "max_force: the device never commands more (N, at most 8 for the Falcon's profile).\n"
       "Raises HapticFluidError when none is plugged in, on a permission problem (with the udev\n"
       "rule), or when the firmware upload or homing fails.");
-  m.def(
-      "open_simulated_falcon",
+  defNamed(
+      m, "open_simulated_falcon",
       [](std::optional<py::bytes> firmware_bytes, bool home, double homing_timeout, float max_force,
          double hand_mass, double hand_stiffness, double hand_damping, std::optional<long> unplug_after,
          std::optional<std::vector<std::array<double, 4>>> hand_path, bool hand_loop,

@@ -22,6 +22,7 @@
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/convert_mesh.h"
+#include "python/named_args.h"
 #include "python/settings_class.h"
 #include "session/field_snapshot.h"
 #include "session/haptic_session.h"
@@ -193,12 +194,12 @@ void addDeviceTypes(py::module_& m) {
                ", " + std::to_string(s.position_m.z) + ") m, homed=" + (s.homed ? "True" : "False") + ")";
       });
 
-  py::class_<Device, DevicePtr>(m, "Device", R"doc(
+  py::class_<Device, DevicePtr> device(m, "Device", R"doc(
 A haptic device (Falcon, simulated Falcon, scripted, host-driven or null). While a
 HapticSession drives it, read() and write_force() raise HapticFluidError, and a second
 session on it fails to start; close() still stops it (the session then fails with an error).
-)doc")
-      .def("info", &Device::info, "A DeviceInfo: name, kind, workspace, max_force ...")
+)doc");
+  device.def("info", &Device::info, "A DeviceInfo: name, kind, workspace, max_force ...")
       .def(
           "read",
           [](Device& d) {
@@ -208,16 +209,6 @@ session on it fails to start; close() still stops it (the session then fails wit
           py::call_guard<py::gil_scoped_release>(),
           "The latest DeviceState. Raises HapticFluidError if the device is gone or closed, or while\n"
           "a HapticSession drives it.")
-      .def(
-          "write_force",
-          [](Device& d, const Vec3& f) {
-            const haptics::DeviceClaim claim(d, "write_force() to it");
-            d.writeForce(toVec3(f));
-          },
-          py::arg("force"), py::call_guard<py::gil_scoped_release>(),
-          "Command a force (N, device frame). No safety stage here: a HapticSession adds one.\n"
-          "Raises HapticFluidError while a HapticSession drives the device (its safety stage owns\n"
-          "the output).")
       .def("close", &Device::close, py::call_guard<py::gil_scoped_release>(),
            "Zero force and release the device (idempotent).")
       .def("__enter__", [](const DevicePtr& d) { return d; })
@@ -225,21 +216,31 @@ session on it fails to start; close() still stops it (the session then fails wit
         py::gil_scoped_release release;
         d.close();
       });
+  defNamed(
+      device, "write_force",
+      [](Device& d, const Vec3& f) {
+        const haptics::DeviceClaim claim(d, "write_force() to it");
+        d.writeForce(toVec3(f));
+      },
+      py::arg("force"), py::call_guard<py::gil_scoped_release>(),
+      "Command a force (N, device frame). No safety stage here: a HapticSession adds one.\n"
+      "Raises HapticFluidError while a HapticSession drives the device (its safety stage owns\n"
+      "the output).");
 
-  py::class_<haptics::ScriptedDevice, Device, std::shared_ptr<haptics::ScriptedDevice>>(
-      m, "ScriptedDevice", "A handle following timed waypoints; made by scripted_device().")
-      .def_property_readonly("duration", &haptics::ScriptedDevice::durationS, "Last time - first time (s).")
+  py::class_<haptics::ScriptedDevice, Device, std::shared_ptr<haptics::ScriptedDevice>> scripted(
+      m, "ScriptedDevice", "A handle following timed waypoints; made by scripted_device().");
+  scripted.def_property_readonly("duration", &haptics::ScriptedDevice::durationS, "Last time - first time (s).")
       .def_property_readonly("loops", &haptics::ScriptedDevice::loops, "True: starts over at the end.")
-      .def("state_at", &haptics::ScriptedDevice::stateAt, py::arg("t"),
-           "The DeviceState t seconds after the script started (no clock involved).")
       .def_property_readonly("last_force",
                              [](const haptics::ScriptedDevice& d) { return vec3Array(d.lastForce()); },
                              "The latest force commanded to it (N).");
+  defNamed(scripted, "state_at", &haptics::ScriptedDevice::stateAt, py::arg("t"),
+           "The DeviceState t seconds after the script started (no clock involved).");
 
-  py::class_<haptics::HostDevice, Device, std::shared_ptr<haptics::HostDevice>>(
-      m, "HostDevice", "A handle whose pose the host pushes each frame; made by host_device().")
-      .def(
-          "push_pose",
+  py::class_<haptics::HostDevice, Device, std::shared_ptr<haptics::HostDevice>> host(
+      m, "HostDevice", "A handle whose pose the host pushes each frame; made by host_device().");
+  defNamed(
+          host, "push_pose",
           [](haptics::HostDevice& d, const Vec3& position, std::optional<double> time,
              std::optional<std::array<float, 4>> orientation) {
             const double t = time ? *time : haptics::monotonicNowS();
@@ -256,19 +257,19 @@ session on it fails to start; close() still stops it (the session then fails wit
           "on time.monotonic()). The velocity is estimated from successive pushes. orientation: None\n"
           "(a 3-DoF handle) or the rotation as a quaternion (w, x, y, z), normalised here: the\n"
           "session's probe then turns with it (its scale stays the one it started with) and its\n"
-          "angular velocity is estimated from successive pushes. Never blocks the haptic thread.")
-      .def_property_readonly("pushes", &haptics::HostDevice::pushes, "Poses pushed so far.")
-      .def("state_after", &haptics::HostDevice::stateAfter, py::arg("elapsed"),
-           "The DeviceState `elapsed` seconds after the latest push arrived (no clock involved).")
+          "angular velocity is estimated from successive pushes. Never blocks the haptic thread.");
+  defNamed(host, "state_after", &haptics::HostDevice::stateAfter, py::arg("elapsed"),
+           "The DeviceState `elapsed` seconds after the latest push arrived (no clock involved).");
+  host.def_property_readonly("pushes", &haptics::HostDevice::pushes, "Poses pushed so far.")
       .def_property_readonly("last_force", [](const haptics::HostDevice& d) { return vec3Array(d.lastForce()); },
                              "The latest force commanded to it (N), e.g. to show in the viewport.");
 
-  m.def(
-      "null_device", [](float max_force) -> DevicePtr { return std::make_shared<haptics::NullDevice>(max_force); },
+  defNamed(
+      m, "null_device", [](float max_force) -> DevicePtr { return std::make_shared<haptics::NullDevice>(max_force); },
       py::arg("max_force") = 10.0f,
       "A device that rests at the workspace origin, is homed and discards forces (max_force in N).");
-  m.def(
-      "scripted_device",
+  defNamed(
+      m, "scripted_device",
       [](std::vector<double> times, std::vector<Vec3> positions, bool loop, float max_force) {
         std::vector<glm::vec3> p;
         p.reserve(positions.size());
@@ -279,8 +280,8 @@ session on it fails to start; close() still stops it (the session then fails wit
       "A device following waypoints: times (s, strictly increasing), positions (m, device frame,\n"
       "one (x, y, z) per time), linearly interpolated; at the end it holds the last one or, with\n"
       "loop=True, starts over. Time starts at its first read. max_force in N.");
-  m.def(
-      "scripted_device_from_csv",
+  defNamed(
+      m, "scripted_device_from_csv",
       [](const std::string& path, bool loop, float max_force) {
         return haptics::ScriptedDevice::fromCsv(pathArg(path, "path"), loop, max_force);
       },
@@ -288,8 +289,8 @@ session on it fails to start; close() still stops it (the session then fails wit
         py::arg("max_force") = 10.0f,
         "scripted_device() from a CSV file of t,x,y,z rows (s, m); '#' comments and a header line\n"
         "are skipped.");
-  m.def(
-      "host_device",
+  defNamed(
+      m, "host_device",
       [](float max_force, bool extrapolate) { return std::make_shared<haptics::HostDevice>(max_force, extrapolate); },
       py::arg("max_force") = 10.0f, py::arg("extrapolate") = true,
       "A device driven by the host: call push_pose() each frame (from any thread). With\n"
@@ -425,8 +426,8 @@ void addSessionReadings(py::class_<HapticSession>& c) {
   c.def_property_readonly(
       "workspace_scale", [](const HapticSession& s) { return vec3Array(s.settings().loop.pipeline.map.scale); },
       "Domain metres per device metre, per axis (the fitted one with fit_workspace).");
-  c.def(
-      "probe_origin",
+  defNamed(
+      c, "probe_origin",
       [](const HapticSession& s, const py::array_t<float, py::array::c_style | py::array::forcecast>& positions) {
         if (positions.ndim() < 1 || positions.shape(positions.ndim() - 1) != 3 || positions.ndim() > 2) {
           throw InvalidArgument("probe_origin: positions must be (3,) or (N, 3) device-frame metres");
@@ -469,12 +470,13 @@ void addSessionReadings(py::class_<HapticSession>& c) {
 void addHaptics(py::module_& m) {
   addDeviceTypes(m);
   py::class_<HapticSession> c(m, "HapticSession", kSessionDoc);
-  c.def(py::init([](session::Simulation& sim, DevicePtr device, const py::object& settings, const py::kwargs& kwargs) {
-          if (!device) throw InvalidArgument("HapticSession needs a device (got None)");
-          const auto s = settingsWithKeywords<session::HapticSessionSettings>(settings, kwargs, "HapticSession");
-          return std::make_unique<HapticSession>(sim, std::move(device), s);
-        }),
-        py::arg("simulation"), py::arg("device"), py::arg("settings") = py::none(), py::keep_alive<1, 2>());
+  defInitNamed(
+      c,
+      [](session::Simulation& sim, DevicePtr device, const py::object& settings, const py::kwargs& kwargs) {
+        const auto s = settingsWithKeywords<session::HapticSessionSettings>(settings, kwargs, "HapticSession");
+        return std::make_unique<HapticSession>(sim, std::move(device), s);
+      },
+      py::arg("simulation"), py::arg("device"), py::arg("settings") = py::none(), py::keep_alive<1, 2>());
   c.def_property_readonly("settings", [](const HapticSession& s) { return s.settings(); },
                           "The HapticSessionSettings in use (a copy; force_gain None when derived: stats() has it).");
   // (Sessions still running when the interpreter ends are stopped by hapticfluid/_lifetime.py.)
@@ -485,7 +487,7 @@ void addHaptics(py::module_& m) {
         "current step.");
   c.def("resume", &HapticSession::resume, py::call_guard<py::gil_scoped_release>(),
         "Step again; the force ramps in again over ramp_time.");
-  c.def("stop", [](HapticSession& s, double timeout) {
+  defNamed(c, "stop", [](HapticSession& s, double timeout) {
           FlushLogAfter flush;  // what the session's threads queued (hapticfluid.haptics, .fluid, ...)
           py::gil_scoped_release release;
           s.stop(timeout);
@@ -494,15 +496,13 @@ void addHaptics(py::module_& m) {
         "`timeout` s for the simulation's current step (HapticFluidError if it is still running:\n"
         "call again). Raises the error that ended the session, if any (once), as HapticFluidError.\n"
         "Any thread may call it; concurrent calls take turns.");
-  c.def(
-      "set_guide",
-      [](HapticSession& s, const py::object& position, const py::object& velocity) {
-        const glm::vec3 p = toVec3(castArg<Vec3>(position, "position"));
-        const glm::vec3 v = toVec3(castArg<Vec3>(velocity, "velocity"));
+  defNamed(
+      c, "set_guide",
+      [](HapticSession& s, const Vec3& position, const Vec3& velocity) {
         py::gil_scoped_release release;
-        s.setGuide(p, v);
+        s.setGuide(toVec3(position), toVec3(velocity));
       },
-      py::arg("position"), py::arg("velocity") = py::make_tuple(0.0, 0.0, 0.0),
+      py::arg("position"), py::arg("velocity") = Vec3{0.0f, 0.0f, 0.0f},
       "Haptic playback: the pose the timeline plays (position: world m; velocity: m/s). The fluid's\n"
       "probe takes it instead of the grip's, and a spring-damper guide (guide_stiffness, guide_damping,\n"
       "at most guide_max_force) pulls the grip along it at 1 kHz, so the hand feels the played motion and\n"

@@ -9,6 +9,7 @@
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/ensure_array.h"
+#include "python/named_args.h"
 
 namespace py = pybind11;
 
@@ -73,8 +74,8 @@ io::MetaValue metaValue(const std::string& key, const py::handle& v) {
 }  // namespace
 
 void addIo(py::module_& m) {
-  m.def(
-      "write_vdb",
+  defNamed(
+      m, "write_vdb",
       [](const std::string& path, const py::handle& density, float voxel_size, const std::array<float, 3>& origin,
          const py::object& velocity, const py::object& pressure, const std::string& compression, bool half_float,
          float tolerance, const py::dict& metadata) {
@@ -91,7 +92,7 @@ void addIo(py::module_& m) {
         frame.origin_m = toVec3(origin);
         if (!velocity.is_none()) {
           py::sequence uvw = py::reinterpret_borrow<py::sequence>(velocity);
-          if (!py::isinstance<py::sequence>(velocity) || py::len(uvw) != 3) {
+          if (!py::isinstance<py::sequence>(velocity) || py::isinstance<py::str>(velocity) || py::len(uvw) != 3) {
             throw InvalidArgument("velocity must be a tuple (u, v, w) of face arrays, as Simulation.velocity() returns");
           }
           const char* names[3] = {"velocity u", "velocity v", "velocity w"};

@@ -64,13 +64,76 @@ void addEnums(py::module_& m) {
       .value("none", ForceFilter::None, "no filter");
 }
 
+}  // namespace
+
+// The fluid's settings (FluidParams), listed once: FluidSettings' fields and Simulation's
+// properties (which change them between steps) are both made from this table.
+const SettingTable<FluidParams>& fluidParamSettings() {
+  using P = FluidParams;
+  static const SettingTable<P> table = [] {
+    SettingTable<P> t;
+    t.add<float>("fluid_density", [](const P& p) { return p.density_kg_m3; }, [](P& p, float v) { p.density_kg_m3 = v; },
+                 "rho (kg/m^3): 1.2 for air, 1000 for water.", fluid::kFluidDensityRange)
+        .add<Vec3>("gravity", [](const P& p) { return tuple3(p.gravity_m_s2); },
+                   [](P& p, const Vec3& v) { p.gravity_m_s2 = toVec3(v); },
+                   "Acceleration (m/s^2, at most 1000 in magnitude); gives the hydrostatic pressure (buoyancy on\n"
+                   "the probe).")
+        .add<bool>("open_top", [](const P& p) { return p.open_top; }, [](P& p, bool v) { p.open_top = v; },
+                   "The +z wall is open to 0 Pa instead of closed (needs gravity along -z, or none).")
+        .add<fluid::Advection>("advection", [](const P& p) { return p.advection; },
+                               [](P& p, fluid::Advection v) { p.advection = v; }, "Advection scheme (Advection or its name).")
+        .add<float>("vorticity", [](const P& p) { return p.vorticity_confinement; },
+                    [](P& p, float v) { p.vorticity_confinement = v; }, "Vorticity confinement epsilon (dimensionless).",
+                    fluid::kVorticityRange)
+        .add<float>("smoke_weight", [](const P& p) { return p.smoke_weight_m_s2; },
+                    [](P& p, float v) { p.smoke_weight_m_s2 = v; },
+                    "Downward acceleration per unit smoke concentration (m/s^2).", fluid::kSmokeWeightRange)
+        .add<float>("heat_buoyancy", [](const P& p) { return p.heat_buoyancy_m_s2_k; },
+                    [](P& p, float v) { p.heat_buoyancy_m_s2_k = v; },
+                    "Upward acceleration per kelvin above ambient (m/s^2/K).", fluid::kHeatBuoyancyRange)
+        .add<float>("smoke_dissipation", [](const P& p) { return p.density_dissipation_1_s; },
+                    [](P& p, float v) { p.density_dissipation_1_s = v; }, "Smoke fade rate (1/s).", fluid::kDissipationRange)
+        .add<float>("heat_dissipation", [](const P& p) { return p.temperature_dissipation_1_s; },
+                    [](P& p, float v) { p.temperature_dissipation_1_s = v; }, "Heat fade rate (1/s).",
+                    fluid::kDissipationRange)
+        .add<bool>("conserve_smoke", [](const P& p) { return p.conserve_smoke; }, [](P& p, bool v) { p.conserve_smoke = v; },
+                   "Advection keeps the totals of smoke and heat (less the outflow through an open top),\n"
+                   "without new extrema; off: the raw transport, which loses some.")
+        .add<fluid::PressureSolverKind>("pressure_solver", [](const P& p) { return p.pressure_solver; },
+                                        [](P& p, fluid::PressureSolverKind v) { p.pressure_solver = v; },
+                                        "Pressure solver (PressureSolver or its name).")
+        .add<int>("pressure_iterations", [](const P& p) { return p.pressure_iterations; },
+                  [](P& p, int v) { p.pressure_iterations = v; },
+                  "Jacobi sweeps or multigrid CG iterations per step; with a pressure_tolerance, the most.",
+                  fluid::kPressureIterationsRange)
+        .add<float>("pressure_tolerance", [](const P& p) { return p.pressure_tolerance; },
+                    [](P& p, float v) { p.pressure_tolerance = v; },
+                    "Relative residual (dimensionless) at which the solve stops early; 0 runs exactly\n"
+                    "pressure_iterations. 0, or between 1e-7 (and the grid's pressure_tolerance_floor) and 1\n"
+                    "(exclusive).",
+                    fluid::kPressureToleranceRange)
+        .add<bool>("compute_residual", [](const P& p) { return p.compute_residual; },
+                   [](P& p, bool v) { p.compute_residual = v; }, "Measure the pressure solve's relative residual each step.")
+        .add<bool>("cut_cells", [](const P& p) { return p.cut_cells; }, [](P& p, bool v) { p.cut_cells = v; },
+                   "Cut cells for the probe, sphere or mesh (on by default): the open fractions of the faces\n"
+                   "around it from its geometry, used in the divergence, pressure solve, projection and force,\n"
+                   "so the force changes continuously as it moves. Off: faces are open or covered by the\n"
+                   "probe's voxels (whole cells switch in one step).");
+    return t;
+  }();
+  return table;
+}
+
+namespace {
+
 void addFluidSettings(py::module_& m) {
   SettingsClass<SimulationConfig> c(m, "FluidSettings", R"doc(
 Everything a Simulation is made with: the grid, the fluid and its solver, the GL device. SI units.
 Simulation(settings) takes one; keywords (FluidSettings(resolution=(32, 32, 32)) or
 Simulation(settings, vorticity=0.2)) set the settings of the same names. A value of the wrong
 type raises TypeError naming the setting, a value the engine refuses InvalidArgumentError; the
-grid's settings are checked together when the Simulation is made.
+grid's settings are checked together when the Simulation is made. limits() gives the range the
+engine takes of each numeric setting that has one.
 )doc",
                                     [](const SimulationConfig& c) { session::validate(c); });
   c.field<IVec3>("resolution", [](const SimulationConfig& c) { return py::make_tuple(c.resolution.x, c.resolution.y, c.resolution.z); },
@@ -99,50 +162,7 @@ grid's settings are checked together when the Simulation is made.
                   "0..19: how much nicer (Linux niceness) the simulation's GL thread and its driver's threads "
                   "run than the caller; 0 shares the cores equally, more lets an interactive thread (Blender's "
                   "drawing on a CPU GL device) go first.")
-      .field<float>("fluid_density", [](const SimulationConfig& c) { return c.params.density_kg_m3; },
-                    [](SimulationConfig& c, float v) { c.params.density_kg_m3 = v; },
-                    "rho (kg/m^3): 1.2 for air, 1000 for water.")
-      .field<Vec3>("gravity", [](const SimulationConfig& c) { return tuple3(c.params.gravity_m_s2); },
-                   [](SimulationConfig& c, const Vec3& v) { c.params.gravity_m_s2 = toVec3(v); },
-                   "Acceleration (m/s^2); gives the hydrostatic pressure (buoyancy on the probe).")
-      .field<bool>("open_top", [](const SimulationConfig& c) { return c.params.open_top; },
-                   [](SimulationConfig& c, bool v) { c.params.open_top = v; }, "The +z wall is open to 0 Pa instead of closed.")
-      .field<fluid::Advection>("advection", [](const SimulationConfig& c) { return c.params.advection; },
-                               [](SimulationConfig& c, fluid::Advection v) { c.params.advection = v; },
-                               "Advection scheme (Advection or its name).")
-      .field<float>("vorticity", [](const SimulationConfig& c) { return c.params.vorticity_confinement; },
-                    [](SimulationConfig& c, float v) { c.params.vorticity_confinement = v; },
-                    "Vorticity confinement epsilon (dimensionless, >= 0).")
-      .field<float>("smoke_weight", [](const SimulationConfig& c) { return c.params.smoke_weight_m_s2; },
-                    [](SimulationConfig& c, float v) { c.params.smoke_weight_m_s2 = v; },
-                    "Downward acceleration per unit smoke concentration (m/s^2).")
-      .field<float>("heat_buoyancy", [](const SimulationConfig& c) { return c.params.heat_buoyancy_m_s2_k; },
-                    [](SimulationConfig& c, float v) { c.params.heat_buoyancy_m_s2_k = v; },
-                    "Upward acceleration per kelvin above ambient (m/s^2/K).")
-      .field<float>("smoke_dissipation", [](const SimulationConfig& c) { return c.params.density_dissipation_1_s; },
-                    [](SimulationConfig& c, float v) { c.params.density_dissipation_1_s = v; }, "Smoke fade rate (1/s).")
-      .field<float>("heat_dissipation", [](const SimulationConfig& c) { return c.params.temperature_dissipation_1_s; },
-                    [](SimulationConfig& c, float v) { c.params.temperature_dissipation_1_s = v; }, "Heat fade rate (1/s).")
-      .field<bool>("conserve_smoke", [](const SimulationConfig& c) { return c.params.conserve_smoke; },
-                   [](SimulationConfig& c, bool v) { c.params.conserve_smoke = v; },
-                   "Advection keeps the totals of smoke and heat (less what leaves through an open top).")
-      .field<fluid::PressureSolverKind>("pressure_solver", [](const SimulationConfig& c) { return c.params.pressure_solver; },
-                                        [](SimulationConfig& c, fluid::PressureSolverKind v) { c.params.pressure_solver = v; },
-                                        "Pressure solver (PressureSolver or its name).")
-      .field<int>("pressure_iterations", [](const SimulationConfig& c) { return c.params.pressure_iterations; },
-                  [](SimulationConfig& c, int v) { c.params.pressure_iterations = v; },
-                  "Jacobi sweeps or multigrid CG iterations per step (1..100000); with a pressure_tolerance, the most.")
-      .field<float>("pressure_tolerance", [](const SimulationConfig& c) { return c.params.pressure_tolerance; },
-                    [](SimulationConfig& c, float v) { c.params.pressure_tolerance = v; },
-                    "Relative residual (dimensionless) at which the solve stops early; 0 runs exactly\n"
-                    "pressure_iterations. 0, or between 1e-7 and 1 (exclusive).")
-      .field<bool>("compute_residual", [](const SimulationConfig& c) { return c.params.compute_residual; },
-                   [](SimulationConfig& c, bool v) { c.params.compute_residual = v; },
-                   "Measure the pressure solve's relative residual each step.")
-      .field<bool>("cut_cells", [](const SimulationConfig& c) { return c.params.cut_cells; },
-                   [](SimulationConfig& c, bool v) { c.params.cut_cells = v; },
-                   "Cut cells for the probe: open face fractions from its geometry, so the force changes\n"
-                   "continuously as it moves; off: faces open or covered by its voxels.")
+      .fields(fluidParamSettings(), &SimulationConfig::params)
       .done();
 }
 

@@ -8,10 +8,12 @@
 #include "emitter/mesh_source.h"
 #include "fluid/grid_checks.h"
 #include "fluid/validate.h"
+#include "obstacle/probe_checks.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/convert_mesh.h"
 #include "python/ensure_array.h"
+#include "python/named_args.h"
 #include "python/settings_class.h"
 #include "session/simulation.h"
 
@@ -40,16 +42,19 @@ py::array_t<float> readField(Simulation& sim, Field f) {
   return fieldArray(std::move(data), sim.fieldShape(f));
 }
 
-// A read/write property over one FluidParams member; the setter validates before applying.
-template <class T, class Get, class Set>
-void paramProperty(py::class_<Simulation>& c, const char* name, Get get, Set set, const char* doc) {
-  c.def_property(
-      name, [get](const Simulation& s) { return get(s.params()); },
-      [set, name](Simulation& s, const py::object& value) {
-        const T v = settingArg<T>(value, name);
-        s.updateParams([&](fluid::FluidParams& p) { set(p, v); });
-      },
-      doc);
+// The fluid's settings as properties: read from the settings in use, written as one change that
+// applies if the engine's checks pass (Simulation::updateParams).
+void addParamProperties(py::class_<Simulation>& c) {
+  for (const Setting<fluid::FluidParams>& row : fluidParamSettings().rows()) {
+    c.def_property(
+        row.name.c_str(), [get = row.get](const Simulation& s) { return get(s.params()); },
+        [set = row.set, qualified = "Simulation." + row.name](Simulation& s, const py::object& value) {
+          fluid::FluidParams changed = s.params();
+          set(changed, value, qualified);
+          s.updateParams([&changed](fluid::FluidParams& p) { p = changed; });
+        },
+        (row.doc + " As FluidSettings." + row.name + ", changed between steps.").c_str());
+  }
 }
 
 // The checkpoint's arrays by their Python names, in the dict state() returns.
@@ -164,8 +169,8 @@ void addStepReport(py::module_& m) {
 
 // The probe: a sphere or a closed mesh, its pose, and what the simulation holds.
 void addProbeMethods(py::class_<Simulation>& c) {
-  c.def(
-      "set_probe",
+  defNamed(
+      c, "set_probe",
       [](Simulation& s, const Vec3& centre, float radius, const Vec3& velocity, const Vec3& angular_velocity) {
         obstacle::SpherePose pose;
         pose.centre_m = toVec3(centre);
@@ -178,8 +183,8 @@ void addProbeMethods(py::class_<Simulation>& c) {
       py::arg("angular_velocity") = Vec3{0, 0, 0},
       "Place the spherical probe: centre (m, world), radius (m, >= one cell), linear velocity (m/s)\n"
       "and angular velocity (rad/s) imposed on the fluid faces it covers. It must lie inside the domain.");
-  c.def(
-      "set_mesh_probe",
+  defNamed(
+      c, "set_mesh_probe",
       [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
          const Vec3& velocity, const Vec3& angular_velocity, const std::optional<Vec3>& torque_centre) {
         obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
@@ -216,8 +221,8 @@ posed mesh's bounding box (a conservative one, from the local box and bounding s
 keep one cell of fluid from every wall. Raises InvalidArgumentError otherwise, saying what to
 change; nothing changes then.
 )doc");
-  c.def(
-      "set_probe_pose",
+  defNamed(
+      c, "set_probe_pose",
       [](Simulation& s, const py::object& transform, const Vec3& velocity, const Vec3& angular_velocity) {
         obstacle::RigidPose pose;
         pose.transform = toTransform(transform);
@@ -269,8 +274,8 @@ Raises InvalidArgumentError if there is no probe or the pose leaves the domain's
 
 // The smoke source: a sphere or a closed mesh, its pose, and what the simulation holds.
 void addSourceMethods(py::class_<Simulation>& c) {
-  c.def(
-      "set_smoke_source",
+  defNamed(
+      c, "set_smoke_source",
       [](Simulation& s, const Vec3& centre, float radius, float density, float temperature,
          const py::object& emission) {
         fluid::SmokeSource src;
@@ -287,8 +292,8 @@ void addSourceMethods(py::class_<Simulation>& c) {
       "Emit smoke in a sphere (replaces any source): centre (m), radius (m). emission 'hold': its cells\n"
       "are held at least at `density` (concentration) and `temperature` (K above ambient); 'rate':\n"
       "`density` (concentration per second) and `temperature` (K/s) are added per second.");
-  c.def(
-      "set_smoke_source_mesh",
+  defNamed(
+      c, "set_smoke_source_mesh",
       [](Simulation& s, const py::array& vertices, const py::array& triangles, const py::object& transform,
          float density, float temperature, const py::object& emission) {
         obstacle::TriangleMesh mesh = toMesh(vertices, triangles);
@@ -363,8 +368,8 @@ Raises InvalidArgumentError if there is no mesh source or the pose is refused.
 
 // Stepping and the object's lifetime.
 void addStepMethods(py::class_<Simulation>& c) {
-  c.def(
-      "step",
+  defNamed(
+      c, "step",
       [](Simulation& s, double dt) {
         FlushLogAfter flush;  // the simulation's once-only warning, on logger "hapticfluid.fluid"
         py::gil_scoped_release release;
@@ -394,8 +399,8 @@ void addFieldMethods(py::class_<Simulation>& c) {
         "Smoke concentration, float32 (nx, ny, nz).");
   c.def("temperature", [](Simulation& s) { return readField(s, Field::Temperature); },
         "Temperature above ambient (K), float32 (nx, ny, nz).");
-  c.def(
-      "pressure",
+  defNamed(
+      c, "pressure",
       [](Simulation& s, bool hydrostatic) {
         return readField(s, hydrostatic ? Field::Pressure : Field::DynamicPressure);
       },
@@ -426,8 +431,8 @@ void addFieldMethods(py::class_<Simulation>& c) {
         "(m/s on faces), 'density', 'temperature' (K), 'pressure' (dynamic pressure, Pa: the next\n"
         "solve's warm start) and the scalars 'time' (s) and 'steps'. Probe, source and settings are\n"
         "not included. Restoring it with set_state() makes later steps bit-identical.");
-  c.def(
-      "set_state",
+  defNamed(
+      c, "set_state",
       [](Simulation& s, const py::dict& d) {
         session::SimulationState st = stateFromDict(s, d);
         py::gil_scoped_release release;
@@ -440,8 +445,8 @@ void addFieldMethods(py::class_<Simulation>& c) {
 
 // Module functions and constants of the simulation.
 void addConstants(py::module_& m) {
-  m.def(
-      "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
+  defNamed(
+      m, "estimate_bytes", [](const IVec3& r) { return Simulation::estimateBytes(glm::ivec3(r[0], r[1], r[2])); },
       py::arg("resolution"), "GPU memory (bytes) the fields of a grid of this resolution take.");
   m.attr("STEP_READBACK_BYTES") = Simulation::stepReadbackBytes();  // what step() reads off the GPU
   m.attr("MIN_TIME_STEP_S") = static_cast<double>(fluid::kMinTimeStep);  // step(dt) range, s
@@ -456,6 +461,38 @@ void addConstants(py::module_& m) {
   m.attr("CELL_SURROUNDING") = 1;
   m.attr("CELL_BOUNDARY") = 2;
   m.attr("CELL_INSIDE") = 3;
+}
+
+// The engine's checks of a probe's place in a grid, without a simulation (no GL): what
+// set_probe, set_mesh_probe and set_probe_pose would refuse, for a bake to check its keys first.
+void addProbeChecks(py::module_& m) {
+  defNamed(
+      m, "check_sphere_probe",
+      [](const session::SimulationConfig& settings, const Vec3& centre, float radius) {
+        obstacle::SpherePose pose;
+        pose.centre_m = toVec3(centre);
+        pose.radius_m = radius;
+        obstacle::validatePose(pose, fluid::makeGrid(settings.resolution, settings.domain_size_m, settings.origin_m));
+      },
+      py::arg("settings"), py::arg("centre"), py::arg("radius"),
+      "Raise InvalidArgumentError as Simulation.set_probe would for a sphere of `radius` (m) at `centre`\n"
+      "(m) in the grid of `settings` (a FluidSettings): a radius under one cell, or less than one cell of\n"
+      "fluid between the sphere and a wall. Makes no simulation.");
+  defNamed(
+      m, "check_mesh_probe",
+      [](const session::SimulationConfig& settings, const py::array& vertices, const py::array& triangles,
+         const py::object& transform) {
+        const obstacle::MeshExtent extent = obstacle::meshExtent(toMesh(vertices, triangles));
+        obstacle::RigidPose pose;
+        pose.transform = toTransform(transform);
+        obstacle::validatePose(extent, pose,
+                               fluid::makeGrid(settings.resolution, settings.domain_size_m, settings.origin_m));
+      },
+      py::arg("settings"), py::arg("vertices"), py::arg("triangles"), py::arg("transform") = py::none(),
+      "Raise InvalidArgumentError as Simulation.set_mesh_probe would for the pose: the mesh's conservative\n"
+      "world box at `transform` (4x4 local -> world, m; None: the identity) keeping less than one cell of\n"
+      "fluid from a wall of the grid of `settings` (a FluidSettings), or a transform it cannot use. The\n"
+      "arrays as set_mesh_probe takes them; whether the mesh is closed is not checked. Makes no simulation.");
 }
 
 }  // namespace
@@ -518,64 +555,13 @@ a resolution below 8, ...) and HapticFluidError (GlError) when no GL context can
   c.def_property_readonly("time", &Simulation::timeS, "Simulated time since the start or reset (s).");
   c.def_property_readonly("steps", &Simulation::steps, "Steps taken since the start or reset.");
 
-  paramProperty<float>(c, "fluid_density", [](const fluid::FluidParams& p) { return p.density_kg_m3; },
-                       [](fluid::FluidParams& p, float v) { p.density_kg_m3 = v; }, "Fluid density rho (kg/m^3).");
-  paramProperty<Vec3>(c, "gravity",
-                      [](const fluid::FluidParams& p) {
-                        return py::make_tuple(p.gravity_m_s2.x, p.gravity_m_s2.y, p.gravity_m_s2.z);
-                      },
-                      [](fluid::FluidParams& p, const Vec3& v) { p.gravity_m_s2 = toVec3(v); },
-                      "Gravity (m/s^2).");
-  paramProperty<bool>(c, "open_top", [](const fluid::FluidParams& p) { return p.open_top; },
-                      [](fluid::FluidParams& p, bool v) { p.open_top = v; }, "+z wall open to 0 Pa.");
-  paramProperty<fluid::Advection>(c, "advection", [](const fluid::FluidParams& p) { return p.advection; },
-                                  [](fluid::FluidParams& p, fluid::Advection v) { p.advection = v; },
-                                  "Advection scheme: an Advection or its name.");
-  paramProperty<float>(c, "vorticity", [](const fluid::FluidParams& p) { return p.vorticity_confinement; },
-                       [](fluid::FluidParams& p, float v) { p.vorticity_confinement = v; },
-                       "Vorticity confinement epsilon (dimensionless).");
-  paramProperty<float>(c, "smoke_weight", [](const fluid::FluidParams& p) { return p.smoke_weight_m_s2; },
-                       [](fluid::FluidParams& p, float v) { p.smoke_weight_m_s2 = v; },
-                       "Downward acceleration per unit smoke concentration (m/s^2).");
-  paramProperty<float>(c, "heat_buoyancy", [](const fluid::FluidParams& p) { return p.heat_buoyancy_m_s2_k; },
-                       [](fluid::FluidParams& p, float v) { p.heat_buoyancy_m_s2_k = v; },
-                       "Upward acceleration per kelvin above ambient (m/s^2/K).");
-  paramProperty<float>(c, "smoke_dissipation", [](const fluid::FluidParams& p) { return p.density_dissipation_1_s; },
-                       [](fluid::FluidParams& p, float v) { p.density_dissipation_1_s = v; },
-                       "Smoke fade rate (1/s).");
-  paramProperty<float>(c, "heat_dissipation",
-                       [](const fluid::FluidParams& p) { return p.temperature_dissipation_1_s; },
-                       [](fluid::FluidParams& p, float v) { p.temperature_dissipation_1_s = v; },
-                       "Heat fade rate (1/s).");
-  paramProperty<bool>(c, "conserve_smoke", [](const fluid::FluidParams& p) { return p.conserve_smoke; },
-                      [](fluid::FluidParams& p, bool v) { p.conserve_smoke = v; },
-                      "Advection keeps the totals of smoke and heat (less the outflow through an open top),\n"
-                      "without new extrema; off: the raw transport, which loses some.");
-  paramProperty<int>(c, "pressure_iterations", [](const fluid::FluidParams& p) { return p.pressure_iterations; },
-                     [](fluid::FluidParams& p, int v) { p.pressure_iterations = v; },
-                     "Jacobi sweeps or multigrid CG iterations per step (the most, with a pressure_tolerance).");
-  paramProperty<fluid::PressureSolverKind>(c, "pressure_solver", [](const fluid::FluidParams& p) { return p.pressure_solver; },
-                                           [](fluid::FluidParams& p, fluid::PressureSolverKind v) { p.pressure_solver = v; },
-                                           "Pressure solver: a PressureSolver or its name.");
-  paramProperty<float>(c, "pressure_tolerance", [](const fluid::FluidParams& p) { return p.pressure_tolerance; },
-                       [](fluid::FluidParams& p, float v) { p.pressure_tolerance = v; },
-                       "Relative residual (dimensionless) at which the pressure solve stops; 0 = run exactly\n"
-                       "pressure_iterations. 0 or 1e-7 .. 1 (exclusive).");
-  paramProperty<bool>(c, "compute_residual", [](const fluid::FluidParams& p) { return p.compute_residual; },
-                      [](fluid::FluidParams& p, bool v) { p.compute_residual = v; },
-                      "Measure the pressure residual each step.");
-  paramProperty<bool>(c, "cut_cells", [](const fluid::FluidParams& p) { return p.cut_cells; },
-                      [](fluid::FluidParams& p, bool v) { p.cut_cells = v; },
-                      "Cut cells for the probe, sphere or mesh (on by default): the open fractions of the faces\n"
-                      "around it from its geometry, used in the divergence, pressure solve, projection and force,\n"
-                      "so the force changes continuously as it moves. Off: faces are open or covered by the\n"
-                      "probe's voxels (whole cells switch in one step).");
-
+  addParamProperties(c);
   addProbeMethods(c);
   addSourceMethods(c);
   addStepMethods(c);
   addFieldMethods(c);
   addConstants(m);
+  addProbeChecks(m);
 }
 
 }  // namespace hf::python

@@ -3,7 +3,14 @@
 // Shared declarations of the binding files: each area adds itself to the module.
 #include <pybind11/pybind11.h>
 
+namespace hf::fluid {
+struct FluidParams;
+}
+
 namespace hf::python {
+
+template <class P>
+class SettingTable;  // settings_class.h
 
 void addErrors(pybind11::module_& m);
 void addDevice(pybind11::module_& m);
@@ -13,6 +20,10 @@ void addHaptics(pybind11::module_& m);
 void addFalcon(pybind11::module_& m);  // after addHaptics: reuses its Device type
 void addIo(pybind11::module_& m);
 void addLog(pybind11::module_& m);
+
+// The fluid's settings, listed once (bind_settings.cpp): FluidSettings' fields and Simulation's
+// properties.
+const SettingTable<fluid::FluidParams>& fluidParamSettings();
 
 // Delivers the engine's queued log messages to Python logging (GIL held; bind_log.cpp).
 void flushLog();

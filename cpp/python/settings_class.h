@@ -1,21 +1,26 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Settings objects as Python classes: one typed property per setting over an engine settings
-// struct, so a setting's name, default (the struct's member initialiser) and check (the struct's
-// validate()) are the engine's, defined once. A property refuses a value of the wrong type with a
-// TypeError naming the setting, and a value the engine's check refuses with InvalidArgumentError
-// (the engine's message names it); the object is unchanged then. Enum settings take a member or
-// its name ('multigrid'). Keyword arguments become property assignments (applyKeywords).
+// struct, so a setting's name, default (the struct's member initialiser), range and check (the
+// struct's validate()) are the engine's, defined once. A property refuses a value of the wrong
+// type with a TypeError naming the setting, and a value the engine's check refuses with
+// InvalidArgumentError (the engine's message names it); the object is unchanged then. Enum
+// settings take a member or its name ('multigrid'). Keyword arguments become property
+// assignments (applyKeywords). A SettingTable lists the settings of one engine struct once, for
+// every class that shows them (FluidSettings and Simulation both show FluidParams').
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "common/error.h"
+#include "common/format.h"
+#include "common/range.h"
 #include "python/convert.h"
 
 namespace hf::python {
@@ -41,15 +46,60 @@ E enumArg(const py::handle& value, const std::string& name) {
                         type.attr("__name__").cast<std::string>() + ".<name>), got " + py::repr(value).cast<std::string>());
 }
 
-// A value of the setting's type T (an enum by member or name, the rest by pybind11's casters).
+// A value of the setting's type T: an enum by member or name; a number or a flag as itself (True
+// is no number, 1 no flag: both are refused naming the setting); the rest by pybind11's casters.
 template <class T>
 T settingArg(const py::handle& value, const std::string& name) {
   if constexpr (std::is_enum_v<T>) {
     return enumArg<T>(value, name);
   } else {
+    if constexpr (std::is_arithmetic_v<T>) {
+      const std::string type = Py_TYPE(value.ptr())->tp_name;  // numpy's flag: numpy.bool_ (numpy.bool in 2.x)
+      const bool is_flag = py::isinstance<py::bool_>(value) || type == "numpy.bool_" || type == "numpy.bool";
+      if (is_flag != std::is_same_v<T, bool>) throw py::type_error(wrongType<T>(value, name));
+    }
     return castArg<T>(value, name.c_str());
   }
 }
+
+// One setting of an engine struct P as Python shows it: name, docstring, range (when it has
+// one), its value read from P, and a Python value written into P (converted, naming the setting
+// by the qualified name given).
+template <class P>
+struct Setting {
+  std::string name;
+  std::string doc;
+  std::optional<Range> range;
+  std::function<py::object(const P&)> get;
+  std::function<void(P&, const py::handle&, const std::string&)> set;
+};
+
+// The settings of P, listed once.
+template <class P>
+class SettingTable {
+ public:
+  // A setting of Python type T read by get(const P&) -> T and written by set(P&, T).
+  template <class T, class Get, class Set>
+  SettingTable& add(const char* name, Get get, Set set, const char* doc, std::optional<Range> range = std::nullopt) {
+    rows_.push_back(Setting<P>{name, doc, range,
+                               [get](const P& p) -> py::object {
+                                 auto v = get(p);
+                                 if constexpr (std::is_base_of_v<py::handle, decltype(v)>) {
+                                   return py::reinterpret_steal<py::object>(v.release());
+                                 } else {
+                                   return py::cast(std::move(v));
+                                 }
+                               },
+                               [set](P& p, const py::handle& value, const std::string& qualified) {
+                                 set(p, settingArg<T>(value, qualified));
+                               }});
+    return *this;
+  }
+  const std::vector<Setting<P>>& rows() const { return rows_; }
+
+ private:
+  std::vector<Setting<P>> rows_;
+};
 
 // The engine's check of a whole settings struct S, as its SettingsClass registered it.
 template <class S>
@@ -137,29 +187,51 @@ class SettingsClass {
   // A setting of Python type T read by get(const S&) -> T and written by set(S&, T).
   template <class T, class Get, class Set>
   SettingsClass& field(const char* name, Get get, Set set, const char* doc) {
-    const std::string qualified = name_ + "." + name;
-    auto check = check_;
-    cls_.def_property(
-        name, [get](const S& s) { return get(s); },
-        [set, check, qualified](S& s, const py::object& value) {
-          S candidate = s;
-          set(candidate, settingArg<T>(value, qualified));
-          if (check && !DeferredChecks::active()) check(candidate);
-          s = std::move(candidate);
-        },
-        doc);
-    names_.emplace_back(name);
+    SettingTable<S> one;
+    one.template add<T>(name, get, set, doc);
+    return fields(one);
+  }
+
+  // The settings of a table of S.
+  SettingsClass& fields(const SettingTable<S>& table) {
+    for (const Setting<S>& row : table.rows()) add(row);
+    return *this;
+  }
+
+  // The settings of a table of the part of S at `member` (SimulationConfig::params).
+  template <class P>
+  SettingsClass& fields(const SettingTable<P>& table, P S::*member) {
+    for (const Setting<P>& row : table.rows()) {
+      add(Setting<S>{row.name, row.doc, row.range, [get = row.get, member](const S& s) { return get(s.*member); },
+                     [set = row.set, member](S& s, const py::handle& value, const std::string& qualified) {
+                       set(s.*member, value, qualified);
+                     }});
+    }
     return *this;
   }
 
   // Finishes the class: S(**settings) (the engine's defaults with those set), fields() (the
-  // names, in order), to_dict(), copy(), ==, repr. Returns it.
+  // names, in order), limits(), to_dict(), copy(), ==, repr. Returns it.
   py::class_<S>& done() {
     const std::vector<std::string> names = names_;
     const std::string cls = name_;
     cls_.def(py::init([cls](const py::kwargs& kw) { return settingsWithKeywords<S>(py::none(), kw, cls.c_str()); }),
              "The engine's defaults, with the settings given as keywords.");
     cls_.def_static("fields", [names]() { return names; }, "The settings' names, in order.");
+    const std::vector<std::pair<std::string, Range>> ranges = ranges_;
+    cls_.def_static(
+        "limits",
+        [ranges]() {
+          py::dict d;
+          for (const auto& [name, r] : ranges) {
+            // (the engine's float32 bounds by their shortest decimal: 0.001, not 0.0010000000474974513)
+            d[py::str(name)] = py::dict(py::arg("min") = std::stod(num(r.min)), py::arg("max") = std::stod(num(r.max)),
+                                        py::arg("max_exclusive") = r.max_exclusive);
+          }
+          return d;
+        },
+        "The range of each numeric setting that has one, as the engine checks it: {name: {'min', 'max',\n"
+        "'max_exclusive'}} (max itself refused when max_exclusive).");
     cls_.def("to_dict", [names](const py::object& self) {
           py::dict d;
           for (const auto& n : names) d[py::str(n)] = self.attr(n.c_str());
@@ -182,10 +254,27 @@ class SettingsClass {
   }
 
  private:
+  void add(Setting<S> row) {
+    const std::string qualified = name_ + "." + row.name;
+    auto check = check_;
+    cls_.def_property(
+        row.name.c_str(), [get = row.get](const S& s) { return get(s); },
+        [set = row.set, check, qualified](S& s, const py::object& value) {
+          S candidate = s;
+          set(candidate, value, qualified);
+          if (check && !DeferredChecks::active()) check(candidate);
+          s = std::move(candidate);
+        },
+        row.doc.c_str());
+    names_.push_back(row.name);
+    if (row.range) ranges_.emplace_back(row.name, *row.range);
+  }
+
   py::class_<S> cls_;
   std::string name_;
   std::function<void(const S&)> check_;
   std::vector<std::string> names_;
+  std::vector<std::pair<std::string, Range>> ranges_;
 };
 
 }  // namespace hf::python

@@ -20,13 +20,11 @@ from hapticfluid._compat import check_numpy as _check_numpy
 
 _check_numpy(_numpy.__version__, _core._PYBIND11_VERSION)  # wrong arrays otherwise: refused, said why
 
-from hapticfluid._arguments import install as _name_bad_arguments  # noqa: E402
-from hapticfluid._lifetime import install as _stop_sessions_at_exit
+from hapticfluid._lifetime import install as _stop_sessions_at_exit  # noqa: E402
 
-_name_bad_arguments(_core)  # a wrong argument type is named, not pybind11's "incompatible function arguments"
 _stop_sessions_at_exit(_core)  # no session thread outlives the interpreter
 
-from hapticfluid._core import (  # noqa: E402  (after the wrapping: these are the wrapped functions)
+from hapticfluid._core import (  # noqa: E402  (after _lifetime's wrapping of HapticSession)
     CELL_BOUNDARY,
     CELL_INSIDE,
     STEP_READBACK_BYTES,
@@ -63,6 +61,8 @@ from hapticfluid._core import (  # noqa: E402  (after the wrapping: these are th
     ScriptedDevice,
     Simulation,
     StepReport,
+    check_mesh_probe,
+    check_sphere_probe,
     estimate_bytes,
     falcon_udev_rule,
     flush_log,
@@ -122,6 +122,8 @@ __all__ = [
     "ScriptedDevice",
     "Simulation",
     "StepReport",
+    "check_mesh_probe",
+    "check_sphere_probe",
     "estimate_bytes",
     "falcon_udev_rule",
     "flush_log",

@@ -91,6 +91,43 @@ def test_the_valid_scene_loads(tmp_path):
     assert scene is not None and scene.frame_count == 4
 
 
+# A changed value at every key of the scene, and what it changes of the fingerprint (None: nothing).
+CHANGES = [
+    (("domain", "origin"), [0.1, 0, 0], "domain_origin"), (("domain", "size"), [1.2, 1, 1], "domain_size"),
+    (("resolution",), 20, "resolution"), (("frames", "start"), 2, "frame_start"), (("frames", "fps"), 30, "fps"),
+    (("fluid", "vorticity"), 0.5, "fluid"), (("source", "radius"), 0.12, "source"),
+    (("probe", "radius"), 0.11, "probe"),
+    (("substeps",), 3, "substeps"), (("cfl",), 0.5, "cfl"), (("max_substeps",), 8, "max_substeps"),
+    (("cache", "grids"), ["density", "pressure"], "grids"), (("cache", "compression"), "zip", "compression"),
+    (("cache", "half_float"), True, "half_float"), (("cache", "tolerance"), 0.01, "tolerance"),
+    (("frames", "end"), 5, None), (("cache", "directory"), "elsewhere", None), (("cache", "checkpoint_every"), 3, None),
+    (("device",), "software", None),
+]
+
+
+@pytest.mark.parametrize("path, value, entry", CHANGES, ids=[".".join(map(str, c[0])) for c in CHANGES])
+def test_one_list_says_what_outdates_a_cache(tmp_path, path, value, entry):
+    """CACHE_INPUTS (what the add-on's "cache out of date" reads too) is what the fingerprint holds:
+    a change at one of its keys changes that entry (grid_resolution derives from two of them), a
+    change anywhere else changes nothing; cache_inputs() reads the same from the scene dict."""
+    import copy
+
+    from hapticfluid.bake.cache import settings_differences
+    from hapticfluid.bake.scene import CACHE_INPUTS, cache_inputs
+
+    assert {".".join(map(str, c[0][:1 if c[2] in ("fluid", "source", "probe") else 2])) for c in CHANGES
+            if c[2]} == set(CACHE_INPUTS.values())
+    before = valid_scene()
+    after = copy.deepcopy(before)
+    _replace(after, path, value)
+    old, new = scene_from_dict(before, tmp_path).fingerprint(), scene_from_dict(after, tmp_path).fingerprint()
+    assert set(new) == set(CACHE_INPUTS) | {"grid_resolution"}
+    changed = {k for k in new if new[k] != old[k]} - {"grid_resolution"}
+    assert changed == ({entry} if entry else set()), changed
+    named = settings_differences(cache_inputs(before), cache_inputs(after))
+    assert [n.split(".")[0] for n in named] == ([entry] if entry else []), named
+
+
 @SETTINGS
 @given(data=json_values)
 def test_any_json_value_loads_or_is_refused(tmp_path, data):

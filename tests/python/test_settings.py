@@ -99,7 +99,9 @@ def test_thread_niceness_lowers_the_simulations_threads_and_the_drivers_only():
 @pytest.mark.parametrize("cls, name, value, error, words", [
     (hf.FluidSettings, "pressure_solver", "cg", hf.InvalidArgumentError, ["pressure_solver", "'jacobi'", "'multigrid'"]),
     (hf.FluidSettings, "advection", 3, hf.InvalidArgumentError, ["advection", "'semi_lagrangian'", "'maccormack'"]),
-    (hf.FluidSettings, "vorticity", "lots", TypeError, ["FluidSettings.vorticity", "str"]),
+    (hf.FluidSettings, "vorticity", "lots", TypeError, ["FluidSettings.vorticity must be a number", "str"]),
+    (hf.FluidSettings, "vorticity", True, TypeError, ["FluidSettings.vorticity must be a number", "bool"]),
+    (hf.FluidSettings, "open_top", 1, TypeError, ["FluidSettings.open_top must be True or False", "int 1"]),
     (hf.FluidSettings, "resolution", (16, 16), TypeError, ["FluidSettings.resolution"]),
     (hf.FluidSettings, "fluid_density", -1.0, hf.InvalidArgumentError, ["density"]),
     (hf.FluidSettings, "pressure_iterations", 0, hf.InvalidArgumentError, ["iterations"]),
@@ -120,6 +122,56 @@ def test_a_bad_value_names_the_setting_and_changes_nothing(cls, name, value, err
     assert s.to_dict() == before
     with pytest.raises(error):  # the same through a keyword
         cls(**{name: value})
+
+
+FLUID_GRID = ("resolution", "domain_size", "origin", "device", "thread_niceness")
+
+
+def test_limits_are_what_the_engine_checks():
+    """FluidSettings.limits(), which the add-on's fields and the bake's scene check read, is the
+    engine's own check: each bound is taken, the next float32 (or integer) past it refused."""
+    limits = hf.FluidSettings.limits()
+    assert set(limits) == {"fluid_density", "vorticity", "smoke_weight", "heat_buoyancy", "smoke_dissipation",
+                           "heat_dissipation", "pressure_iterations", "pressure_tolerance"}
+    assert limits["vorticity"] == {"min": 0.0, "max": 1000.0, "max_exclusive": False}
+
+    def past(x, direction):
+        return float(np.nextafter(np.float32(x), np.float32(direction)))
+
+    for name, r in limits.items():
+        s = hf.FluidSettings()
+        integer = isinstance(getattr(s, name), int)
+        lo, hi = (int(r["min"]), int(r["max"])) if integer else (r["min"], r["max"])
+        setattr(s, name, lo)
+        with pytest.raises(hf.InvalidArgumentError):
+            setattr(s, name, lo - 1 if integer else past(lo, -np.inf))
+        if r["max_exclusive"]:
+            with pytest.raises(hf.InvalidArgumentError):
+                setattr(s, name, hi)
+            setattr(s, name, past(hi, -np.inf))
+        else:
+            setattr(s, name, hi)
+            with pytest.raises(hf.InvalidArgumentError):
+                setattr(s, name, hi + 1 if integer else past(hi, np.inf))
+
+
+def test_the_simulations_fluid_settings_are_fluid_settings_fields():
+    """One table binds the fluid's settings: Simulation has a property for each FluidSettings field
+    but the grid's, with the same docstring, and it refuses what FluidSettings refuses."""
+    fluid = [n for n in hf.FluidSettings.fields() if n not in FLUID_GRID]
+    assert len(fluid) == 15
+    for name in fluid:
+        prop = getattr(hf.Simulation, name)
+        assert isinstance(prop, property) and getattr(hf.FluidSettings, name).__doc__ in prop.__doc__, name
+    assert not any(isinstance(getattr(hf.Simulation, n, None), property) and getattr(hf.Simulation, n).fset
+                   for n in FLUID_GRID)
+    with hf.Simulation(hf.FluidSettings(resolution=(8, 8, 8))) as sim:
+        with pytest.raises(TypeError, match="^Simulation.vorticity must be a number, got str 'x'$"):
+            sim.vorticity = "x"
+        with pytest.raises(hf.InvalidArgumentError, match="vorticity confinement must be between 0 and 1000"):
+            sim.vorticity = 1001.0
+        sim.vorticity = 1000.0
+        assert sim.vorticity == 1000.0 and sim.settings.vorticity == 1000.0
 
 
 def test_an_unknown_keyword_is_named_with_the_settings_that_exist(small_sim):

@@ -157,22 +157,19 @@ def probe_shape_dict(probe, shape):
     return {"shape": "sphere", "radius": _local_radius(probe) if probe.type == "MESH" else probe.empty_display_size}
 
 
-def scene_dict(scene, settings):
-    """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
-    lo, hi = domain_box(settings)
-    if settings.frame_end < settings.frame_start:
-        raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
-    fps = scene.render.fps / scene.render.fps_base
-    data = {
-        "domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]},
+def settings_dict(scene, settings):
+    """The scene dict's entries read from the settings alone (no object, no frame_set: cheap
+    enough for a panel's draw): resolution, fluid, frames, substeps, cfl, max_substeps and the
+    cache's grids and format (its folder: scene_dict)."""
+    return {
         "resolution": settings.resolution,
         "fluid": fluid_dict(scene, settings),
-        "frames": {"start": settings.frame_start, "end": settings.frame_end, "fps": fps},
+        "frames": {"start": settings.frame_start, "end": settings.frame_end,
+                   "fps": scene.render.fps / scene.render.fps_base},
         "substeps": "adaptive" if settings.adaptive_substeps else settings.substeps,
         "cfl": settings.cfl,
         "max_substeps": settings.max_substeps,
         "cache": {
-            "directory": cache_folder(settings),
             "grids": ["density"] + (["velocity"] if settings.write_velocity else [])
                      + (["pressure"] if settings.write_pressure else []),
             "compression": settings.compression,
@@ -181,6 +178,15 @@ def scene_dict(scene, settings):
             "checkpoint_every": settings.checkpoint_every,
         },
     }
+
+
+def scene_dict(scene, settings):
+    """The hapticfluid.bake scene dict (JSON form) for the current Blender scene and settings."""
+    lo, hi = domain_box(settings)
+    if settings.frame_end < settings.frame_start:
+        raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
+    data = {"domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]}, **settings_dict(scene, settings)}
+    data["cache"]["directory"] = cache_folder(settings)
     source = source_dict(settings)
     moving = [obj for obj in (settings.probe, settings.source if source and "matrix" in source else None) if obj]
     keys = _sample_keys(scene, moving, settings.frame_start - 1, settings.frame_end)
@@ -217,17 +223,21 @@ def _sample_keys(scene, objects, first, last):
 
 
 def _check_sphere_fits(probe, local_radius, keys, lo, hi, resolution):
-    """A sphere probe wider than the domain (an Empty's Size is 1 m by default) is refused here
-    with what sets its size; the package's own check would give an impossible range."""
+    """A sphere probe that cannot fit the domain anywhere (an Empty's Size is 1 m by default) is
+    refused here with what sets its size: the engine's check of the sphere at the domain's centre
+    (hapticfluid.check_sphere_probe; the bake checks it at every key)."""
+    import hapticfluid as hf
+    from hapticfluid import assembly
     from mathutils import Matrix
 
-    cell = max(hi[i] - lo[i] for i in range(3)) / resolution
-    room = min(hi[i] - lo[i] for i in range(3)) - 2.0 * cell * 1.001  # one cell of fluid to each wall
     scale = max(max(abs(s) for s in Matrix(k["matrix"]).to_scale()) for k in keys)
     radius = local_radius * scale
-    if 2.0 * radius > room:
-        size = (f"the Empty's Size ({probe.empty_display_size:.4g}) x its scale ({scale:.4g})" if probe.type == "EMPTY"
+    size = [hi[i] - lo[i] for i in range(3)]
+    try:
+        hf.check_sphere_probe(assembly.fluid_settings(lo, size, resolution),
+                              tuple(lo[i] + 0.5 * size[i] for i in range(3)), radius)
+    except hf.InvalidArgumentError as exc:
+        what = (f"the Empty's Size ({probe.empty_display_size:.4g}) x its scale ({scale:.4g})" if probe.type == "EMPTY"
                 else f"half its largest local extent x its scale ({scale:.4g})")
-        raise SceneError(f"make the sphere probe '{probe.name}' smaller (lower its Size or scale): its radius "
-                         f"{radius:.4g} m ({size}) does not fit the domain, whose smallest side leaves room for a "
-                         f"radius of at most {max(room, 0.0) / 2:.4g} m with one cell of fluid to each wall")
+        raise SceneError(f"resize the sphere probe '{probe.name}' (its Size or scale): its radius {radius:.4g} m "
+                         f"({what}) does not fit the domain at resolution {resolution}: {exc}") from None

@@ -41,14 +41,71 @@ def get(scene):
 
 def current(scene):
     """The scene's last plan while it still applies: None also when a bake setting changed since
-    the bake (object_props.changed_cache_inputs, known at once, while the plan is made again only
-    after the edits pause), since that outdates every frame, as the panel's warning says."""
-    from ..properties import object_props
-
+    the bake (changed_inputs, known at once, while the plan is made again only after the edits
+    pause), since that outdates every frame, as the panel's warning says."""
     entry = get(scene)
-    if entry is None or object_props.changed_cache_inputs(scene, roles.settings_of(scene)):
+    if entry is None or changed_inputs(scene, roles.settings_of(scene)):
         return None
     return entry
+
+
+def inputs(scene, settings):
+    """What the cache is made from, cheap enough for a panel's draw, as the package lists it
+    (hapticfluid.bake.scene.CACHE_INPUTS, the fingerprint's entries): the settings, gravity and
+    frame rate as the bake reads them (blender_scene.settings_dict), the domain's world box, and
+    the probe and the smoke source by their objects' names and settings (their animation and
+    meshes are read with frame_set on every frame, too slow for a draw: the plan compares those).
+    Floats rounded to 9 decimals, as JSON stores them. ``settings`` is ``roles.settings_of(scene)``."""
+    from hapticfluid.bake.scene import cache_inputs
+
+    from . import blender_scene, source_mesh
+
+    data = blender_scene.settings_dict(scene, settings)
+    if settings.domain is not None:
+        lo, hi = blender_scene.world_box(settings.domain)
+        data["domain"] = {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]}
+    if settings.probe is not None:
+        data["probe"] = {"object": settings.probe.name, "shape": settings.probe_shape}
+    if settings.source is not None:
+        data["source"] = {"object": settings.source.name, **source_mesh.values(settings)}
+    return _rounded(cache_inputs(data))
+
+
+def _rounded(value):
+    if isinstance(value, float):
+        return round(value, 9)
+    if isinstance(value, dict):
+        return {k: _rounded(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_rounded(v) for v in value]
+    return value
+
+
+def inputs_json(scene, settings) -> str:
+    import json
+
+    return json.dumps(inputs(scene, settings), sort_keys=True)
+
+
+def changed_inputs(scene, settings):
+    """What changed since the bake, as the re-bake plan names it ('fluid.vorticity',
+    'domain_size'): [] if nothing, or no bake recorded. A record made before the package's list
+    (keyed by the fields' names) is no answer: the plan, made from the cache itself, says then."""
+    import json
+
+    if not settings.baked_inputs:
+        return []
+    try:
+        baked = json.loads(settings.baked_inputs)
+        from hapticfluid.bake.cache import settings_differences
+    except ValueError:
+        return ["(unreadable record)"]
+    except ImportError:  # no package: no bake either, and the panel says why
+        return []
+    now = json.loads(inputs_json(scene, settings))  # the same rounding and JSON types
+    if not isinstance(baked, dict) or not set(baked) & set(now):
+        return []
+    return settings_differences(baked, now)
 
 
 def refresh(scene):

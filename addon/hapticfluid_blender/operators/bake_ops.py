@@ -18,7 +18,7 @@ import bpy
 
 from . import modal_guard
 from ..bake import blender_scene, cache_plan
-from ..properties import object_props, roles
+from ..properties import roles
 from ..render import volume
 
 TIMER_S = 0.2
@@ -173,7 +173,7 @@ class _BakeBase(_IdleOnly):
         job = _BakeJob(bake_scene, self.resume, context.scene.name)
         # what the cache is made from once this bake ends, for "cache out of date" (a Resume after a
         # changed setting re-bakes every frame with it)
-        settings.baked_inputs = object_props.cache_inputs_json(context.scene, settings)
+        settings.baked_inputs = cache_plan.inputs_json(context.scene, settings)
         settings.is_baking = True
         settings.progress = 0.0
         note = blender_scene.cache_note(settings)

@@ -19,6 +19,42 @@ ROLE_ITEMS = (
 ROLE_LABELS = {key: name for key, name, _ in ROLE_ITEMS}
 
 
+def _engine_limits():
+    """The ranges the engine takes (hapticfluid.FluidSettings.limits(), the smoke source's
+    MAX_SOURCE_DENSITY and MAX_SOURCE_TEMPERATURE_K), by setting; {} without the package (no bake
+    can run then, and the panel says why)."""
+    try:
+        import hapticfluid
+    except ImportError:
+        return {}
+    limits = hapticfluid.FluidSettings.limits()
+    limits["source_density"] = {"min": 0.0, "max": hapticfluid.MAX_SOURCE_DENSITY, "max_exclusive": False}
+    limits["source_temperature"] = {"min": 0.0, "max": hapticfluid.MAX_SOURCE_TEMPERATURE_K, "max_exclusive": False}
+    return limits
+
+
+_LIMITS = _engine_limits()
+
+
+def _below(x):
+    """The largest float32 below x > 0 (Blender's properties hold float32: an excluded maximum)."""
+    import struct
+
+    return struct.unpack("<f", struct.pack("<I", struct.unpack("<I", struct.pack("<f", x))[0] - 1))[0]
+
+
+def _limits(setting, integer=False, **soft):
+    """A property's min and max: the engine's range of ``setting``, so a field offers exactly what
+    the bake takes; ``soft`` (soft_min, soft_max) only narrows the slider's range inside it."""
+    r = _LIMITS.get(setting)
+    if r is None:
+        return soft
+    hi = _below(r["max"]) if r["max_exclusive"] else r["max"]
+    out = {"min": int(r["min"]) if integer else r["min"], "max": int(hi) if integer else hi}
+    out.update({k: max(out["min"], min(out["max"], v)) for k, v in soft.items()})
+    return out
+
+
 class HapticFluidProbeSettings(bpy.types.PropertyGroup):
     """The probe's settings, on the object holding the Probe role."""
 
@@ -33,9 +69,9 @@ class HapticFluidProbeSettings(bpy.types.PropertyGroup):
 class HapticFluidSourceSettings(bpy.types.PropertyGroup):
     """The smoke source's settings, on the object holding the Smoke Source role."""
 
-    source_density: FloatProperty(name="Source Density", default=1.0, min=0.0, max=1000.0,
+    source_density: FloatProperty(name="Source Density", default=1.0, **_limits("source_density"),
                                   description="Smoke concentration held in the emitter (dimensionless)")
-    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, min=0.0, max=10000.0,
+    source_temperature: FloatProperty(name="Source Temperature (K)", default=8.0, **_limits("source_temperature"),
                                       description="Temperature above ambient held in the emitter (K)")
 
 
@@ -81,17 +117,17 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
         description="Keep the simulation's full state every this many frames (0: only the latest), so that "
                     "after a change Resume re-bakes from the checkpoint before it instead of from the start; "
                     "each costs the size shown below on disk")
-    fluid_density: FloatProperty(name="Fluid Density (kg/m³)", default=1.2, min=1e-3, max=1e5, unit="NONE",
+    fluid_density: FloatProperty(name="Fluid Density (kg/m³)", default=1.2, **_limits("fluid_density"), unit="NONE",
                                  description="Density of the fluid (kg/m^3): 1.2 air, 1000 water")
     open_top: BoolProperty(name="Open Top", default=True,
                            description="The domain's top is open (smoke leaves) instead of a lid")
-    vorticity: FloatProperty(name="Vorticity", default=0.4, min=0.0, max=100.0,
+    vorticity: FloatProperty(name="Vorticity", default=0.4, **_limits("vorticity", soft_max=100.0),
                              description="Vorticity confinement (dimensionless): curlier smoke")
-    heat_buoyancy: FloatProperty(name="Heat Buoyancy (m/s²/K)", default=1.0, min=0.0, max=1000.0,
+    heat_buoyancy: FloatProperty(name="Heat Buoyancy (m/s²/K)", default=1.0, **_limits("heat_buoyancy", soft_min=0.0),
                                  description="Upward acceleration per kelvin above ambient (m/s^2/K)")
-    smoke_dissipation: FloatProperty(name="Smoke Dissipation (1/s)", default=0.05, min=0.0, max=1000.0,
+    smoke_dissipation: FloatProperty(name="Smoke Dissipation (1/s)", default=0.05, **_limits("smoke_dissipation"),
                                      description="Rate the smoke fades (1/s)")
-    heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, min=0.0, max=1000.0,
+    heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, **_limits("heat_dissipation"),
                                     description="Rate the heat fades (1/s)")
     pressure_solver: EnumProperty(
         name="Pressure Solver", default="JACOBI",
@@ -99,10 +135,11 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
                ("MULTIGRID", "Multigrid", "Conjugate gradient with a multigrid V-cycle: a few iterations "
                                           "reach a small residual")),
         description="How the pressure is solved each step")
-    pressure_iterations: IntProperty(name="Pressure Iterations", default=40, min=1, max=100000,
+    pressure_iterations: IntProperty(name="Pressure Iterations", default=40, **_limits("pressure_iterations", True),
                                      description="Jacobi sweeps or multigrid iterations per step "
                                                  "(the cap when a tolerance is set)")
-    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=0.0, min=0.0, max=0.5, precision=6,
+    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=0.0, precision=6,
+                                      **_limits("pressure_tolerance", soft_max=0.5),
                                       description="Stop the pressure solve at this relative residual "
                                                   "(dimensionless); 0 runs the fixed iteration count")
     density_scale: FloatProperty(name="Render Density", default=20.0, min=0.0, max=10000.0,
@@ -118,7 +155,7 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
     status: StringProperty(name="Status", default="", description="What the last bake did")
     baked_inputs: StringProperty(
         name="Baked Inputs", default="",
-        description="The settings the cache was baked from (JSON of cache_inputs), for 'cache out of date'")
+        description="What the cache was baked from (JSON of bake.cache_plan.inputs), for 'cache out of date'")
     # The domain's display before the bake turned it into a wire frame; Free restores it.
     domain_display_saved: BoolProperty(name="Domain Display Saved", default=False,
                                        description="The two properties below hold the domain's display")
@@ -175,67 +212,12 @@ def clear_stale_bake_state(_filepath=None):
             settings.status = INTERRUPTED_NOTE
 
 
-# Settings the cache depends on (frame_end is not one: raising it and pressing Resume extends
-# the cache). Display-only settings (density_scale) and the status are left out.
-CACHE_SETTINGS = ("probe_shape", "resolution", "frame_start", "substeps", "adaptive_substeps", "cfl", "max_substeps",
-                  "cache_dir", "write_velocity", "write_pressure", "half_float", "compression", "tolerance",
-                  "fluid_density", "open_top", "vorticity", "heat_buoyancy", "smoke_dissipation", "heat_dissipation",
-                  "source_density", "source_temperature", "pressure_solver", "pressure_iterations",
-                  "pressure_tolerance")
-# The roles as cache_inputs names them (the names the scene-level pointers had before roles, so a
-# cache baked then and migrated is not out of date).
-ROLE_INPUT_NAMES = {"domain": "Domain", "probe": "Probe", "source": "Smoke Source"}
-
-
 def ui_name(key):
     """The UI name of a setting of any role (units included), e.g. 'Fluid Density (kg/m³)'."""
     for cls in (HapticFluidDomainSettings, HapticFluidProbeSettings, HapticFluidSourceSettings):
         if key in cls.__annotations__:
             return cls.bl_rna.properties[key].name
     raise KeyError(key)
-
-
-def cache_inputs(scene, settings):
-    """What the cache is made from, cheap enough for a panel's draw: the settings above (by their
-    UI names), the objects' names, the domain's and the source's world placement and size (both
-    read at the current frame by the bake), gravity and frame rate. The probe and the smoke source
-    count by their names only: their animation is read with frame_set on every frame, too slow
-    for a draw, and their placement at the current frame changes as the timeline plays.
-    ``settings`` is ``roles.settings_of(scene)``."""
-    out = {}
-    for key in CACHE_SETTINGS:
-        value = getattr(settings, key)
-        out[ui_name(key)] = round(value, 9) if isinstance(value, float) else value
-    for key, name in ROLE_INPUT_NAMES.items():
-        obj = getattr(settings, key)
-        if obj is None or key in ("probe", "source"):  # animated: read per frame by the bake
-            out[name] = None if obj is None else obj.name
-            continue
-        out[name] = [obj.name, [round(v, 6) for row in obj.matrix_world for v in row],
-                     [round(v, 6) for v in obj.dimensions]]
-    out["Gravity"] = [round(v, 6) for v in scene.gravity] if scene.use_gravity else [0.0, 0.0, 0.0]
-    out["Frame Rate"] = round(scene.render.fps / scene.render.fps_base, 6)
-    return out
-
-
-def cache_inputs_json(scene, settings) -> str:
-    import json
-
-    return json.dumps(cache_inputs(scene, settings), sort_keys=True)
-
-
-def changed_cache_inputs(scene, settings):
-    """The names of the settings changed since the bake ([] if none, or no bake recorded)."""
-    import json
-
-    if not settings.baked_inputs:
-        return []
-    try:
-        baked = json.loads(settings.baked_inputs)
-    except ValueError:
-        return ["(unreadable record)"]
-    now = json.loads(cache_inputs_json(scene, settings))  # the same rounding and JSON types
-    return sorted(k for k in set(baked) | set(now) if baked.get(k) != now.get(k))
 
 
 def attach():

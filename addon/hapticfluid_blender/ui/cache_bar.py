@@ -16,7 +16,7 @@ cannot draw). Each baked frame gets a one-frame-wide cell centred on its frame n
 import bpy
 
 from ..bake import cache_plan
-from ..properties import object_props, roles
+from ..properties import roles
 
 BAR_BOTTOM_PX = 18  # above the region's lower edge (clear of the horizontal scroll bar), at UI scale 1
 BAR_HEIGHT_PX = 6
@@ -55,7 +55,7 @@ def baked_range(scene):
     if s.is_baking:
         state = "baking"
     else:
-        state = "outdated" if object_props.changed_cache_inputs(scene, s) else "baked"
+        state = "outdated" if cache_plan.changed_inputs(scene, s) else "baked"
     return first, last, state
 
 

@@ -8,7 +8,7 @@ import bpy
 from . import prefs
 from ..bake import cache_plan
 from ..operators import farm_ops
-from ..properties import object_props, roles
+from ..properties import roles
 from .ui_text import wrapped_label
 
 def draw_problems(layout, context, s):
@@ -37,7 +37,7 @@ def draw_bake(layout, context, s):
             bar.enabled = False
             bar.prop(s.domain.hapticfluid.domain_settings, "progress", text=text, slider=True)
     else:
-        changed = object_props.changed_cache_inputs(context.scene, s)
+        changed = cache_plan.changed_inputs(context.scene, s)
         if changed:
             wrapped_label(layout.box(), context,
                           "Bake again (or set them back): the cache is out of date, changed since the bake: "

@@ -72,7 +72,8 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from hapticfluid import Advection, FluidSettings, InvalidArgumentError, PressureSolver, assembly
+import hapticfluid as hf
+from hapticfluid import FluidSettings, InvalidArgumentError, assembly
 from hapticfluid.bake.trajectory import Trajectory, quat_to_matrix
 
 GRID_NAMES = ("density", "velocity", "pressure")
@@ -95,6 +96,31 @@ def _json_value(value: Any) -> Any:
 
 
 FLUID_DEFAULTS: Dict[str, Any] = {k: _json_value(getattr(FluidSettings(), k)) for k in FLUID_KEYS}
+
+# What shapes the frames: the fingerprint's entries (BakeScene.fingerprint, which a resume must
+# match; grid_resolution is derived from two of them), each with the scene key it comes from. The
+# list of what makes a cache stale: the add-on reads it too (cache_inputs), so its "cache out of
+# date" names what the re-bake plan compares. frames.end, cache.directory, cache.checkpoint_every
+# and device shape no frame.
+CACHE_INPUTS: Dict[str, str] = {
+    "domain_origin": "domain.origin", "domain_size": "domain.size", "resolution": "resolution",
+    "frame_start": "frames.start", "fps": "frames.fps", "fluid": "fluid", "source": "source", "probe": "probe",
+    "substeps": "substeps", "cfl": "cfl", "max_substeps": "max_substeps", "grids": "cache.grids",
+    "compression": "cache.compression", "half_float": "cache.half_float", "tolerance": "cache.tolerance",
+}
+
+
+def cache_inputs(data: Dict[str, Any]) -> Dict[str, Any]:
+    """The values of a scene dict (the JSON form, unchecked; it may stand in for the probe and
+    the source with what a host can read at once) at CACHE_INPUTS' keys, by their fingerprint
+    names; cache.settings_differences names what differs between two ('fluid.vorticity')."""
+    out: Dict[str, Any] = {}
+    for name, path in CACHE_INPUTS.items():
+        value: Any = data
+        for part in path.split("."):
+            value = value.get(part) if isinstance(value, dict) else None
+        out[name] = value
+    return out
 
 
 def _err(where: str, message: str) -> InvalidArgumentError:
@@ -255,7 +281,8 @@ class BakeScene:
 
     # ---- what a resume must match ------------------------------------------------------
     def fingerprint(self) -> Dict[str, Any]:
-        """Everything that shapes the frames (not where they go): a resume must match it."""
+        """Everything that shapes the frames (not where they go), CACHE_INPUTS' entries: a resume
+        must match it."""
         probe = None
         if self.probe is not None:
             probe = {"shape": self.probe.shape, "radius": self.probe.radius,
@@ -263,17 +290,11 @@ class BakeScene:
             if self.probe.shape == "mesh":  # the mesh by its digest: the manifest stays small
                 probe.update(vertex_count=len(self.probe.vertices), triangle_count=len(self.probe.triangles),
                              mesh_sha256=self.probe.mesh_digest())
-        source = None if self.source is None else self.source.fingerprint()
-        fluid = {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.fluid.items()}
-        return {
-            "domain_origin": list(self.domain_origin), "domain_size": list(self.domain_size),
-            "resolution": self.resolution, "grid_resolution": list(self.grid_resolution),
-            "frame_start": self.frame_start, "fps": self.fps, "fluid": fluid, "source": source,
-            "probe": probe, "substeps": self.substeps, "cfl": self.cfl,
-            "max_substeps": self.max_substeps, "grids": list(self.grids),
-            "compression": self.compression, "half_float": self.half_float,
-            "tolerance": self.tolerance,
-        }
+        parts = {"fluid": {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.fluid.items()},
+                 "source": None if self.source is None else self.source.fingerprint(), "probe": probe}
+        out = {name: parts[name] if name in parts else getattr(self, name) for name in CACHE_INPUTS}
+        out["grid_resolution"] = self.grid_resolution
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in out.items()}
 
     def global_fingerprint(self) -> Dict[str, Any]:
         """The fingerprint without the keyed poses: what every frame depends on, so a change
@@ -311,42 +332,33 @@ class BakeScene:
                 for f, p in zip(self.probe.trajectory.frames, self.probe.trajectory.poses)]
 
     def check_probe_path(self) -> None:
-        """The sphere stays a cell plus a hair from every wall at every key, hence (positions
-        and radii interpolate linearly, the allowed set is convex) everywhere in between."""
-        # Coordinates near 1e308 overflow in the checks and the rounding of the message (inf is
-        # refused all the same): no numpy RuntimeWarning on top of the error.
-        with np.errstate(over="ignore", invalid="ignore"):
-            self._check_probe_path()
-
-    def _check_probe_path(self) -> None:
+        """The engine's checks of the probe's place (hapticfluid.check_sphere_probe,
+        check_mesh_probe: one cell of fluid from every wall, a sphere at least a cell wide) at
+        every key, hence everywhere in between for a sphere (positions and radii interpolate
+        linearly and the allowed set is convex); the bake hands the engine every substep's pose
+        before its first step as well (driver.check_trajectory)."""
         if self.probe is None:
             return
-        h = self.cell_size
-        origin = np.asarray(self.domain_origin)
-        lo = origin + h * 1.001
-        hi = origin + np.asarray(self.grid_size) - h * 1.001
-        if self.probe.shape == "mesh":  # exact at the keys; the engine checks every substep's pose
-            for frame, matrix in self.probe.trajectory.keys:
-                world = self.probe.vertices @ matrix[:3, :3].T + matrix[:3, 3]
-                if np.any(world.min(axis=0) < lo) or np.any(world.max(axis=0) > hi):
-                    raise InvalidArgumentError(
-                        f"probe mesh at frame {frame:g} spans {np.round(world.min(axis=0), 4).tolist()} .. "
-                        f"{np.round(world.max(axis=0), 4).tolist()} m; it must keep one cell ({h:.4g} m) of "
-                        f"fluid from every wall: stay within {np.round(lo, 4).tolist()} .. "
-                        f"{np.round(hi, 4).tolist()} m")
-            return
-        for frame, centre, radius in self.probe_spheres():
-            if radius < h:
-                raise InvalidArgumentError(
-                    f"probe radius {radius:.4g} m (key at frame {frame:g}) is under one cell ({h:.4g} m) at "
-                    f"resolution {self.resolution}: raise the radius or the resolution")
-            if np.any(centre - radius < lo) or np.any(centre + radius > hi):
-                raise InvalidArgumentError(
-                    f"probe sphere at frame {frame:g} (centre {np.round(centre, 4).tolist()} m, radius "
-                    f"{radius:.4g} m) must keep one cell ({h:.4g} m) of fluid from every wall of the domain "
-                    f"{np.round(origin, 4).tolist()} .. {np.round(origin + self.grid_size, 4).tolist()} m; its "
-                    f"centre must stay within {np.round(lo + radius, 4).tolist()} .. "
-                    f"{np.round(hi - radius, 4).tolist()} m")
+        grid = assembly.fluid_settings(self.domain_origin, self.domain_size, self.resolution)
+        # Coordinates near 1e308 overflow in float32 and in the scale (the engine refuses inf all
+        # the same): no numpy RuntimeWarning on top of its error.
+        if self.probe.shape == "mesh":
+            with np.errstate(over="ignore", invalid="ignore"):
+                vertices = np.asarray(self.probe.vertices, dtype=np.float32)
+            triangles = np.asarray(self.probe.triangles, dtype=np.int32)
+            checks = [(frame, lambda m=matrix: hf.check_mesh_probe(grid, vertices, triangles, m))
+                      for frame, matrix in self.probe.trajectory.keys]
+        else:
+            with np.errstate(over="ignore", invalid="ignore"):
+                spheres = self.probe_spheres()
+            checks = [(frame, lambda c=centre, r=radius: hf.check_sphere_probe(grid, tuple(map(float, c)), r))
+                      for frame, centre, radius in spheres]
+        for frame, check in checks:
+            try:
+                check()
+            except InvalidArgumentError as exc:
+                raise InvalidArgumentError(f"the probe at frame {frame:g} (a key) at resolution {self.resolution}: "
+                                           f"{exc}") from None
 
 
 def _key_matrix(where: str, key: Dict[str, Any]) -> np.ndarray:
@@ -438,6 +450,23 @@ def _source(value: Any) -> SmokeSource:
                        trajectory=_trajectory("source.keys", s.get("keys")), **values)
 
 
+def _fluid(value: Any) -> Dict[str, Any]:
+    """The fluid's settings: FLUID_DEFAULTS with those given, each checked by the engine's
+    FluidSettings (its types and ranges, FluidSettings.limits()) and refused with its message
+    under the key's name. Kept as given (numbers as floats, vectors as tuples, enums by name)."""
+    fluid = dict(FLUID_DEFAULTS)
+    settings = FluidSettings()
+    for k, v in _table("fluid", value, FLUID_KEYS).items():
+        try:
+            setattr(settings, k, v)
+        except (TypeError, InvalidArgumentError) as exc:
+            raise _err(f"fluid.{k}", str(exc)) from None
+        default = FLUID_DEFAULTS[k]
+        fluid[k] = (tuple(float(x) for x in v) if isinstance(default, tuple) else _json_value(v)
+                    if isinstance(default, str) else type(default)(v))
+    return fluid
+
+
 def _check_step_range(fps: float, substeps: Any, max_substeps: int) -> None:
     """The simulation steps (frame time / substeps) must be ones the engine takes; found here,
     not at the first step of a bake that has already freed the old one."""
@@ -469,27 +498,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
         raise _err("domain.size", f"edges must be > 0 m, got {list(size)}")
     resolution = _resolution("resolution", top["resolution"])
 
-    fluid = dict(FLUID_DEFAULTS)
-    for k, v in _table("fluid", top.get("fluid", {}), FLUID_KEYS).items():
-        if k == "gravity":
-            fluid[k] = _vec("fluid.gravity", v)
-        elif k == "open_top":
-            if not isinstance(v, bool):
-                raise _err("fluid.open_top", f"expected true or false, got {v!r}")
-            fluid[k] = v
-        elif k in ("advection", "pressure_solver"):
-            names = tuple((Advection if k == "advection" else PressureSolver).__members__)
-            if not isinstance(v, str) or v not in names:
-                raise _err(f"fluid.{k}", "must be " + " or ".join(repr(n) for n in names) + f", got {v!r}")
-            fluid[k] = v
-        elif k == "pressure_iterations":
-            fluid[k] = _integer("fluid.pressure_iterations", v, 1)
-        elif k == "fluid_density":
-            fluid[k] = _number("fluid.fluid_density", v, positive=True)  # kg/m^3
-        elif k == "pressure_tolerance":
-            fluid[k] = _number("fluid.pressure_tolerance", v, minimum=0.0)
-        else:
-            fluid[k] = _number(f"fluid.{k}", v)
+    fluid = _fluid(top.get("fluid", {}))
 
     source = None if top.get("source") is None else _source(top["source"])
 
