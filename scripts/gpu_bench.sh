@@ -7,7 +7,8 @@
 # (HAPTICFLUID_EGL_DEVICE=hardware: a machine whose GPU gives no OpenGL 4.5 context fails here
 # instead of quietly measuring llvmpipe), prints Markdown tables and writes OUT_DIR/gpu.json and
 # OUT_DIR/gpu.png (ms per step against cells, with the targets: a whole step <= 1 ms at 128^3 and
-# <= 5 ms at 256^3). Needs the module built by the README's commands (build/python), or HF_BUILD.
+# <= 5 ms at 256^3). Then the same sections (floor aside) on the CPU backend, on the same machine's
+# cores: OUT_DIR/cpu.json and cpu.png, so the first GPU run says which backend to pick there. Needs the module built by the README's commands (build/python), or HF_BUILD.
 # HF_PYTHON: the interpreter the module was built for (default /usr/bin/python3).
 # Then the live session in a windowed Blender (blender_tests/window_test_live_pace.py) at 32^3,
 # 64^3 and 100x100x70: viewport redraws/s without a session, replaying Blender's own Mantaflow cache
@@ -23,8 +24,12 @@ OUT="${1:-$HF_ROOT/out/bench/gpu}"
 mkdir -p "$OUT"
 [ -d "$HF_BUILD/python/hapticfluid" ] || { echo "gpu_bench.sh: no module in $HF_BUILD/python: build it first (README)" >&2; exit 2; }
 export HAPTICFLUID_EGL_DEVICE=hardware
-PYTHONPATH="$HF_BUILD/python" "${HF_PYTHON:-/usr/bin/python3}" -m hapticfluid bench \
+echo "== the GPU backend"
+HAPTICFLUID_BACKEND=gpu PYTHONPATH="$HF_BUILD/python" "${HF_PYTHON:-/usr/bin/python3}" -m hapticfluid bench \
   --sections engine,readback,pressure,bake,floor --json "$OUT/gpu.json" --plot "$OUT/gpu.png" --markdown
+echo "== the CPU backend"
+HAPTICFLUID_BACKEND=cpu PYTHONPATH="$HF_BUILD/python" "${HF_PYTHON:-/usr/bin/python3}" -m hapticfluid bench \
+  --sections engine,readback,pressure,bake --json "$OUT/cpu.json" --plot "$OUT/cpu.png" --markdown
 
 [ "${HF_BENCH_LIVE:-1}" = "0" ] && exit 0
 command -v blender >/dev/null 2>&1 || { echo "gpu_bench.sh: no blender: the live-session section is skipped" >&2; exit 0; }

@@ -71,23 +71,34 @@ vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), crossY(idx), imageLoad(u
 #endif
 #endif
 
-void main() {
-  ivec3 idx = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(idx, u_field_size))) return;
-  if (u_zero_in_solid != 0 && (imageLoad(u_nbmask, idx).x & NB_SOLID) != 0u) {
-    imageStore(u_dst, idx, vec4(0.0f));
-#ifdef PAIR
-    imageStore(u_dst2, idx, vec4(0.0f));
-#endif
-    return;
-  }
+// Where texel idx's back-trace lands, in the field's texel space (the lookup of its new value).
+vec3 traceFoot(ivec3 idx) {
   vec3 X = vec3(idx) + u_field_offset;
   vec3 mid = X - 0.5f * u_dt_over_h * velocityHere(idx);
   vec3 back = X - u_dt_over_h * velocityAt(mid);
   back = clamp(back, vec3(0.0f), vec3(u_res));
-  vec3 t = back - u_field_offset;
-  imageStore(u_dst, idx, vec4(sampleSrc(u_field_size, t) * u_decay));
+  return back - u_field_offset;
+}
+
+// Texel idx's new value(s): the field(s) at the foot of its back-trace, times the decay; 0 in a
+// solid cell where u_zero_in_solid. Branch-free, so the CPU's row loop (cpu/kernels/advect.cpp)
+// vectorizes it. (With PAIR, .y is the second field's.)
+vec2 advectedValues(ivec3 idx) {
+  vec3 t = traceFoot(idx);
+  vec2 v = vec2(sampleSrc(u_field_size, t) * u_decay, 0.0f);
 #ifdef PAIR
-  imageStore(u_dst2, idx, vec4(sampleSrc2(u_field_size, t) * u_decay2));
+  v.y = sampleSrc2(u_field_size, t) * u_decay2;
+#endif
+  bool solid = (imageLoad(u_nbmask, idx).x & NB_SOLID) != 0u;  // read always: no branch around a load
+  return (u_zero_in_solid != 0 && solid) ? vec2(0.0f) : v;
+}
+
+void main() {
+  ivec3 idx = ivec3(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(idx, u_field_size))) return;
+  vec2 v = advectedValues(idx);
+  imageStore(u_dst, idx, vec4(v.x));
+#ifdef PAIR
+  imageStore(u_dst2, idx, vec4(v.y));
 #endif
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Which GL device the engine would use, without making a simulation.
+// Which device the engine would use, without making a simulation.
 #include <pybind11/stl.h>
 
 #include <array>
@@ -11,6 +11,7 @@
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/named_args.h"
+#include "session/backend_choice.h"
 
 namespace py = pybind11;
 
@@ -19,23 +20,26 @@ namespace hf::python {
 void addDevice(py::module_& m) {
   m.def("list_egl_devices", [] { return gl::listDevices(); }, py::call_guard<py::gil_scoped_release>(),
         "One line per EGL device the engine can choose from: index, hardware or software.");
+  py::tuple names(std::size(session::kBackendNames));
+  for (std::size_t i = 0; i < std::size(session::kBackendNames); ++i) names[i] = session::kBackendNames[i];
+  m.attr("BACKENDS") = names;  // the values FluidSettings.backend takes (besides '')
   defNamed(
       m, "probe_device",
-      [](const std::string& request) {
+      [](const std::string& request, const std::string& backend) {
         compute::DeviceInfo info;
         {
           py::gil_scoped_release release;
-          gl::GlWorker worker(request);
-          info = worker.info();
+          info = session::startWorker(backend, request, 0, std::nullopt)->info();
         }
         return deviceDict(info);
       },
-      py::arg("device") = "",
-      "Make a GL context as a Simulation would and describe it (renderer, vendor, version,\n"
-      "platform, device_index, software, memory_bytes (free now), max_3d_texture_size,\n"
-      "max_storage_block_bytes, warning).\n"
-      "device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware first), 'hardware' (a GPU or an error),\n"
-      "'software' or an EGL device number.");
+      py::arg("device") = "", py::arg("backend") = "",
+      "Make the device a Simulation would use and describe it (backend 'gpu' or 'cpu', renderer,\n"
+      "threads (CPU), vendor, version, platform, device_index, software (a GL renderer on the CPU),\n"
+      "memory_bytes (free now), max_3d_texture_size, max_storage_block_bytes, warning).\n"
+      "device: the EGL device: '' (HAPTICFLUID_EGL_DEVICE or auto: hardware first), 'hardware' (a GPU\n"
+      "or an error), 'software' or an EGL device number. backend: 'auto', 'gpu', 'cpu' or ''\n"
+      "(HAPTICFLUID_BACKEND or auto), as FluidSettings.backend.");
   m.def(
       "gl_counters",
       [] {

@@ -27,6 +27,7 @@ _stop_sessions_at_exit(_core)  # no session thread outlives the interpreter
 from hapticfluid._core import (  # noqa: E402  (after _lifetime's wrapping of HapticSession)
     CELL_BOUNDARY,
     CELL_INSIDE,
+    BACKENDS,
     STEP_READBACK_BYTES,
     MIN_TIME_STEP_S,
     MAX_TIME_STEP_S,
@@ -88,6 +89,7 @@ __version__ = "0.1.0"
 __all__ = [
     "CELL_BOUNDARY",
     "CELL_INSIDE",
+    "BACKENDS",
     "STEP_READBACK_BYTES",
     "MIN_TIME_STEP_S",
     "MAX_TIME_STEP_S",

@@ -67,25 +67,32 @@ def grid(domain_size: Sequence[float], resolution: int) -> Grid:
 VIEWPORT_FIRST_NICENESS = 10
 
 
-def live_thread_niceness(software: bool, viewport_first: bool) -> int:
-    """The simulation's ``thread_niceness`` in a live session: VIEWPORT_FIRST_NICENESS when the GL
-    device is software (the simulation computes on the same cores Blender draws with) and the user
-    wants the viewport first; 0 on a GPU (the simulation's threads mostly wait for the GPU there, and
-    a nicer one would only wait longer for a busy main thread) or when asked to share equally."""
-    return VIEWPORT_FIRST_NICENESS if (software and viewport_first) else 0
+def computes_on_cpu(device: Mapping[str, Any]) -> bool:
+    """Whether a device (Simulation.device, hf.probe_device()) computes on the CPU's cores: the CPU
+    backend, or the GPU backend on a software renderer (llvmpipe)."""
+    return device.get("backend") == "cpu" or bool(device.get("software", True))
+
+
+def live_thread_niceness(on_cpu: bool, viewport_first: bool) -> int:
+    """The simulation's ``thread_niceness`` in a live session: VIEWPORT_FIRST_NICENESS when it
+    computes on the CPU (computes_on_cpu: the same cores Blender draws with) and the user wants the
+    viewport first; 0 on a GPU (the simulation's threads mostly wait for the GPU there, and a nicer
+    one would only wait longer for a busy main thread) or when asked to share equally."""
+    return VIEWPORT_FIRST_NICENESS if (on_cpu and viewport_first) else 0
 
 
 def fluid_settings(origin: Sequence[float], domain_size: Sequence[float], resolution: int,
                    fluid: Optional[Mapping[str, Any]] = None, device: str = "",
-                   thread_niceness: int = 0) -> "hf.FluidSettings":
+                   thread_niceness: int = 0, backend: str = "") -> "hf.FluidSettings":
     """A FluidSettings for a domain box (minimum corner ``origin``, edges ``domain_size``, m) with
     ``resolution`` cells along its longest edge, the fluid's settings by FluidSettings' names
-    (the engine's defaults for the rest), the GL device request and how much nicer the
-    simulation's threads run (``thread_niceness``, 0..19). The residual is not measured (the bake
-    and the live session never read it)."""
+    (the engine's defaults for the rest), the backend ('auto', 'gpu', 'cpu'; '' for
+    HAPTICFLUID_BACKEND or auto) and GL device requests, and how much nicer the simulation's
+    threads run (``thread_niceness``, 0..19). The residual is not measured (the bake and the live
+    session never read it)."""
     g = grid(domain_size, resolution)
     s = hf.FluidSettings(resolution=g.cells, domain_size=g.size, origin=tuple(float(x) for x in origin),
-                         device=device, compute_residual=False, thread_niceness=thread_niceness)
+                         backend=backend, device=device, compute_residual=False, thread_niceness=thread_niceness)
     for name, value in (fluid or {}).items():
         setattr(s, name, tuple(value) if isinstance(value, list) else value)
     return s

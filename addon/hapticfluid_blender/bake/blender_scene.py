@@ -9,6 +9,7 @@ import os
 
 import bpy
 
+from ..properties.machine import backend_choice
 from . import source_mesh
 
 
@@ -187,6 +188,7 @@ def scene_dict(scene, settings):
         raise SceneError(f"the end frame ({settings.frame_end}) is before the start frame ({settings.frame_start})")
     data = {"domain": {"origin": lo, "size": [hi[i] - lo[i] for i in range(3)]}, **settings_dict(scene, settings)}
     data["cache"]["directory"] = cache_folder(settings)
+    data["backend"] = backend_choice(bpy.context)  # the machine's choice: shapes no frame (CACHE_INPUTS)
     source = source_dict(settings)
     moving = [obj for obj in (settings.probe, settings.source if source and "matrix" in source else None) if obj]
     keys = _sample_keys(scene, moving, settings.frame_start - 1, settings.frame_end)

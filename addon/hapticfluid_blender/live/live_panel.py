@@ -188,6 +188,10 @@ class HAPTICFLUID_PT_live_stats(bpy.types.Panel):
         live = context.scene.hapticfluid_live
         col = self.layout.column(align=True)
         stat_row(col, "Resolution", f"{live.resolution_used} cells")
+        if live.device_used:
+            backend, _, renderer = live.device_used.partition(": ")
+            stat_row(col, "Backend", backend)
+            wrapped_label(col, context, renderer)
         stat_row(col, "Simulation", f"{live.sim_rate_hz:.1f} Hz")
         stat_row(col, "Haptic", f"{live.haptic_rate_hz:.0f} Hz")
         stat_row(col, "Jitter p99", ms_text(live.jitter_p99_ms))

@@ -140,6 +140,8 @@ class HapticFluidLiveSettings(bpy.types.PropertyGroup):
     is_recording: BoolProperty(name="Recording", default=False, description="The probe's motion is being keyed")
     status: StringProperty(name="Status", default="", description="What the live session does or why it ended")
     resolution_used: IntProperty(name="Resolution", default=0, description="Cells along the longest edge in use")
+    device_used: StringProperty(name="Device", default="",
+                                description="The simulation's backend (GPU or CPU) and what it runs on")
     sim_rate_hz: _stat("Simulation", "Simulation steps per second (Hz)")
     haptic_rate_hz: _stat("Haptic", "Haptic loop periods per second (Hz)", precision=0)
     jitter_p99_ms: _stat("Jitter p99", "99th percentile of the haptic period's deviation (ms)", precision=3)

@@ -25,6 +25,7 @@ import bpy
 
 from ..bake import blender_scene
 from ..properties import roles
+from ..properties.machine import backend_choice
 from . import recording
 
 log = logging.getLogger(__name__)
@@ -62,7 +63,8 @@ class LivePlan:
     show_temperature: bool = False
     hand_gesture: str = "rest"         # the simulated Falcon's hand (hapticfluid.hand_gestures)
     feel_playback: bool = True         # Falcon modes: guide the grip along the keys played (set_guide)
-    viewport_first: bool = True        # on a CPU GL device the simulation yields the cores to drawing
+    viewport_first: bool = True        # computing on the CPU, the simulation yields the cores to drawing
+    backend: str = ""                  # the Preferences' Backend ('auto', 'gpu', 'cpu'; '': the environment's)
 
 
 def _import_hf():
@@ -140,7 +142,8 @@ def read_plan(scene) -> LivePlan:
         probe_matrix=[list(row) for row in probe.matrix_world], session_args=session_args,
         auto_workspace=live.auto_workspace and live.device in DEVICE_MODES, max_force=live.max_force,
         firmware=firmware, show_temperature=live.show_temperature, hand_gesture=live.hand_gesture.lower(),
-        feel_playback=live.feel_playback, viewport_first=viewport_first(live.cpu_share, live.device))
+        feel_playback=live.feel_playback, viewport_first=viewport_first(live.cpu_share, live.device),
+        backend=backend_choice(bpy.context))
 
 
 def _gl_context_problem(exc) -> str:
@@ -159,10 +162,10 @@ def viewport_first(cpu_share: str, mode: str) -> bool:
     return cpu_share == "VIEWPORT" or (cpu_share == "AUTO" and mode not in DEVICE_MODES)
 
 
-def preview_resolution(software: bool) -> int:
-    """Cells along the longest edge when the resolution is automatic: a software renderer
-    (llvmpipe) steps 32^3 at about 40 Hz, a hardware GPU 64^3 faster still."""
-    return 32 if software else 64
+def preview_resolution(on_cpu: bool) -> int:
+    """Cells along the longest edge when the resolution is automatic: 32 where the simulation
+    computes on the CPU (the CPU backend or llvmpipe, beside Blender's drawing), 64 on a GPU."""
+    return 32 if on_cpu else 64
 
 
 class _Engine:
@@ -173,6 +176,7 @@ class _Engine:
         self.device = None
         self.session = None
         self.resolution = None
+        self.device_text = ""      # the backend and renderer in use (the stats)
         self.workspace_box = None  # (lo, hi) world m for device modes
 
     def build(self, plan: LivePlan):
@@ -181,14 +185,14 @@ class _Engine:
 
         self.device = self._open_device(hf, plan)
         size = [plan.domain_hi[i] - plan.domain_lo[i] for i in range(3)]
-        try:  # the EGL device the simulation will use (HAPTICFLUID_EGL_DEVICE may name a bad one)
-            software = bool(hf.probe_device().get("software", True))
+        try:  # the device the simulation will use (HAPTICFLUID_EGL_DEVICE may name a bad one)
+            on_cpu = assembly.computes_on_cpu(hf.probe_device(backend=plan.backend))
         except hf.HapticFluidError as exc:
             raise SessionError(_gl_context_problem(exc)) from None
-        res = plan.resolution if plan.resolution is not None else preview_resolution(software)
+        res = plan.resolution if plan.resolution is not None else preview_resolution(on_cpu)
         try:
-            settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid,
-                                               thread_niceness=assembly.live_thread_niceness(software,
+            settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid, backend=plan.backend,
+                                               thread_niceness=assembly.live_thread_niceness(on_cpu,
                                                                                              plan.viewport_first))
             session_settings = assembly.session_settings(plan.session_args, plan.auto_workspace)
         except (hf.InvalidArgumentError, TypeError) as exc:
@@ -208,6 +212,8 @@ class _Engine:
         except hf.HapticFluidError as exc:  # no GL context
             raise SessionError(_gl_context_problem(exc)) from None
         self.resolution = settings.resolution
+        device = self.sim.device
+        self.device_text = f"{device['backend'].upper()}: {device['renderer']}"
         if plan.mode in DEVICE_MODES:  # where the engine maps the device's workspace
             lo, hi = self.session.workspace_box
             self.workspace_box = (tuple(float(x) for x in lo), tuple(float(x) for x in hi))
@@ -407,6 +413,7 @@ class LiveController:
         live = self.live
         live.is_running = True
         live.resolution_used = max(self.engine.resolution)
+        live.device_used = self.engine.device_text
         live.status = f"running at {'x'.join(map(str, self.engine.resolution))} cells"
         if self.drawer is not None:
             self.drawer.set_domain(self.plan.domain_lo, self.plan.domain_hi)

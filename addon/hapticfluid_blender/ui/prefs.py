@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The add-on's preferences: say at once when the hapticfluid package is not importable
-(enabling the add-on works without it; Bake would be the first to fail)."""
+"""The add-on's preferences: the machine's choices (the simulation's backend), and say at once
+when the hapticfluid package is not importable (enabling the add-on works without it; Bake would
+be the first to fail)."""
 
 import os
 import platform
@@ -9,6 +10,7 @@ import sys
 
 import bpy
 
+from ..properties.machine import BACKEND_ITEMS
 from .ui_text import wrapped_label
 
 
@@ -87,6 +89,11 @@ def package_problem():
 class HapticFluidPreferences(bpy.types.AddonPreferences):
     bl_idname = __package__.rpartition(".")[0]  # the add-on's module: this file is in its ui/
 
+    backend: bpy.props.EnumProperty(
+        name="Backend", items=BACKEND_ITEMS, default="AUTO",
+        description="Where the simulation computes, for the bake and the live session (the stats and the "
+                    "bake's log name the one in use)")
+
     def draw(self, context):
         problem = package_problem()
         if problem:
@@ -95,3 +102,4 @@ class HapticFluidPreferences(bpy.types.AddonPreferences):
             import hapticfluid
 
             self.layout.label(text=f"hapticfluid {hapticfluid.__version__} is importable", icon="CHECKMARK")
+        self.layout.prop(self, "backend")

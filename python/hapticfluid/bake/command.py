@@ -14,6 +14,7 @@ import sys
 import threading
 from pathlib import Path
 
+import hapticfluid as hf
 from hapticfluid.bake import cache as _cache
 from hapticfluid.bake import plan as _plan
 from hapticfluid.bake import verify as _verify
@@ -54,6 +55,10 @@ def add_parser(sub, resolution_type) -> None:
                    help="bake nothing: check every frame file the cache's manifest claims (size and SHA-256 "
                         "the bake recorded) and list the missing or damaged ones; exit 0 if all are sound, "
                         "1 if not (--resume rebakes them)")
+    p.add_argument("--backend", choices=hf.BACKENDS, default=None,
+                   help="where the simulation computes (overrides the scene's \"backend\"): auto (a hardware GPU "
+                        "if one gives a context, else the CPU backend), gpu (OpenGL, llvmpipe included) or cpu; "
+                        "default: the scene's, else HAPTICFLUID_BACKEND, else auto")
     p.add_argument("--quiet", action="store_true", help="print only errors and the summary")
     p.set_defaults(func=cmd_bake)
 
@@ -65,6 +70,9 @@ def cmd_bake(args: argparse.Namespace) -> int:
     if args.cache is not None:
         from dataclasses import replace
         scene = replace(scene, cache_dir=Path(args.cache))
+    if args.backend is not None:
+        from dataclasses import replace
+        scene = replace(scene, backend=args.backend)
     if args.verify:
         return verify_command(scene, args)
     if args.plan:
@@ -174,4 +182,6 @@ def resume_command(args: argparse.Namespace) -> str:
         words += ["--resolution", str(args.resolution)]
     if args.cache is not None:
         words += ["--cache", str(Path(args.cache).absolute())]
+    if getattr(args, "backend", None) is not None:
+        words += ["--backend", args.backend]
     return " ".join(shlex.quote(w) for w in words)

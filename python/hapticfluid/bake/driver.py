@@ -164,7 +164,7 @@ def scene_description(scene: BakeScene) -> "assembly.SceneDescription":
     (assembly.fluid_settings) and its smoke source at the pose before the first frame (each
     substep moves a mesh source). No probe: each substep places it."""
     settings = assembly.fluid_settings(scene.domain_origin, scene.domain_size, scene.resolution, scene.fluid,
-                                       device=scene.device)
+                                       backend=scene.backend, device=scene.device)
     source = None if scene.source is None else source_at(scene.source, scene.frame_start - 1)
     return assembly.SceneDescription(settings, source=source)
 
@@ -376,8 +376,8 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
         manifest.start_session(plan, resumed_from, sim.device.get("renderer"))
         manifest.save()
         say(f"baking frames {plan.first_frame}..{until} of {scene.frame_start}..{scene.frame_end} at "
-            f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on "
-            f"{manifest.session['device']} into {cache_dir}"
+            f"{'x'.join(map(str, scene.grid_resolution))} cells ({scene.cell_size * 1000:.4g} mm) on the "
+            f"{sim.device['backend'].upper()} backend ({manifest.session['device']}) into {cache_dir}"
             + (f", from the checkpoint at {resumed_from}" if resumed_from is not None else ""))
         status, written = _run_frames(sim, scene, ledger, plan, manifest, range(first, until + 1),
                                       _Callbacks(progress, is_cancelled, say, t0))

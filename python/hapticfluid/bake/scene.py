@@ -54,6 +54,8 @@ Format (JSON; every length in metres, times in seconds or frames; keys marked * 
                                            latest), so a changed passage re-bakes from the
                                            checkpoint before it (cache.py)
       },
+      "backend": "",                       where it computes: 'auto', 'gpu', 'cpu' ['': HAPTICFLUID_BACKEND
+                                           or auto]; `bake --backend` overrides it
       "device": ""                         GL device ('' auto, 'software', or an EGL index)
     }
 
@@ -101,7 +103,7 @@ FLUID_DEFAULTS: Dict[str, Any] = {k: _json_value(getattr(FluidSettings(), k)) fo
 # match; grid_resolution is derived from two of them), each with the scene key it comes from. The
 # list of what makes a cache stale: the add-on reads it too (cache_inputs), so its "cache out of
 # date" names what the re-bake plan compares. frames.end, cache.directory, cache.checkpoint_every
-# and device shape no frame.
+# backend and device shape no frame (the backends agree within float rounding).
 CACHE_INPUTS: Dict[str, str] = {
     "domain_origin": "domain.origin", "domain_size": "domain.size", "resolution": "resolution",
     "frame_start": "frames.start", "fps": "frames.fps", "fluid": "fluid", "source": "source", "probe": "probe",
@@ -242,6 +244,7 @@ class BakeScene:
     compression: str = "blosc"
     half_float: bool = False
     tolerance: float = 1e-4
+    backend: str = ""
     device: str = ""
     checkpoint_every: int = CHECKPOINT_EVERY  # frames between kept checkpoints (0: only the latest)
 
@@ -319,6 +322,7 @@ class BakeScene:
         d = self.fingerprint()
         d["frame_end"] = self.frame_end
         d["cache_dir"] = str(self.cache_dir)
+        d["backend"] = self.backend
         d["device"] = self.device
         d["checkpoint_every"] = self.checkpoint_every
         return d
@@ -487,7 +491,7 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     """Validate a scene dict (the JSON form) into a BakeScene; relative cache paths resolve
     against ``base_dir``. Raises InvalidArgumentError naming the key to fix."""
     top = _table("", data, ("domain", "resolution", "fluid", "source", "probe", "frames", "substeps",
-                            "cfl", "max_substeps", "cache", "device", "comment"))
+                            "cfl", "max_substeps", "cache", "backend", "device", "comment"))
     for key in ("domain", "resolution", "frames", "cache"):
         if key not in top:
             raise _err(key, "is required")
@@ -566,11 +570,14 @@ def scene_from_dict(data: Dict[str, Any], base_dir: "str | os.PathLike" = ".") -
     device = top.get("device", "")
     if not isinstance(device, str):
         raise _err("device", f"expected a string, got {device!r}")
+    backend = top.get("backend", "")
+    if not isinstance(backend, str) or backend not in ("",) + tuple(hf.BACKENDS):
+        raise _err("backend", f"must be one of {['', *hf.BACKENDS]}, got {backend!r}")
 
     scene = BakeScene(domain_origin=origin, domain_size=size, resolution=resolution, frame_start=start,
                       frame_end=end, fps=fps, cache_dir=cache_dir, fluid=fluid, source=source, probe=probe,
                       substeps=substeps, cfl=cfl, max_substeps=max_substeps, grids=grids,
-                      compression=compression, half_float=half, tolerance=tolerance, device=device,
+                      compression=compression, half_float=half, tolerance=tolerance, backend=backend, device=device,
                       checkpoint_every=checkpoint_every)
     scene.check_probe_path()
     return scene
