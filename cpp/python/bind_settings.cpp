@@ -128,7 +128,7 @@ namespace {
 
 void addFluidSettings(py::module_& m) {
   SettingsClass<SimulationConfig> c(m, "FluidSettings", R"doc(
-Everything a Simulation is made with: the grid, the fluid and its solver, the GL device. SI units.
+Everything a Simulation is made with: the grid, the fluid and its solver, the backend and device. SI units.
 Simulation(settings) takes one; keywords (FluidSettings(resolution=(32, 32, 32)) or
 Simulation(settings, vorticity=0.2)) set the settings of the same names. A value of the wrong
 type raises TypeError naming the setting, a value the engine refuses InvalidArgumentError; the

@@ -150,13 +150,19 @@ def test_mantaflow_and_the_bake_command_baked_the_same_frames(quick_run):
     from hapticfluid.bench import mantaflow_bake
 
     n_rounds = mantaflow_bake.QUICK["rounds"]
-    assert len(rows) == 2 * (n_rounds + 1)
-    assert [r["round"] for r in rows] == [i for i in range(1, n_rounds + 1) for _ in range(2)] + ["median"] * 2
-    for manta, ours in zip(rows[0::2], rows[1::2]):
-        assert manta["solver"].startswith("Mantaflow") and ours["solver"].startswith("hapticfluid bake command")
+    per_round = 3  # Mantaflow, the bake command on the CPU backend, on the GPU backend
+    assert len(rows) == per_round * (n_rounds + 1)
+    assert [r["round"] for r in rows] == [i for i in range(1, n_rounds + 1) for _ in range(per_round)] + \
+        ["median"] * per_round
+    for first in range(0, len(rows), per_round):
+        manta, cpu, gpu = rows[first:first + per_round]
+        assert manta["solver"].startswith("Mantaflow")
+        assert cpu["solver"].startswith("hapticfluid bake, CPU backend")
+        assert gpu["solver"].startswith("hapticfluid bake, GPU backend")
         if manta["round"] != "median":
-            _check_same_frames(manta, ours)
-    _check_medians(rows, 2, n_rounds)
+            _check_same_frames(manta, cpu)
+            _check_same_frames(manta, gpu)
+    _check_medians(rows, per_round, n_rounds)
     # the bake's manifest showed every pressure solve converged (the section refuses otherwise)
     assert any("worst residual per round" in n for n in section["notes"])
 

@@ -124,7 +124,7 @@ def test_a_bad_value_names_the_setting_and_changes_nothing(cls, name, value, err
         cls(**{name: value})
 
 
-FLUID_GRID = ("resolution", "domain_size", "origin", "device", "thread_niceness")
+FLUID_GRID = ("resolution", "domain_size", "origin", "backend", "cpu_threads", "device", "thread_niceness")
 
 
 def test_limits_are_what_the_engine_checks():

@@ -83,14 +83,17 @@ def _file_gaps_ms(paths: List[Path]) -> List[float]:
 
 
 def run_bake_command(scene: BenchScene, frames: int, workdir: Path,
-                     package_dir: Optional[str] = None) -> Dict[str, object]:
+                     package_dir: Optional[str] = None, backend: Optional[str] = None) -> Dict[str, object]:
     """``python3 -m hapticfluid bake`` on the scene in a child process (the package on this
-    interpreter's path, or the one in ``package_dir``): wall and CPU seconds of the whole
-    command, the gaps between its frame files, and the manifest's solver figures."""
+    interpreter's path, or the one in ``package_dir``; ``--backend`` when given): wall and CPU
+    seconds of the whole command, the gaps between its frame files, and the manifest's solver
+    figures."""
     cache = workdir / "cache"
     scene_path = workdir / "scene.json"
     scene_path.write_text(json.dumps(bake_scene_dict(scene, frames, cache)), encoding="utf-8")
     cmd = [sys.executable, "-m", "hapticfluid", "bake", str(scene_path), "--quiet"]
+    if backend:
+        cmd += ["--backend", backend]
     env = dict(os.environ)
     if package_dir:
         env["PYTHONPATH"] = os.pathsep.join([package_dir, env.get("PYTHONPATH", "")])
@@ -146,9 +149,12 @@ def run(quick: bool = False, log=report.progress) -> dict:
     res_max, frames, n_rounds = cfg["resolution_max"], cfg["frames"], cfg["rounds"]
     scene = bench_scene(res_max)
     baseline = os.environ.get(BASELINE_ENV) or None
-    builds = {f"hapticfluid bake command (multigrid to {TOLERANCE:g})": None}
+    # This build on each backend (the CPU backend first: it is auto's choice without a GPU), and
+    # the baseline build as it chooses.
+    builds = {f"hapticfluid bake, CPU backend (multigrid to {TOLERANCE:g})": (None, "cpu"),
+              f"hapticfluid bake, GPU backend: {hf.probe_device(backend='gpu')['renderer']}": (None, "gpu")}
     if baseline:
-        builds[f"baseline: {baseline}"] = baseline
+        builds[f"baseline: {baseline}"] = (baseline, None)
     rounds: List[List[list]] = []
     residuals: List[float] = []
     iterations: List[float] = []
@@ -165,12 +171,12 @@ def run(quick: bool = False, log=report.progress) -> dict:
         order = list(builds.items())
         if r % 2 == 0:
             order.reverse()  # this build and the baseline take turns going first
-        for label, package in order:
+        for label, (package, backend) in order:
             with tempfile.TemporaryDirectory(prefix="hf-bench-bake-command-") as tmp:
                 if log:
                     log(f"mantaflow (bake command): round {r}/{n_rounds}: python3 -m hapticfluid bake "
-                        f"({'this build' if package is None else package}) ...")
-                runs[label] = run_bake_command(scene, frames, Path(tmp), package)
+                        f"({'this build' if package is None else package}, backend {backend or 'auto'}) ...")
+                runs[label] = run_bake_command(scene, frames, Path(tmp), package, backend)
         runs = {label: runs[label] for label in builds}  # rows in a fixed order
         ours = runs[next(iter(builds))]
         residuals.append(ours["max_relative_residual"])
@@ -194,8 +200,8 @@ def run(quick: bool = False, log=report.progress) -> dict:
         "bake operator inside Blender, Blender's own start-up not counted); steady ms/frame: median gap "
         "between consecutive frame files' modification times; CPU: all threads (hapticfluid: the child "
         "process's rusage; Mantaflow: process time around the bake)",
-        f"{n_rounds} rounds, each Mantaflow then hapticfluid"
-        + (f" and the baseline build in {baseline} (taking turns going first)" if baseline else "") + "; 'median' rows: the median over the rounds of "
+        f"{n_rounds} rounds, each Mantaflow then hapticfluid on the CPU and the GPU backend (taking turns going "
+        f"first)" + (f" and the baseline build in {baseline}" if baseline else "") + "; 'median' rows: the median over the rounds of "
         "each figure, ratios included (the median of the per-round ratios)",
     ]
     return {"title": "Mantaflow (Blender) against the bake command, same scene and machine",

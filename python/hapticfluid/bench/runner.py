@@ -21,8 +21,8 @@ import hapticfluid as hf
 from hapticfluid.bench import report
 
 # Section modules, run in this order. Add a section by appending its module name.
-SECTIONS: List[str] = ["engine", "readback", "mantaflow", "voxelize", "haptic", "bake", "checkpoint", "pressure",
-                       "force_roughness", "floor"]
+SECTIONS: List[str] = ["engine", "backends", "readback", "mantaflow", "voxelize", "haptic", "bake", "checkpoint",
+                       "pressure", "force_roughness", "floor"]
 
 DEFAULT_JSON = os.path.join("out", "bench", "bench.json")
 
