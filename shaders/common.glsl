@@ -108,23 +108,16 @@ ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
   }
 
 // Texel offset of face component `axis` (0=u, 1=v, 2=w).
-vec3 faceOffset(int axis) {
-  vec3 o = vec3(0.5f);
-  o[axis] = 0.0f;
-  return o;
-}
+// Branch-free (selects, no indexing by a variable), so the CPU's row loops vectorize around them.
+ivec3 unitAxis(int axis) { return ivec3(axis == 0 ? 1 : 0, axis == 1 ? 1 : 0, axis == 2 ? 1 : 0); }
 
-ivec3 faceSize(int axis) {
-  ivec3 s = u_res;
-  s[axis] += 1;
-  return s;
-}
+// Component `axis` (0..2) of a vector.
+float component(vec4 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+int component(ivec3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
-ivec3 unitAxis(int axis) {
-  ivec3 e = ivec3(0);
-  e[axis] = 1;
-  return e;
-}
+vec3 faceOffset(int axis) { return vec3(0.5f) - 0.5f * vec3(unitAxis(axis)); }
+
+ivec3 faceSize(int axis) { return u_res + unitAxis(axis); }
 
 #if defined(GROUP_SUM) && !defined(HF_CPU)  // C++: cpu/glsl.h sums a workgroup in order
 // First level of a parallel reduction: every invocation of a workgroup calls writeGroupSum with

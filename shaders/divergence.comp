@@ -25,22 +25,23 @@ float faceVelocity(ivec3 idx, int axis) {
 // Flux (m/s) through the face with index idx on `axis`, the fluid and solid parts weighted.
 float faceFlux(ivec3 idx, int axis) {
   float u = faceVelocity(idx, axis);
-  float w = imageLoad(u_face_open, idx)[axis];
-  if (w <= 0.0f || w >= 1.0f) return u;
+  float w = component(imageLoad(u_face_open, idx), axis);
   // The rigid velocity is linear in position: the face's is the mean of its two cells'.
-  float us = 0.5f * (imageLoad(u_solid_velocity, clampCell(idx - unitAxis(axis)))[axis] +
-                    imageLoad(u_solid_velocity, clampCell(idx))[axis]);
-  return w * u + (1.0f - w) * us;
+  float us = 0.5f * (component(imageLoad(u_solid_velocity, clampCell(idx - unitAxis(axis))), axis) +
+                     component(imageLoad(u_solid_velocity, clampCell(idx)), axis));
+  return (w <= 0.0f || w >= 1.0f) ? u : w * u + (1.0f - w) * us;
+}
+
+// Cell c's right-hand side (Pa), 0 without a pressure unknown. Branch-free: the CPU's row loop
+// (cpu/kernels/divergence.cpp) vectorizes it.
+float divergenceRhs(ivec3 c) {
+  float flux = 0.0f;
+  UNROLL for (int a = 0; a < 3; ++a) flux += faceFlux(c + unitAxis(a), a) - faceFlux(c, a);
+  return (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u ? 0.0f : u_scale * flux;
 }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  if ((imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) {
-    imageStore(u_rhs, c, vec4(0.0f));
-    return;
-  }
-  float flux = 0.0f;
-  UNROLL for (int a = 0; a < 3; ++a) flux += faceFlux(c + unitAxis(a), a) - faceFlux(c, a);
-  imageStore(u_rhs, c, vec4(u_scale * flux));
+  imageStore(u_rhs, c, vec4(divergenceRhs(c)));
 }

@@ -11,10 +11,21 @@ BUFFER_RO(Results, vec4, 1, results);
 
 UNIFORM(uint, u_slot);
 
+// The mean the sum stage found over the fluid cells (results[u_slot]: sum, fluid cells).
+float fluidMean() {
+  vec4 sum = results[u_slot];
+  return sum.y > 0.0f ? sum.x / sum.y : 0.0f;
+}
+
+// Cell c's pressure with `mean` taken from it in a fluid cell (unchanged in a solid one).
+// Branch-free: the CPU's row loop (cpu/kernels/pressure_shift.cpp) vectorizes it.
+float shiftedPressure(ivec3 c, float mean) {
+  float p = imageLoad(u_pressure, c).x;
+  return (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u ? p : p - mean;
+}
+
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
-  if (!inGrid(c) || (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) return;
-  vec4 sum = results[u_slot];
-  float mean = sum.y > 0.0f ? sum.x / sum.y : 0.0f;
-  imageStore(u_pressure, c, vec4(imageLoad(u_pressure, c).x - mean));
+  if (!inGrid(c)) return;
+  imageStore(u_pressure, c, vec4(shiftedPressure(c, fluidMean())));
 }

@@ -15,21 +15,29 @@ UNIFORM(int, u_axis);
 UNIFORM(int, u_open_top);
 UNIFORM(float, u_scale);  // dt / (rho h): metres per second of velocity per pascal of difference
 
+// Face idx's velocity after the pressure's gradient is taken from it: only an open face between
+// two fluid cells, or under the open top (whose ghost holds 0 Pa), changes; the domain's walls,
+// covered faces and faces of a solid cell keep theirs. Every load is made whatever the face
+// (branch-free: the CPU's row loop, cpu/kernels/project.cpp, vectorizes it; GL reads 0 past
+// the grid, the CPU a guard band, and the value is then not used).
+float projectedVelocity(ivec3 idx) {
+  int i = component(idx, u_axis);
+  bool top = u_open_top != 0 && u_axis == 2 && i == u_res.z;
+  bool wall = (i == 0 || i == component(u_res, u_axis)) && !top;
+  bool open = component(imageLoad(u_face_open, idx), u_axis) > 0.0f;
+  ivec3 lo = idx - unitAxis(u_axis);
+  bool lo_fluid = (imageLoad(u_nbmask, lo).x & NB_SOLID) == 0u;
+  bool idx_fluid = (imageLoad(u_nbmask, idx).x & NB_SOLID) == 0u;  // loads outside the selects
+  float p_lo = imageLoad(u_pressure, lo).x;
+  float p_idx = imageLoad(u_pressure, idx).x;
+  bool hi_fluid = top || idx_fluid;
+  float p_hi = top ? 0.0f : p_idx;
+  float v = imageLoad(u_vel, idx).x;
+  return (!wall && open && lo_fluid && hi_fluid) ? v - u_scale * (p_hi - p_lo) : v;
+}
+
 void main() {
   ivec3 idx = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(idx, faceSize(u_axis)))) return;
-  int i = idx[u_axis];
-  bool top = u_open_top != 0 && u_axis == 2 && i == u_res.z;
-  if ((i == 0 || i == u_res[u_axis]) && !top) return;
-  if (imageLoad(u_face_open, idx)[u_axis] <= 0.0f) return;
-  ivec3 lo = idx - unitAxis(u_axis);
-  if ((imageLoad(u_nbmask, lo).x & NB_SOLID) != 0u) return;
-  float p_lo = imageLoad(u_pressure, lo).x;
-  float p_hi = 0.0f;
-  if (!top) {
-    if ((imageLoad(u_nbmask, idx).x & NB_SOLID) != 0u) return;
-    p_hi = imageLoad(u_pressure, idx).x;
-  }
-  float v = imageLoad(u_vel, idx).x;
-  imageStore(u_vel, idx, vec4(v - u_scale * (p_hi - p_lo)));
+  imageStore(u_vel, idx, vec4(projectedVelocity(idx)));
 }

@@ -83,6 +83,14 @@ void runBest(bool x86_v3, const F& f) {
   runBaseline(f);
 }
 
+// `omp simd` on the runners' row loops in the kernel files (built with -fopenmp-simd and
+// HF_CPU_KERNEL_FILE: cpu/CMakeLists.txt); nothing elsewhere, where the runners are not run.
+#if defined(HF_CPU_KERNEL_FILE)
+#define HF_OMP_SIMD _Pragma("omp simd")
+#else
+#define HF_OMP_SIMD
+#endif
+
 // Below this many invocations a dispatch runs on the calling thread alone: waking the pool costs
 // more than it saves on a small grid or a coarse multigrid level, and a busy machine (Blender
 // drawing beside a live session) may not run the second thread at once. Measured (2 cores, a
@@ -208,6 +216,43 @@ class UncheckedRunner final : public CpuKernel {
             KU k(kernel_);
             glsl::Invocation inv;
             for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          });
+        });
+  }
+
+ private:
+  KernelSlots slots_;
+  KU kernel_{&slots_};
+};
+
+// A kernel file's row loop for a stage whose shader exposes its per-invocation arithmetic as a
+// branch-free function (the vectorizable part): Body::box(kernel, n) gives the invocations that
+// do work (the dispatch box clipped to the stage's grid), and Body()(k, x, y, z) computes and
+// stores one, called under `omp simd` on a per-thread copy of the unchecked build KU. The kernel
+// file says why the box's accesses are in range.
+template <class KU, class Body>
+class SimdRowRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 box = Body::box(kernel_, n);
+    if (box.x <= 0 || box.y <= 0 || box.z <= 0) return;
+    forRows(
+        box, pool,
+        [&](int y, int z) {
+          runBest(bindings.x86_v3, [&] {
+            KU k(kernel_);
+            const Body body;
+            HF_OMP_SIMD
+            for (int x = 0; x < box.x; ++x) body(k, x, y, z);
+          });
+        },
+        [&](int x0, int x1) {
+          runBest(bindings.x86_v3, [&] {
+            KU k(kernel_);
+            const Body body;
+            HF_OMP_SIMD
+            for (int x = x0; x < x1; ++x) body(k, x, 0, 0);
           });
         });
   }

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/apply_forces.comp built as C++ (cpu/kernel.h).
-// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
-// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// shaders/apply_forces.comp built as C++ (cpu/kernel.h), run by a row loop (SimdRowRunner) over the
+// shader's branch-free acceleratedVelocity, which GCC vectorizes. Its lookups are clamped to the grid, so every access is in range.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -10,16 +8,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct ApplyForces : KernelBase {
-  using KernelBase::KernelBase;
-#include "common.glsl"
-#include "apply_forces.comp"
-};
-
 #undef HF_IMAGE
 #define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
 
-struct ApplyForcesUnchecked : KernelBase {
+struct ApplyForces : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "apply_forces.comp"
@@ -30,9 +22,18 @@ struct ApplyForcesUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addApplyForces(KernelRegistry& r) {
-  r.add<InteriorRunner<ApplyForces, ApplyForcesUnchecked>>("apply_forces.comp", {});
-}
+struct ApplyForcesRow {
+  static glm::ivec3 box(ApplyForces& k, const glm::ivec3& n) { return glm::min(n, k.faceSize(k.u_axis)); }
+  void operator()(ApplyForces& k, int x, int y, int z) const {
+    const glm::ivec3 c(x, y, z);
+    glsl::imageStore(k.u_vel, c, glm::vec4(k.acceleratedVelocity(c)));
+  }
+};
+
+}  // namespace
+
+void addApplyForces(KernelRegistry& r) { r.add<SimdRowRunner<ApplyForces, ApplyForcesRow>>("apply_forces.comp", {}); }
 
 }  // namespace hf::cpu::kernels

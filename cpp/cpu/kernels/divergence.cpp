@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/divergence.comp built as C++ (cpu/kernel.h).
-// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
-// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// shaders/divergence.comp built as C++ (cpu/kernel.h), run by a row loop (SimdRowRunner) over the
+// shader's branch-free divergenceRhs, which GCC vectorizes. It reads its cell's six faces and the clamped cells beside them, all in range.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -10,16 +8,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct Divergence : KernelBase {
-  using KernelBase::KernelBase;
-#include "common.glsl"
-#include "divergence.comp"
-};
-
 #undef HF_IMAGE
 #define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
 
-struct DivergenceUnchecked : KernelBase {
+struct Divergence : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "divergence.comp"
@@ -30,9 +22,18 @@ struct DivergenceUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addDivergence(KernelRegistry& r) {
-  r.add<InteriorRunner<Divergence, DivergenceUnchecked>>("divergence.comp", {});
-}
+struct DivergenceRow {
+  static glm::ivec3 box(Divergence& k, const glm::ivec3& n) { return glm::min(n, k.u_res); }
+  void operator()(Divergence& k, int x, int y, int z) const {
+    const glm::ivec3 c(x, y, z);
+    glsl::imageStore(k.u_rhs, c, glm::vec4(k.divergenceRhs(c)));
+  }
+};
+
+}  // namespace
+
+void addDivergence(KernelRegistry& r) { r.add<SimdRowRunner<Divergence, DivergenceRow>>("divergence.comp", {}); }
 
 }  // namespace hf::cpu::kernels

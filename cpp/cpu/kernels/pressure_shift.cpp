@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/pressure_shift.comp built as C++ (cpu/kernel.h).
-// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
-// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// shaders/pressure_shift.comp built as C++ (cpu/kernel.h), run by a row loop (SimdRowRunner) over the
+// shader's branch-free shiftedPressure, which GCC vectorizes. It reads and writes its own cell only.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -10,16 +8,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct PressureShift : KernelBase {
-  using KernelBase::KernelBase;
-#include "common.glsl"
-#include "pressure_shift.comp"
-};
-
 #undef HF_IMAGE
 #define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
 
-struct PressureShiftUnchecked : KernelBase {
+struct PressureShift : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "pressure_shift.comp"
@@ -30,9 +22,18 @@ struct PressureShiftUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addPressureShift(KernelRegistry& r) {
-  r.add<InteriorRunner<PressureShift, PressureShiftUnchecked>>("pressure_shift.comp", {});
-}
+struct PressureShiftRow {
+  static glm::ivec3 box(PressureShift& k, const glm::ivec3& n) { return glm::min(n, k.u_res); }
+  void operator()(PressureShift& k, int x, int y, int z) const {
+    const glm::ivec3 c(x, y, z);
+    glsl::imageStore(k.u_pressure, c, glm::vec4(k.shiftedPressure(c, k.fluidMean())));
+  }
+};
+
+}  // namespace
+
+void addPressureShift(KernelRegistry& r) { r.add<SimdRowRunner<PressureShift, PressureShiftRow>>("pressure_shift.comp", {}); }
 
 }  // namespace hf::cpu::kernels
