@@ -149,4 +149,4 @@ def test_a_pytest_tier_without_its_report_or_a_run_without_junit_fails(tmp_path,
 
 def test_the_expected_skips_name_their_reason():
     for pattern, prefix, why in summary.EXPECTED_SKIPS:
-        assert "::" in pattern and prefix.endswith(":") and len(why) > 10, (pattern, prefix, why)
+        assert "::" in pattern and len(prefix) >= 10 and len(why) > 10, (pattern, prefix, why)
