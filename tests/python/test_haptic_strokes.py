@@ -83,7 +83,7 @@ def assert_passive_and_felt(r, what, floor="amplified"):
     assert peak_n >= least_n and taken_j >= least_j, figures
 
 
-def kept_pace_or_skip(r, min_sim_dt, what):
+def kept_pace(r, min_sim_dt, what):
     """The session stepped as fast as the machine let it (a step waits for min_sim_dt only when it
     finished sooner); True when that was FAST_HZ or more."""
     interval, step = step_pace(r["trace"])
@@ -100,7 +100,7 @@ def fast_strokes(density, what, floor="amplified", **session_args):
     for _ in range(FAST_TRIES):
         r = run_strokes(density, **FAST, **session_args)
         assert_passive_and_felt(r, what, floor)
-        fast, pace = kept_pace_or_skip(r, FAST["min_sim_dt"], what)
+        fast, pace = kept_pace(r, FAST["min_sim_dt"], what)
         if fast:
             return r
         said.append(pace)
