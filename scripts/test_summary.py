@@ -39,13 +39,18 @@ TIERS = (
 # a ctest test its name), the start of the skip's reason, why it is expected). Every other skip
 # fails a strict run. On CI (Linux x86_64, Debian 12, every tier installed) only a real-time test
 # whose machine demonstrably could not keep its pace may skip, with the pace it measured, after
-# asserting what holds at any pace (the first three); the last is Debian 13's, the README's other
-# platform.
+# asserting what holds at any pace; the last is Debian 13's, the README's other platform.
 EXPECTED_SKIPS = (
     ("test_haptic_strokes::test_strokes_are_passive_*60_hz*", "slow machine:",
      "the 60 Hz case is only a fast case where the machine steps 16^3 that fast; the bounds were asserted first"),
     ("test_haptic_strokes::test_strokes_are_passive_at_the_largest_gain_slowed_and_fast*60 Hz*", "slow machine:",
      "as above, at the largest gain"),
+    *((f"test_haptic_seed_feel::{name}", "slow machine:",
+       "the seed's scenario needs its 48^3 steps well within their 0.5 s; the gain, the added mass, the buoyancy "
+       "at rest and the forces' directions were asserted first")
+      for name in ("test_the_haptic_path_delivers_the_rendering_undamped",
+                   "test_pushed_steadily_the_hand_feels_the_drag_against_the_motion",
+                   "test_accelerated_the_hand_feels_the_added_mass")),
     ("test_haptic_feel::test_the_force_follows_the_fluid_and_reverses_with_the_motion", "slow machine:",
      "the plume rises in the fluid's time, which a machine too slow for 3 s of it in 60 s never gives; "
      "the force's reversal with the motion was asserted first"),

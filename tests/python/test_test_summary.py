@@ -126,6 +126,8 @@ def test_an_unexpected_skip_fails_with_its_reason_printed(tmp_path, capsys):
     ("test_haptic_strokes::test_strokes_are_passive_with_the_simulation_at_60_hz[air-1.2]", "no GL", False),
     ("test_haptic_feel::test_the_force_follows_the_fluid_and_reverses_with_the_motion",
      "slow machine: the fluid lived 2.1 s of its own time in 60 s", True),
+    ("test_haptic_seed_feel::test_pushed_steadily_the_hand_feels_the_drag_against_the_motion",
+     "slow machine: 48^3 steps took 0.47 s (median)", True),
     ("test_haptic_seed_feel::test_at_rest_the_hand_feels_buoyancy", "slow machine: x", False),
 ])
 def test_only_the_listed_skips_are_expected(tmp_path, capsys, test_id, reason, expected):
