@@ -11,7 +11,13 @@ simulation's own clock, not the wall's: each step advances the fluid by the wall
 one, but by 0.05 s at most (max_sim_dt), so on a loaded machine (32^3 at 5 steps a second) the fluid
 lives a quarter of the wall's time. The sweep runs until the fluid has had RISE_S of its own time to
 raise its plume, then for SWEEPS_S more (two sweeps across it); the physical run until the force has
-ramped in after the first step."""
+ramped in after the first step. The hand sweeps on the wall's clock, though, so where the fluid
+lives much less than the wall's time the probe crosses it that much faster, and the drag of the
+turns beside the plume outweighs the plume's push: plume against beside is judged only where the
+fluid kept at least MIN_FLUID_PACE of the wall's pace after its plume rose (2026-12-04, load
+average 5-7: at 0.45-0.46 of it the plume gave 2.09 N against 1.55-1.59 N beside, at 0.29-0.34
+2.06-2.09 N against 1.69-1.86 N, at 0.26 2.01 N against 1.98 N; a faster loaded run once 1.68
+against 2.59 N). Below that it skips, saying the pace, after the reversal with the motion."""
 
 import numpy as np
 import pytest
@@ -22,6 +28,7 @@ from hapticfluid.bench.feel import feel_figures, live_scene_run
 RISE_S = 3.0      # fluid time for the plume to rise (s, the simulation's clock)
 SWEEPS_S = 6.0    # then two sweeps (s of the hand's gesture, every 3 s)
 MOST_S = 60.0     # the longest a run may take (wall s): a machine slower than that skips, saying so
+MIN_FLUID_PACE = 1.0 / 3.0  # the fluid's time per wall time after the rise for plume against beside
 RAMP_S = hf.HapticSessionSettings().ramp_time  # the force's ramp-in after the first step (s)
 
 
@@ -79,6 +86,12 @@ def test_the_force_follows_the_fluid_and_reverses_with_the_motion(amplified):
     if not risen.any():
         pytest.skip(f"slow machine: the fluid lived {fluid_s[-1]:.1f} s of its own time in {tr['time'][-1]:.0f} s "
                     f"(under the {RISE_S:g} s its plume takes to rise; the force reversed with the motion)")
+    t = tr["time"]
+    pace = (fluid_s[-1] - fluid_s[risen][0]) / (t[-1] - t[risen][0])
+    if pace < MIN_FLUID_PACE:
+        pytest.skip(f"slow machine: after its plume rose the fluid lived {pace:.2f} s of its own time per second "
+                    f"(under {MIN_FLUID_PACE:.2f}: the hand crossed it that much faster than its gesture's pace; the "
+                    f"force reversed with the motion)")
     # The plume pushes the probe: through it the hand feels more than beside it, once it has risen.
     assert fig["plume_n"] > fig["beside_n"], fig
 
