@@ -73,9 +73,12 @@ def assert_passive_and_felt(r, what, floor="amplified"):
     st, tr = r["stats"], r["trace"]
     peak_n = float(np.linalg.norm(tr["commanded_force"], axis=1).max())
     taken_j = -float(energy_into_hand(tr)[-1])
+    interval, step = step_pace(tr)
     figures = (what, f"peak energy {1e3 * r['energy_j']:.3f} mJ", f"drift {1e3 * r['drift_m']:.3f} mm",
                f"peak {peak_n:.3f} N", f"taken {1e3 * taken_j:.1f} mJ", f"gain {st['force_gain']:.4g}",
-               f"{st['sim_rate_hz']:.1f} Hz")
+               f"steps every {1e3 * interval:.0f} ms, each {1e3 * step:.0f} ms",
+               f"haptic periods: longest {1e3 * float(np.diff(tr['time']).max()):.1f} ms, "
+               f"{st['skipped_periods']} skipped")
     print("MEASURED", *figures)
     assert r["energy_j"] <= ENERGY_J, figures
     assert r["drift_m"] <= SETTLE_M, figures
