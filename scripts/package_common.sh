@@ -43,3 +43,11 @@ hf_bpy_platform() {
 # pip's output without the "Location ... is ignored" lines that a pip.conf naming missing
 # local indexes adds to every look-up.
 hf_pip_quiet() { grep -v '^WARNING: Location ' || true; }
+
+# hf_pip_offline LOG: true when pip's output in LOG shows that it could not reach its package
+# index (no network, no name resolution, a proxy or timeout on the connection). A pip failure
+# with the index reachable (a version conflict, a missing wheel, a broken build) is not that:
+# the package scripts skip (exit 77) on the first and fail on the second.
+hf_pip_offline() {
+  grep -Eq 'NewConnectionError|Failed to establish a new connection|Temporary failure in name resolution|Name or service not known|Network is unreachable|ConnectTimeoutError|Connection timed out|ProxyError|Max retries exceeded|ReadTimeoutError|connection broken by' "$1"
+}

@@ -3,10 +3,12 @@
 # ctest package_wheel_install_<tag>: the TAG wheel (cp311 or cp313) that package_build put in
 # PACKAGE_DIR/dist goes into a new virtual environment of that CPython (numpy from PyPI), then a process whose environment hides the build
 # tree (env -i, python -I, run from an empty folder) imports it, steps a 16^3 simulation,
-# writes a VDB and checks the module's ELF tables: OpenVDB, TBB, blosc, Imath and libusb inside
+# writes a VDB that the system's OpenVDB reads back (vdb_print) and checks the module's ELF
+# tables: OpenVDB, TBB, blosc, Imath and libusb inside
 # it and hidden, nothing needed of the system beyond glibc 2.28 and libglvnd (wheel_check.py).
 #   bash test_wheel_install.sh TAG PACKAGE_DIR
-# Exit 77 (ctest SKIP): no wheel could be built here, or numpy cannot be fetched; reason printed.
+# Exit 77 (ctest SKIP): no wheel could be built here, or pip cannot reach its index for numpy;
+# reason printed. numpy failing to install with the index reachable fails the test.
 set -euo pipefail
 TAG="$1"
 PKG="$(cd "$2" && pwd)"
@@ -24,8 +26,12 @@ VENV="$PKG/clean-venv-$TAG"
 rm -rf "$VENV"
 t0=$(date +%s%N)
 "$PY" -m venv "$VENV"
-"$VENV/bin/python" -m pip install -q numpy 2>&1 | hf_pip_quiet || true
-"$VENV/bin/python" -c "import numpy" 2>/dev/null || skip "numpy cannot be installed from PyPI here"
+if ! "$VENV/bin/python" -m pip install -q numpy >"$PKG/pip-numpy-$TAG.log" 2>&1; then
+  hf_pip_quiet <"$PKG/pip-numpy-$TAG.log" | tail -n 20
+  hf_pip_offline "$PKG/pip-numpy-$TAG.log" && skip "numpy cannot be installed: pip could not reach its package index (no network)"
+  echo "error: numpy cannot be installed with pip's index reachable (above)"; exit 1
+fi
+"$VENV/bin/python" -c "import numpy" || { echo "error: numpy installed but does not import (above)"; exit 1; }
 "$VENV/bin/python" -m pip install -q --no-index "$wheel" 2>&1 | hf_pip_quiet
 t1=$(date +%s%N)
 run_dir="$(mktemp -d)"

@@ -38,6 +38,20 @@ check(density.shape == (16, 16, 16) and np.isfinite(density).all() and density.m
 vdb = os.path.join(RUN_DIR, "density.vdb")
 hf.write_vdb(vdb, density, voxel_size=1.0 / 16)
 check(os.path.getsize(vdb) > 0, f"wrote a VDB with OpenVDB {hf.openvdb_version()}")
+# Read back by the system's OpenVDB (vdb_print, Debian's libopenvdb-tools): the grid, its voxels and values.
+try:
+    printed = subprocess.run(["vdb_print", "-l", "-m", vdb], capture_output=True, text=True, check=True).stdout
+except FileNotFoundError:
+    raise AssertionError("vdb_print is missing: it reads the wheel's VDB back (apt-get install libopenvdb-tools)")
+field = dict(re.findall(r"^[ \t]*([A-Za-z_ ]+?):[ \t]+(\S.*?)[ \t]*$", printed, re.M))
+active = density[density != 0.0]
+check(field.get("Name") == "density" and field.get("Type") == "Tree_float_5_4_3"
+      and int(field.get("Number of active voxels", -1)) == active.size
+      and abs(float(field.get("Min value", "nan")) - float(active.min())) <= 1e-5 * float(active.max())
+      and abs(float(field.get("Max value", "nan")) - float(active.max())) <= 1e-5 * float(active.max())
+      and abs(float(field.get("voxel size", "nan")) - 1.0 / 16) <= 1e-9,
+      f"OpenVDB reads it back: grid {field.get('Name')} ({field.get('Type')}), {field.get('Number of active voxels')} "
+      f"active voxels of {active.size}, values {field.get('Min value')} .. {field.get('Max value')}")
 
 # The module's ELF tables (binutils' readelf and objdump, Debian's binutils).
 core = glob.glob(os.path.join(os.path.dirname(hf.__file__), "_core.*.so"))[0]

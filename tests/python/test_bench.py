@@ -2,8 +2,9 @@
 """The benchmark command (python3 -m hapticfluid bench): structure of its tables and JSON.
 
 No timing thresholds: timings depend on the machine and its load. The checks are the shape of
-the results, that every measured number is finite and positive, and the byte counts, which have
-known answers.
+the results, that every measured number is there and finite (positive where the table keeps it
+unrounded; a timing the table rounds may read 0 on an idle machine), and the byte counts, which
+have known answers.
 """
 
 import json
@@ -48,6 +49,12 @@ def quick_run(tmp_path_factory):
 
 def _positive(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0
+
+
+def _measured(value):
+    """A timing the section measured and rounded for its table: a finite number, >= 0 (a hard link
+    made in 4 us rounds to 0.00 ms)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value >= 0
 
 
 def _rows(section):
@@ -235,7 +242,8 @@ def test_statistics_and_table_format():
 
 def test_checkpoint_section_measures_the_files_it_estimates():
     """The checkpoint section writes real checkpoints: their size on disk is the add-on's
-    estimate (cache.checkpoint_bytes) within 2 KB, and each timing is a measured positive value."""
+    estimate (cache.checkpoint_bytes) within 2 KB, and each timing was measured (a finite number;
+    the table rounds them, so a fast one may read 0)."""
     from hapticfluid.bench import checkpoint
 
     section = checkpoint.run(quick=True, log=None)
@@ -244,7 +252,7 @@ def test_checkpoint_section_measures_the_files_it_estimates():
     assert [r["grid"] for r in rows] == ["16^3", "24^3"]
     for r in rows:
         assert abs(r["MB on disk"] - r["MB estimated"]) <= 0.0021, r  # 2 KB, and the 3-decimal rounding
-        assert all(r[c] > 0 for c in ("state() ms", "write ms", "keep ms", "load ms")), r
+        assert all(_measured(r[c]) for c in ("state() ms", "write ms", "write MB/s", "keep ms", "load ms")), r
 
 
 def test_show_prints_a_committed_result_with_its_commit(tmp_path):

@@ -18,7 +18,7 @@ from __future__ import annotations
 import logging
 import sys
 import time
-from typing import Dict, List, Optional
+from typing import Callable, Dict, List, Optional
 
 import numpy as np
 
@@ -52,11 +52,15 @@ def passive_limit(sim, device, session_args) -> float:
 
 def live_scene_run(seconds: float, resolution: int = 32, gesture: str = "sweep", fluid_density: float = 1.2,
                    hand_stiffness: float = 300.0, hand_path=None, gravity=None, source: bool = True,
+                   until: Optional[Callable[[Dict[str, np.ndarray]], bool]] = None,
                    **session_args) -> Dict[str, object]:
     """One session of the live demo's scene for `seconds` (s) with the simulated Falcon's hand doing
     `gesture` (or following hand_path: waypoints (t, x, y, z) after homing, held at the last):
     the trace (time, position, sim_force, commanded_force, ...) and the session's stats. gravity
-    (m/s^2) and source=False change the scene (no steady forces: the rendering's own energy)."""
+    (m/s^2) and source=False change the scene (no steady forces: the rendering's own energy).
+    until: called with each new part of the trace (times on the monotonic clock, every 0.05 s);
+    the run ends as soon as it returns True, `seconds` being then the longest it may take (a test
+    paced by the simulation's own clock, whatever the machine's load)."""
     scene = dict(SCENE, fluid_density=fluid_density)
     if gravity is not None:
         scene["gravity"] = tuple(gravity)
@@ -83,6 +87,8 @@ def live_scene_run(seconds: float, resolution: int = 32, gesture: str = "sweep",
                 while time.monotonic() - start < seconds and session.error is None:
                     time.sleep(0.05)
                     chunks.append(session.trace())
+                    if until is not None and len(chunks[-1]["time"]) and until(chunks[-1]):
+                        break
                 stats = session.stats()
             chunks.append(session.trace())
     finally:
@@ -101,13 +107,14 @@ def energy_into_hand(trace: Dict[str, np.ndarray]) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.sum(f[:-1] * np.diff(x, axis=0), axis=1))])
 
 
-def feel_figures(run: Dict[str, object], settle_s: float = 3.0) -> Dict[str, float]:
+def feel_figures(run: Dict[str, object], settle_s: float = 3.0, late: Optional[np.ndarray] = None) -> Dict[str, float]:
     """The hand's force in a run of live_scene_run: after settle_s (the force ramped in, the plume
     risen), its peak and RMS magnitude, mean magnitude in the plume and beside it, mean x component
-    moving +x and -x (device frame), the probe's peak (fluid N) and the most energy delivered."""
+    moving +x and -x (device frame), the probe's peak (fluid N) and the most energy delivered.
+    late: the periods to count instead (a mask over the trace)."""
     tr, scale = run["trace"], run["scale"]
     t, x, f = tr["time"], tr["position"], tr["commanded_force"]
-    late = t >= settle_s
+    late = t >= settle_s if late is None else late
     mag = np.linalg.norm(f, axis=1)
     domain_x = 0.5 + scale * x[:, 0]  # the workspace's middle is at the domain's centre
     vx = np.gradient(x[:, 0], t)

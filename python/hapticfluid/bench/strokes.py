@@ -66,8 +66,8 @@ def stroke_path(seed: int = 27):
 
 
 def run_strokes(fluid_density: float, resolution: int = 32, **session_args) -> Dict[str, object]:
-    """One stroke run: the session's stats, the largest running energy into the hand (J) and the
-    hand's drift from 1 s after the last stop (m)."""
+    """One stroke run: the session's stats, the largest running energy into the hand (J), the
+    hand's drift from 1 s after the last stop (m) and the run's trace (feel.live_scene_run's)."""
     path, end = stroke_path()
     run = live_scene_run(end + REST_S + 1.0, resolution=resolution, fluid_density=fluid_density, hand_path=path,
                          gravity=(0.0, 0.0, 0.0), source=False, **session_args)
@@ -83,7 +83,7 @@ def run_strokes(fluid_density: float, resolution: int = 32, **session_args) -> D
     # A hand still moving in the last second (it never settled) is measured over the last 0.5 s.
     after = t >= min(stop + 1.0, t[-1] - 0.5)
     drift = float(np.abs(x[after] - x[-1]).max())
-    return {"stats": run["stats"], "energy_j": float(e.max()), "drift_m": drift}
+    return {"stats": run["stats"], "energy_j": float(e.max()), "drift_m": drift, "trace": tr}
 
 
 def case_args(gain: str, controller: str) -> Dict[str, object]:
