@@ -47,19 +47,52 @@ def threads():
     return out
 
 result = {"start": threads()[threading.get_native_id()][1]}  # the caller's niceness, as this process was started
-hf.probe_device()  # the driver's threads start here, at the caller's niceness
-with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=7)) as sim:
+hf.probe_device(backend="gpu")  # the driver's threads start here, at the caller's niceness
+with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), backend="gpu", thread_niceness=7)) as sim:
     sim.step(0.01)
     result["software"] = bool(sim.device["software"])
     result["kept"] = sim.settings.thread_niceness
     result["nice"] = threads()
     result["caller"] = threads()[threading.get_native_id()][1]
-with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), thread_niceness=0)) as sim:
+with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), backend="gpu", thread_niceness=0)) as sim:
     sim.step(0.01)
     result["after"] = threads()
     result["warning"] = sim.device["warning"]
 print(json.dumps(result))
 """
+
+
+_CPU_NICENESS_CHECK = _NICENESS_CHECK.split("result = {")[0] + r"""
+result = {"start": threads()[threading.get_native_id()][1]}
+with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), backend="cpu", cpu_threads=3, thread_niceness=7)) as sim:
+    sim.step(0.01)
+    result["nice"] = threads()
+    result["caller"] = threads()[threading.get_native_id()][1]
+with hf.Simulation(hf.FluidSettings(resolution=(16, 16, 16), backend="cpu", cpu_threads=3, thread_niceness=0)) as sim:
+    sim.step(0.01)
+    result["after"] = threads()
+print(json.dumps(result))
+"""
+
+
+def test_thread_niceness_on_the_cpu_backend_reaches_its_device_thread_and_pool():
+    """On the CPU backend the simulation's device thread ("hf-cpu") and its pool's threads (started
+    by it, so named and niced alike) run the asked-for niceness above the caller's; the caller keeps
+    its own. Each CPU simulation has its own pool, so one at 0 afterwards runs at the caller's."""
+    import json
+    import os
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, "-c", _CPU_NICENESS_CHECK], capture_output=True, text=True, timeout=120,
+                         env=dict(os.environ))
+    assert out.returncode == 0, out.stderr
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    caller = r["start"]
+    mine = [n for name, n in r["nice"].values() if name.startswith("hf-cpu")]
+    assert len(mine) == 3 and all(n == min(19, caller + 7) for n in mine), (caller, r["nice"])  # device thread + 2 workers
+    assert r["caller"] == caller, r
+    after = [n for name, n in r["after"].values() if name.startswith("hf-cpu")]
+    assert len(after) == 3 and all(n == caller for n in after), (caller, r["after"])
 
 
 def test_thread_niceness_lowers_the_simulations_threads_and_the_drivers_only():
