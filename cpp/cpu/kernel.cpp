@@ -2,6 +2,9 @@
 #include "cpu/kernel.h"
 
 #include <algorithm>
+#if defined(__x86_64__)
+#include <cpuid.h>
+#endif
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -39,13 +42,25 @@ int defineValue(const compute::Defines& defines, const char* name, int fallback)
   return fallback;
 }
 
+// The CPU's x86-64-v3 features from CPUID (not __builtin_cpu_supports: its data lives in the
+// compiler's runtime, which the wheel's static, position-independent build cannot link), and
+// whether the OS saves the AVX registers (XGETBV).
 bool detectX86V3() {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   if (const char* env = std::getenv(kCpuIsaEnv); env != nullptr && std::strcmp(env, "baseline") == 0) return false;
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
-         __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("f16c") && __builtin_cpu_supports("lzcnt") &&
-         __builtin_cpu_supports("movbe") && __builtin_cpu_supports("popcnt");
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+  const bool fma = (c >> 12) & 1u, movbe = (c >> 22) & 1u, popcnt = (c >> 23) & 1u, osxsave = (c >> 27) & 1u,
+             avx = (c >> 28) & 1u, f16c = (c >> 29) & 1u;
+  if (!(fma && movbe && popcnt && osxsave && avx && f16c)) return false;
+  unsigned xcr0_lo = 0, xcr0_hi = 0;
+  __asm__ volatile("xgetbv" : "=a"(xcr0_lo), "=d"(xcr0_hi) : "c"(0));
+  if ((xcr0_lo & 0x6u) != 0x6u) return false;  // the OS saves XMM and YMM state
+  if (!__get_cpuid_count(7, 0, &a, &b, &c, &d)) return false;
+  const bool bmi1 = (b >> 3) & 1u, avx2 = (b >> 5) & 1u, bmi2 = (b >> 8) & 1u;
+  if (!__get_cpuid(0x80000001u, &a, &b, &c, &d)) return false;
+  const bool lzcnt = (c >> 5) & 1u;
+  return avx2 && bmi1 && bmi2 && lzcnt;
 #else
   return false;
 #endif
