@@ -117,42 +117,56 @@ void forRows(const glm::ivec3& n, ThreadPool& pool, Row&& row, Chunk&& chunk) {
   }
 }
 
-// Each thread runs a copy of the kernel: its bound images and uniforms are then locals the
-// compiler can keep in registers.
+// Calls row(k, y, z, x0, x1) for every row of the dispatch box `n` (x0..x1 its invocations; a
+// single long row is cut into chunks), on the pool's threads, with the best instruction set. Each
+// thread runs a copy k of the kernel: its bound images and uniforms are then locals the compiler
+// can keep in registers.
+template <class K, class Row>
+void forEachRow(const glm::ivec3& n, ThreadPool& pool, bool x86_v3, const K& kernel, const Row& row) {
+  forRows(
+      n, pool,
+      [&](int y, int z) {
+        runBest(x86_v3, [&] {
+          K k(kernel);
+          row(k, y, z, 0, n.x);
+        });
+      },
+      [&](int x0, int x1) {
+        runBest(x86_v3, [&] {
+          K k(kernel);
+          row(k, 0, 0, x0, x1);
+        });
+      });
+}
+
 template <class K>
 inline void runInvocation(K& k, glsl::Invocation& inv, int x, int y, int z) {
   inv.global_id = glm::uvec3(static_cast<unsigned>(x), static_cast<unsigned>(y), static_cast<unsigned>(z));
   k.hf_main(inv);
 }
 
-// K's main() once per invocation, every access bounds-tested as GL does.
+// K's main() once per invocation. With K the shader's bounds-tested build (glsl::Image), every
+// access is tested as GL does; as UncheckedRunner, K is its unchecked build (UncheckedImage), for a
+// kernel whose every access is in range by its own construction (clamped coordinates, or a row
+// loop over the grid with neighbours only across linked faces); a kernel file that uses it says why.
 template <class K>
 class InvocationRunner final : public CpuKernel {
  public:
   KernelSlots& slots() override { return slots_; }
   void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
-    forRows(
-        n, pool,
-        [&](int y, int z) {
-          runBest(bindings.x86_v3, [&] {
-            K k(kernel_);
-            glsl::Invocation inv;
-            for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
-          });
-        },
-        [&](int x0, int x1) {
-          runBest(bindings.x86_v3, [&] {
-            K k(kernel_);
-            glsl::Invocation inv;
-            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
-          });
-        });
+    forEachRow(n, pool, bindings.x86_v3, kernel_, [](K& k, int y, int z, int x0, int x1) {
+      glsl::Invocation inv;
+      for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, y, z);
+    });
   }
 
  private:
   KernelSlots slots_;
   K kernel_{&slots_};
 };
+
+template <class KU>
+using UncheckedRunner = InvocationRunner<KU>;
 
 // The same main() built twice from the shader: K bounds-tested, KU (glsl::UncheckedImage) not.
 // Invocations at least one from every face of the dispatch box run KU, the shell around them K:
@@ -194,37 +208,6 @@ class InteriorRunner final : public CpuKernel {
   KU unchecked_{&slots_};
 };
 
-// KU's main() (glsl::UncheckedImage) for every invocation: for a kernel whose every access is in
-// range by its own construction (clamped coordinates, or a row loop over the grid with
-// neighbours only across linked faces). A kernel file that uses it says why.
-template <class KU>
-class UncheckedRunner final : public CpuKernel {
- public:
-  KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
-    forRows(
-        n, pool,
-        [&](int y, int z) {
-          runBest(bindings.x86_v3, [&] {
-            KU k(kernel_);
-            glsl::Invocation inv;
-            for (int x = 0; x < n.x; ++x) runInvocation(k, inv, x, y, z);
-          });
-        },
-        [&](int x0, int x1) {
-          runBest(bindings.x86_v3, [&] {
-            KU k(kernel_);
-            glsl::Invocation inv;
-            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
-          });
-        });
-  }
-
- private:
-  KernelSlots slots_;
-  KU kernel_{&slots_};
-};
-
 // A kernel file's row loop for a stage whose shader exposes its per-invocation arithmetic as a
 // branch-free function (the vectorizable part): Body::box(kernel, n) gives the invocations that
 // do work (the dispatch box clipped to the stage's grid), and Body()(k, x, y, z) computes and
@@ -237,24 +220,11 @@ class SimdRowRunner final : public CpuKernel {
   void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     const glm::ivec3 box = Body::box(kernel_, n);
     if (box.x <= 0 || box.y <= 0 || box.z <= 0) return;
-    forRows(
-        box, pool,
-        [&](int y, int z) {
-          runBest(bindings.x86_v3, [&] {
-            KU k(kernel_);
-            const Body body;
-            HF_OMP_SIMD
-            for (int x = 0; x < box.x; ++x) body(k, x, y, z);
-          });
-        },
-        [&](int x0, int x1) {
-          runBest(bindings.x86_v3, [&] {
-            KU k(kernel_);
-            const Body body;
-            HF_OMP_SIMD
-            for (int x = x0; x < x1; ++x) body(k, x, 0, 0);
-          });
-        });
+    forEachRow(box, pool, bindings.x86_v3, kernel_, [](KU& k, int y, int z, int x0, int x1) {
+      const Body body;
+      HF_OMP_SIMD
+      for (int x = x0; x < x1; ++x) body(k, x, y, z);
+    });
   }
 
  private:

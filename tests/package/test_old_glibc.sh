@@ -59,7 +59,7 @@ logs="$(mktemp -d)"
 rc=0
 # CPython 3.11 first (built once, about 6 minutes), then the wheel's checks under glibc 2.31.
 bash "$HF_ROOT/scripts/debian13_check.sh" --root "$tree" --reuse --logs "$logs" -- \
-  'echo "glibc $(getconf GNU_LIBC_VERSION), Debian $(cat /etc/debian_version)" && bash scripts/build_python.sh 3.11 && bash tests/package/test_wheel_install.sh cp311 /root/pkg' \
+  'echo "glibc $(getconf GNU_LIBC_VERSION), Debian $(cat /etc/debian_version)" && bash scripts/build_python.sh 3.11 && HF_VDB_READBACK=0 bash tests/package/test_wheel_install.sh cp311 /root/pkg' \
   || rc=$?
 cat "$logs"/*.log
 rm -rf "$logs" "$tree/root/pkg"

@@ -36,7 +36,7 @@ fi
 t1=$(date +%s%N)
 run_dir="$(mktemp -d)"
 cd "$run_dir"
-env -i HOME="$run_dir" PATH=/usr/bin:/bin HF_VENV="$VENV" HF_RUN_DIR="$run_dir" \
+env -i HOME="$run_dir" PATH=/usr/bin:/bin HF_VENV="$VENV" HF_RUN_DIR="$run_dir" HF_VDB_READBACK="${HF_VDB_READBACK:-1}" \
   "$VENV/bin/python" -I "$HERE/wheel_check.py"
 t2=$(date +%s%N)
 echo "wheel $(basename "$wheel") ($(du -h "$wheel" | cut -f1)): venv + install $(( (t1 - t0) / 1000000 )) ms," \

@@ -39,13 +39,20 @@ vdb = os.path.join(RUN_DIR, "density.vdb")
 hf.write_vdb(vdb, density, voxel_size=1.0 / 16)
 check(os.path.getsize(vdb) > 0, f"wrote a VDB with OpenVDB {hf.openvdb_version()}")
 # Read back by the system's OpenVDB (vdb_print, Debian's libopenvdb-tools): the grid, its voxels and values.
-try:
-    printed = subprocess.run(["vdb_print", "-l", "-m", vdb], capture_output=True, text=True, check=True).stdout
-except FileNotFoundError:
-    raise AssertionError("vdb_print is missing: it reads the wheel's VDB back (apt-get install libopenvdb-tools)")
-field = dict(re.findall(r"^[ \t]*([A-Za-z_ ]+?):[ \t]+(\S.*?)[ \t]*$", printed, re.M))
+# HF_VDB_READBACK=0 (test_old_glibc.sh: the bullseye tree checks the run on glibc 2.31 and has no
+# OpenVDB of its own) leaves it to the host's run of this check, saying so.
+if os.environ.get("HF_VDB_READBACK", "1") == "0":
+    print("not here: the VDB's read-back by the system's OpenVDB (HF_VDB_READBACK=0: the host's run of this "
+          "check reads it back)", flush=True)
+    printed = None
+else:
+    try:
+        printed = subprocess.run(["vdb_print", "-l", "-m", vdb], capture_output=True, text=True, check=True).stdout
+    except FileNotFoundError:
+        raise AssertionError("vdb_print is missing: it reads the wheel's VDB back (apt-get install libopenvdb-tools)")
+field = dict(re.findall(r"^[ \t]*([A-Za-z_ ]+?):[ \t]+(\S.*?)[ \t]*$", printed or "", re.M))
 active = density[density != 0.0]
-check(field.get("Name") == "density" and field.get("Type") == "Tree_float_5_4_3"
+check(printed is None or field.get("Name") == "density" and field.get("Type") == "Tree_float_5_4_3"
       and int(field.get("Number of active voxels", -1)) == active.size
       and abs(float(field.get("Min value", "nan")) - float(active.min())) <= 1e-5 * float(active.max())
       and abs(float(field.get("Max value", "nan")) - float(active.max())) <= 1e-5 * float(active.max())
