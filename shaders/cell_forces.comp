@@ -17,26 +17,28 @@ UNIFORM(float, u_cell_size);       // m
 
 float vortMag(ivec3 c) { return imageLoad(u_vorticity, clampCell(c)).w; }
 
-void main() {
-  ivec3 c = ivec3(gl_GlobalInvocationID);
-  if (!inGrid(c)) return;
-  if ((imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) {
-    imageStore(u_force, c, vec4(0.0f));
-    return;
-  }
+// The force per unit mass on cell c: buoyancy, plus the confinement where it is on and the
+// vorticity magnitude's gradient is not 0; 0 in a solid cell. Branch-free, its lookups clamped to
+// the grid, so the CPU's row loop (cpu/kernels/cell_forces.cpp) runs it unchecked and
+// vectorized (the same arithmetic as branching: the other values are computed, then not taken).
+vec3 cellForce(ivec3 c) {
+  bool solid = (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u;
   float d = imageLoad(u_density, c).x;
   float t = imageLoad(u_temperature, c).x;
   vec3 f = u_up * (u_heat_buoyancy * t - u_smoke_weight * d);
-  if (u_confinement > 0.0f) {
-    vec3 grad = vec3(vortMag(c + ivec3(1, 0, 0)) - vortMag(c - ivec3(1, 0, 0)),
-                     vortMag(c + ivec3(0, 1, 0)) - vortMag(c - ivec3(0, 1, 0)),
-                     vortMag(c + ivec3(0, 0, 1)) - vortMag(c - ivec3(0, 0, 1)));
-    float g = length(grad);
-    if (g > 1.0e-20f) {
-      vec3 n = grad / g;
-      vec3 w = vec3(imageLoad(u_vorticity, c));
-      f += u_confinement * u_cell_size * cross(n, w);
-    }
-  }
-  imageStore(u_force, c, vec4(f, 0.0f));
+  vec3 grad = vec3(vortMag(c + ivec3(1, 0, 0)) - vortMag(c - ivec3(1, 0, 0)),
+                   vortMag(c + ivec3(0, 1, 0)) - vortMag(c - ivec3(0, 1, 0)),
+                   vortMag(c + ivec3(0, 0, 1)) - vortMag(c - ivec3(0, 0, 1)));
+  float g = length(grad);
+  bool confine = u_confinement > 0.0f && g > 1.0e-20f;
+  vec3 n = grad / (confine ? g : 1.0f);
+  vec3 w = vec3(imageLoad(u_vorticity, c));
+  vec3 confined = f + u_confinement * u_cell_size * cross(n, w);
+  return solid ? vec3(0.0f) : (confine ? confined : f);
+}
+
+void main() {
+  ivec3 c = ivec3(gl_GlobalInvocationID);
+  if (!inGrid(c)) return;
+  imageStore(u_force, c, vec4(cellForce(c), 0.0f));
 }

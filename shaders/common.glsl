@@ -23,6 +23,7 @@
 #define CONST const  // a constant at file scope (C++: static constexpr)
 #define UNROLL       // a short loop of constant count (C++: unrolled, so its index folds)
 #define OUT(T) out T  // an out parameter (C++: a reference)
+#define INOUT(T) inout T  // an in-out parameter (C++: a reference)
 #endif
 
 // Cell classes of the seed paper (values shared with cpp/obstacle/cell_class.h).
@@ -74,6 +75,45 @@ UNIFORM(ivec3, u_res);  // cells per axis
 bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, u_res)); }
 
 ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
+
+// Cell c's open fractions as two vectors (the branch-free stages' FACE_OPEN_ALL): W_LO of its
+// -x, -y, -z faces, W_HI of its +x, +y, +z faces, declared here.
+#define FACE_OPEN_LO_HI(img, c, W_LO, W_HI)                                                \
+  vec3 W_LO = vec3(imageLoad(img, c));                                                     \
+  vec3 W_HI = vec3(imageLoad(img, (c) + ivec3(1, 0, 0)).x, imageLoad(img, (c) + ivec3(0, 1, 0)).y, \
+                   imageLoad(img, (c) + ivec3(0, 0, 1)).z)
+// Cell c's six neighbours' values in image img: LO across its -x, -y, -z faces, HI across its +x,
+// +y, +z faces, declared here.
+#define NEIGHBOURS_LO_HI(img, c, LO, HI)                                                              \
+  vec3 LO = vec3(imageLoad(img, (c) - ivec3(1, 0, 0)).x, imageLoad(img, (c) - ivec3(0, 1, 0)).x,       \
+                 imageLoad(img, (c) - ivec3(0, 0, 1)).x);                                              \
+  vec3 HI = vec3(imageLoad(img, (c) + ivec3(1, 0, 0)).x, imageLoad(img, (c) + ivec3(0, 1, 0)).x,       \
+                 imageLoad(img, (c) + ivec3(0, 0, 1)).x)
+
+// A face's part of a sum: v where mask m links face d, else 0.
+float linkedPart(uint m, int d, float v) { return ((m >> uint(d)) & 1u) != 0u ? v : 0.0f; }
+
+// The pressure operator at one cell, (A x)_c: the open top's w x plus, over the linked faces in
+// NEIGHBOUR order, w (x - x_nb) (differences, not n x - sum: exact near 0); w a face's open
+// fraction. From the cell's loaded neighbourhood: m its mask, w_lo and w_hi its faces' fractions
+// (FACE_OPEN_LO_HI), x its value, x_lo and x_hi its neighbours' (NEIGHBOURS_LO_HI; any value
+// where m has no link: it is not used). Branch-free, so the CPU's row loops vectorize it (the
+// same arithmetic as skipping the unlinked faces: adding 0 is exact).
+float operatorAt(uint m, vec3 w_lo, vec3 w_hi, float x, vec3 x_lo, vec3 x_hi) {
+  float ax = (m & NB_OPEN_TOP) != 0u ? w_hi.z * x : 0.0f;
+  ax += linkedPart(m, 0, w_lo.x * (x - x_lo.x));
+  ax += linkedPart(m, 1, w_hi.x * (x - x_hi.x));
+  ax += linkedPart(m, 2, w_lo.y * (x - x_lo.y));
+  ax += linkedPart(m, 3, w_hi.y * (x - x_hi.y));
+  ax += linkedPart(m, 4, w_lo.z * (x - x_lo.z));
+  ax += linkedPart(m, 5, w_hi.z * (x - x_hi.z));
+  return ax;
+}
+
+// b - A x at one cell (operatorAt), 0 in a solid cell.
+float residualAt(uint m, vec3 w_lo, vec3 w_hi, float x, vec3 x_lo, vec3 x_hi, float b) {
+  return (m & NB_SOLID) != 0u ? 0.0f : b - operatorAt(m, w_lo, w_hi, x, x_lo, x_hi);
+}
 
 // Trilinear interpolation of image IMG (SIZE texels) at texel-space position t (texel centres
 // at integer t), clamped to the edge: the value texture() gives with GL_LINEAR and

@@ -12,17 +12,8 @@ IMAGE_WO(r32f, 0, u_out);
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  uint m = imageLoad(u_mask, c).x;
-  if ((m & NB_SOLID) != 0u) {
-    imageStore(u_out, c, vec4(0.0f));
-    return;
-  }
-  float x = imageLoad(u_x, c).x;
-  float w[6];
-  FACE_OPEN_ALL(u_faces, c, w);
-  float ax = (m & NB_OPEN_TOP) != 0u ? w[5] * x : 0.0f;  // sum of differences: no cancellation
-  UNROLL for (int d = 0; d < 6; ++d) {
-    if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).x);
-  }
-  imageStore(u_out, c, vec4(imageLoad(u_b, c).x - ax));
+  FACE_OPEN_LO_HI(u_faces, c, w_lo, w_hi);
+  NEIGHBOURS_LO_HI(u_x, c, x_lo, x_hi);
+  float r = residualAt(imageLoad(u_mask, c).x, w_lo, w_hi, imageLoad(u_x, c).x, x_lo, x_hi, imageLoad(u_b, c).x);
+  imageStore(u_out, c, vec4(r));
 }

@@ -15,6 +15,16 @@ IMAGE_WO(r32f, 0, u_coarse_b);
 UNIFORM(ivec3, u_fine_size);  // fine cells per axis
 UNIFORM(float, u_scale);      // coarse operator scaling (see MultigridVCycle::kCoarseScale)
 
+// The fine residual b - A x at fine cell c (residualAt: 0 in a solid cell).
+float fineResidual(ivec3 c) {
+  FACE_OPEN_LO_HI(u_faces, c, w_lo, w_hi);
+  NEIGHBOURS_LO_HI(u_x, c, x_lo, x_hi);
+  return residualAt(imageLoad(u_mask, c).x, w_lo, w_hi, imageLoad(u_x, c).x, x_lo, x_hi, imageLoad(u_b, c).x);
+}
+
+// A coarse cell's sum of its children's residuals, children in the order of o's bits (x, y, z),
+// those past the fine grid left out: the CPU's row loop (cpu/kernels/mg_residual_restrict.cpp)
+// adds them in this order too.
 void main() {
   ivec3 C = ivec3(gl_GlobalInvocationID);
   if (!inGrid(C)) return;
@@ -22,16 +32,7 @@ void main() {
   UNROLL for (int o = 0; o < 8; ++o) {
     ivec3 c = 2 * C + ivec3(o & 1, (o >> 1) & 1, (o >> 2) & 1);
     if (any(greaterThanEqual(c, u_fine_size))) continue;
-    uint m = imageLoad(u_mask, c).x;
-    if ((m & NB_SOLID) != 0u) continue;
-    float x = imageLoad(u_x, c).x;
-    float w[6];
-    FACE_OPEN_ALL(u_faces, c, w);
-    float ax = (m & NB_OPEN_TOP) != 0u ? w[5] * x : 0.0f;
-    UNROLL for (int d = 0; d < 6; ++d) {
-      if (((m >> uint(d)) & 1u) != 0u) ax += w[d] * (x - imageLoad(u_x, c + NEIGHBOUR[d]).x);
-    }
-    sum += imageLoad(u_b, c).x - ax;
+    sum += fineResidual(c);
   }
   imageStore(u_coarse_b, C, vec4(u_scale * sum));
 }

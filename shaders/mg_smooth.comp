@@ -27,9 +27,6 @@ IMAGE_RO(r32f, 3, u_coarse_x);
 UNIFORM(int, u_colour);      // 0 or 1
 UNIFORM(int, u_zero_guess);  // 1: x starts at 0, so the other colour's values are taken as 0
 
-// A face's part of a sum: v where mask m links face d, else 0.
-float linkedPart(uint m, int d, float v) { return ((m >> uint(d)) & 1u) != 0u ? v : 0.0f; }
-
 // One cell's new x from its loaded neighbourhood: m its mask; w_lo, w_hi the open fractions of its
 // -x, -y, -z and +x, +y, +z faces; x_lo, x_hi its neighbours' x across them (any value where m has
 // no link: it is not used); b its right-hand side. Branch-free and on vectors, so the CPU's row

@@ -11,25 +11,26 @@ IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
 IMAGE_WO(r32f, 0, u_q);
 BUFFER_WO(Partials, vec4, 0, partials);
 
+// One cell's q = A s (operatorAt; 0 in a solid cell) and its part of s.q (0 in a solid cell).
+vec2 appliedValues(uint m, vec3 w_lo, vec3 w_hi, float s, vec3 s_lo, vec3 s_hi) {
+  bool solid = (m & NB_SOLID) != 0u;
+  float q = solid ? 0.0f : operatorAt(m, w_lo, w_hi, s, s_lo, s_hi);
+  return vec2(q, solid ? 0.0f : s * q);
+}
+
+// The row's cells in order, their parts of s.q summed in that order (cpu/kernels/pcg_apply.cpp
+// sums in it too).
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
   vec4 acc = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    uint m = imageLoad(u_nbmask, c).x;
-    float q = 0.0f;
-    if ((m & NB_SOLID) == 0u) {
-      float s = imageLoad(u_s, c).x;
-      float w[6];
-      FACE_OPEN_ALL(u_face_open, c, w);
-      q = (m & NB_OPEN_TOP) != 0u ? w[5] * s : 0.0f;
-      UNROLL for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) q += w[d] * (s - imageLoad(u_s, c + NEIGHBOUR[d]).x);
-      }
-      acc.x += s * q;
-    }
-    imageStore(u_q, c, vec4(q));
+    FACE_OPEN_LO_HI(u_face_open, c, w_lo, w_hi);
+    NEIGHBOURS_LO_HI(u_s, c, s_lo, s_hi);
+    vec2 v = appliedValues(imageLoad(u_nbmask, c).x, w_lo, w_hi, imageLoad(u_s, c).x, s_lo, s_hi);
+    imageStore(u_q, c, vec4(v.x));
+    acc.x += v.y;
   }
   partials[row.x + u_res.y * row.y] = acc;
 }

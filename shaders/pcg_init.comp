@@ -17,6 +17,22 @@ IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
 IMAGE_WO(r32f, 0, u_r);
 BUFFER_WO(Partials, vec4, 0, partials);
 
+// One cell's starting residual r = b - A p with b = -rhs (0 in a solid cell), and its parts of
+// the row's sums: (r, 1, r r, b b) into `sums`, (b r, Ap Ap, b Ap, 0) into `sums_ap` (0 in a
+// solid cell).
+float startValues(uint m, vec3 w_lo, vec3 w_hi, float p, vec3 p_lo, vec3 p_hi, float rhs, OUT(vec4) sums,
+                  OUT(vec4) sums_ap) {
+  bool solid = (m & NB_SOLID) != 0u;
+  float ap = operatorAt(m, w_lo, w_hi, p, p_lo, p_hi);
+  float b = -rhs;
+  float r = solid ? 0.0f : b - ap;
+  sums = solid ? vec4(0.0f) : vec4(r, 1.0f, r * r, b * b);
+  sums_ap = solid ? vec4(0.0f) : vec4(b * r, ap * ap, b * ap, 0.0f);
+  return r;
+}
+
+// The row's cells in order, their parts summed in that order (cpu/kernels/pcg_init.cpp sums in
+// it too).
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
@@ -24,21 +40,14 @@ void main() {
   vec4 acc_ap = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    uint m = imageLoad(u_nbmask, c).x;
-    float r = 0.0f;
-    if ((m & NB_SOLID) == 0u) {
-      float p = imageLoad(u_pressure, c).x;
-      float w[6];
-      FACE_OPEN_ALL(u_face_open, c, w);
-      float ap = (m & NB_OPEN_TOP) != 0u ? w[5] * p : 0.0f;  // differences, not n p - sum: exact near 0
-      UNROLL for (int d = 0; d < 6; ++d) {
-        if (((m >> uint(d)) & 1u) != 0u) ap += w[d] * (p - imageLoad(u_pressure, c + NEIGHBOUR[d]).x);
-      }
-      float b = -imageLoad(u_rhs, c).x;
-      r = b - ap;
-      acc += vec4(r, 1.0f, r * r, b * b);
-      acc_ap += vec4(b * r, ap * ap, b * ap, 0.0f);
-    }
+    FACE_OPEN_LO_HI(u_face_open, c, w_lo, w_hi);
+    NEIGHBOURS_LO_HI(u_pressure, c, p_lo, p_hi);
+    vec4 sums;
+    vec4 sums_ap;
+    float r = startValues(imageLoad(u_nbmask, c).x, w_lo, w_hi, imageLoad(u_pressure, c).x, p_lo, p_hi,
+                          imageLoad(u_rhs, c).x, sums, sums_ap);
+    acc += sums;
+    acc_ap += sums_ap;
     imageStore(u_r, c, vec4(r));
   }
   partials[row.x + u_res.y * row.y] = acc;

@@ -16,9 +16,9 @@ float centredU(ivec3 c) { c = clampCell(c); return 0.5f * (imageLoad(u_vel_x, c)
 float centredV(ivec3 c) { c = clampCell(c); return 0.5f * (imageLoad(u_vel_y, c).x + imageLoad(u_vel_y, c + ivec3(0, 1, 0)).x); }
 float centredW(ivec3 c) { c = clampCell(c); return 0.5f * (imageLoad(u_vel_z, c).x + imageLoad(u_vel_z, c + ivec3(0, 0, 1)).x); }
 
-void main() {
-  ivec3 c = ivec3(gl_GlobalInvocationID);
-  if (!inGrid(c)) return;
+// The vorticity at cell c and its magnitude. Its lookups are clamped to the grid, so the CPU's
+// row loop (cpu/kernels/vorticity.cpp) runs it unchecked and vectorized.
+vec4 vorticityAt(ivec3 c) {
   // Central differences inside, one-sided at the walls (divided by the cells actually spanned).
   ivec3 hi = clampCell(c + 1);
   ivec3 lo = clampCell(c - 1);
@@ -33,5 +33,11 @@ void main() {
   float du_dz = (centredU(zh) - centredU(zl)) / span.z;
   float dv_dz = (centredV(zh) - centredV(zl)) / span.z;
   vec3 w = vec3(dw_dy - dv_dz, du_dz - dw_dx, dv_dx - du_dy);
-  imageStore(u_vorticity, c, vec4(w, length(w)));
+  return vec4(w, length(w));
+}
+
+void main() {
+  ivec3 c = ivec3(gl_GlobalInvocationID);
+  if (!inGrid(c)) return;
+  imageStore(u_vorticity, c, vorticityAt(c));
 }

@@ -12,6 +12,7 @@
 //     the runner proves every access in range (KU: the shader built with glsl::UncheckedImage);
 //   - a runner of the kernel's own, where the shader needs workgroup barriers or where a row loop
 //     runs the shader's per-cell functions faster (its file says why).
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <memory>
@@ -98,11 +99,12 @@ void runBest(bool x86_v3, const F& f) {
 inline constexpr long long kSerialInvocations = 65536;
 
 // Calls row(y, z) for every row of the dispatch box `n` (or, for a single long row, chunk(x0,
-// x1)), split over the pool's threads.
+// x1)), split over the pool's threads. `cells_per_invocation`: the cells one invocation works on
+// (1, or a row stage's row length: RowLoopRunner), what the serial threshold counts.
 template <class Row, class Chunk>
-void forRows(const glm::ivec3& n, ThreadPool& pool, Row&& row, Chunk&& chunk) {
+void forRows(const glm::ivec3& n, ThreadPool& pool, Row&& row, Chunk&& chunk, long long cells_per_invocation = 1) {
   const int rows = n.y * n.z;
-  const long long total = static_cast<long long>(n.x) * rows;
+  const long long total = static_cast<long long>(n.x) * rows * cells_per_invocation;
   if (rows == 1 && total >= kSerialInvocations) {  // one long row (per vertex, per triangle)
     pool.parallelFor(n.x, chunk);
     return;
@@ -122,7 +124,8 @@ void forRows(const glm::ivec3& n, ThreadPool& pool, Row&& row, Chunk&& chunk) {
 // thread runs a copy k of the kernel: its bound images and uniforms are then locals the compiler
 // can keep in registers.
 template <class K, class Row>
-void forEachRow(const glm::ivec3& n, ThreadPool& pool, bool x86_v3, const K& kernel, const Row& row) {
+void forEachRow(const glm::ivec3& n, ThreadPool& pool, bool x86_v3, const K& kernel, const Row& row,
+                long long cells_per_invocation = 1) {
   forRows(
       n, pool,
       [&](int y, int z) {
@@ -136,7 +139,8 @@ void forEachRow(const glm::ivec3& n, ThreadPool& pool, bool x86_v3, const K& ker
           K k(kernel);
           row(k, 0, 0, x0, x1);
         });
-      });
+      },
+      cells_per_invocation);
 }
 
 template <class K>
@@ -167,6 +171,29 @@ class InvocationRunner final : public CpuKernel {
 
 template <class KU>
 using UncheckedRunner = InvocationRunner<KU>;
+
+// UncheckedRunner for a row stage (fluid/row_reduction.h: LOCAL_SIZE(ROW_X, ROW_Y, 1), one
+// invocation per row of u_res.x cells, the row's sum in order into partials[]): the same, but
+// the serial threshold counts cells, so the seed grid's 7000 rows of 100 cells run on every
+// thread (counted as invocations they ran on one). The partials do not depend on the split.
+template <class KU>
+class RowLoopRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    forEachRow(
+        n, pool, bindings.x86_v3, kernel_,
+        [](KU& k, int y, int z, int x0, int x1) {
+          glsl::Invocation inv;
+          for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, y, z);
+        },
+        std::max(1, kernel_.u_res.x));
+  }
+
+ private:
+  KernelSlots slots_;
+  KU kernel_{&slots_};
+};
 
 // The same main() built twice from the shader: K bounds-tested, KU (glsl::UncheckedImage) not.
 // Invocations at least one from every face of the dispatch box run KU, the shell around them K:

@@ -23,6 +23,7 @@
 #define CONST static constexpr
 #define UNROLL _Pragma("GCC unroll 8")
 #define OUT(T) T&
+#define INOUT(T) T&
 // main() takes its invocation; the built-ins read from it.
 #define main() hf_main(const ::hf::cpu::glsl::Invocation& hf_invocation)
 #define gl_GlobalInvocationID (hf_invocation.global_id)

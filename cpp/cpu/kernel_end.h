@@ -15,6 +15,7 @@
 #undef CONST
 #undef UNROLL
 #undef OUT
+#undef INOUT
 #undef main
 #undef gl_GlobalInvocationID
 #undef gl_LocalInvocationID

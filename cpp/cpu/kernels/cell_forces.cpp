@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/cell_forces.comp built as C++ (cpu/kernel.h).
-// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
-// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// shaders/cell_forces.comp built as C++ (cpu/kernel.h), run by a row loop (SimdRowRunner) over the
+// shader's branch-free cellForce, which GCC vectorizes. Its lookups are clamped to the grid
+// (clampCell), so every access is in range and the loop runs the unchecked build.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -10,16 +9,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct CellForces : KernelBase {
-  using KernelBase::KernelBase;
-#include "common.glsl"
-#include "cell_forces.comp"
-};
-
 #undef HF_IMAGE
 #define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
 
-struct CellForcesUnchecked : KernelBase {
+struct CellForces : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "cell_forces.comp"
@@ -30,9 +23,18 @@ struct CellForcesUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addCellForces(KernelRegistry& r) {
-  r.add<InteriorRunner<CellForces, CellForcesUnchecked>>("cell_forces.comp", {});
-}
+struct CellForcesRow {
+  static glm::ivec3 box(CellForces& k, const glm::ivec3& n) { return glm::min(n, k.u_res); }
+  void operator()(CellForces& k, int x, int y, int z) const {
+    const glm::ivec3 c(x, y, z);
+    glsl::imageStore(k.u_force, c, glm::vec4(k.cellForce(c), 0.0f));
+  }
+};
+
+}  // namespace
+
+void addCellForces(KernelRegistry& r) { r.add<SimdRowRunner<CellForces, CellForcesRow>>("cell_forces.comp", {}); }
 
 }  // namespace hf::cpu::kernels

@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/pcg_apply.comp built as C++ (cpu/kernel.h).
-// Every access is in range by the shader's own construction (clamped coordinates; or a loop
-// over its row of the grid that reads neighbours only across linked faces), so it runs
-// unchecked (UncheckedRunner).
+// shaders/pcg_apply.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage:
+// one invocation per row of cells, run on every thread as RowLoopRunner does). The shader's
+// appliedValues gives every cell's q = A s and its part of s.q, vectorized over the row
+// (cpu/kernels/pressure_row.h says why its loads need no bounds tests); the parts are then
+// added in the row's order, as the shader adds them, so the sum has the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
+
+#include <vector>
+
+#include "cpu/kernels/pressure_row.h"
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -24,9 +29,51 @@ struct PcgApplyUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addPcgApply(KernelRegistry& r) {
-  r.add<UncheckedRunner<PcgApplyUnchecked>>("pcg_apply.comp", {});
-}
+using K = PcgApplyUnchecked;
+
+class ApplyRows final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 res = kernel_.u_res;
+    constexpr const char* stage = "pcg_apply";
+    checkBound(kernel_.u_s, res, stage, "s");
+    checkBound(kernel_.u_q, res, stage, "q");
+    checkBound(kernel_.u_nbmask, res, stage, "nbmask");
+    checkBound(kernel_.u_face_open, res + 1, stage, "face_open");
+    forRows(
+        glm::ivec3(1, res.y, res.z), pool, [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res); }); },
+        [](int, int) {}, res.x);
+  }
+
+ private:
+  // (always_inline: flattened into each instruction set's build by runBest.)
+  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res) const {
+    K k(kernel_);
+    thread_local std::vector<float> parts;
+    parts.resize(static_cast<std::size_t>(res.x));
+    float* __restrict part = parts.data();
+    const PressureRow s(k.u_nbmask, k.u_face_open, k.u_s, res, y, z);
+    float* __restrict q = static_cast<float*>(k.u_q.data) + s.cell(0);
+#pragma omp simd
+    for (int i = 0; i < res.x; ++i) {
+      const glm::vec2 v = k.appliedValues(s.mask(i), s.facesLo(i), s.facesHi(i), s.x(i), s.xLo(i), s.xHi(i));
+      q[i] = v.x;
+      part[i] = v.y;
+    }
+    float acc = 0.0f;
+    for (int i = 0; i < res.x; ++i) acc += part[i];
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = glm::vec4(acc, 0.0f, 0.0f, 0.0f);
+  }
+
+  KernelSlots slots_;
+  K kernel_{&slots_};
+};
+
+}  // namespace
+
+void addPcgApply(KernelRegistry& r) { r.add<ApplyRows>("pcg_apply.comp", {}); }
 
 }  // namespace hf::cpu::kernels

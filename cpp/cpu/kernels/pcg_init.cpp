@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/pcg_init.comp built as C++ (cpu/kernel.h).
-// Every access is in range by the shader's own construction (clamped coordinates; or a loop
-// over its row of the grid that reads neighbours only across linked faces), so it runs
-// unchecked (UncheckedRunner).
+// shaders/pcg_init.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage:
+// one invocation per row of cells, run on every thread as RowLoopRunner does). The shader's
+// startValues gives every cell's residual and its parts of the row's two sums, vectorized over
+// the row (cpu/kernels/pressure_row.h says why its loads need no bounds tests); the parts are
+// then added in the row's order, as the shader adds them, so the sums have the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
+
+#include <vector>
+
+#include "cpu/kernels/pressure_row.h"
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -24,9 +29,59 @@ struct PcgInitUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addPcgInit(KernelRegistry& r) {
-  r.add<UncheckedRunner<PcgInitUnchecked>>("pcg_init.comp", {});
-}
+using K = PcgInitUnchecked;
+
+class InitRows final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 res = kernel_.u_res;
+    constexpr const char* stage = "pcg_init";
+    checkBound(kernel_.u_pressure, res, stage, "pressure");
+    checkBound(kernel_.u_rhs, res, stage, "rhs");
+    checkBound(kernel_.u_r, res, stage, "r");
+    checkBound(kernel_.u_nbmask, res, stage, "nbmask");
+    checkBound(kernel_.u_face_open, res + 1, stage, "face_open");
+    forRows(
+        glm::ivec3(1, res.y, res.z), pool, [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res); }); },
+        [](int, int) {}, res.x);
+  }
+
+ private:
+  // (always_inline: flattened into each instruction set's build by runBest.)
+  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res) const {
+    K k(kernel_);
+    thread_local std::vector<glm::vec4> parts;
+    parts.resize(static_cast<std::size_t>(2 * res.x));
+    glm::vec4* __restrict sums = parts.data();
+    glm::vec4* __restrict sums_ap = sums + res.x;
+    const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
+    const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + p.cell(0);
+    float* __restrict r = static_cast<float*>(k.u_r.data) + p.cell(0);
+#pragma omp simd
+    for (int i = 0; i < res.x; ++i) {
+      r[i] = k.startValues(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], sums[i],
+                           sums_ap[i]);
+    }
+    glm::vec4 acc(0.0f), acc_ap(0.0f);
+    for (int i = 0; i < res.x; ++i) {
+      acc += sums[i];
+      acc_ap += sums_ap[i];
+    }
+    const std::size_t rows = static_cast<std::size_t>(res.y) * static_cast<std::size_t>(res.z);
+    const std::size_t at = static_cast<std::size_t>(y + res.y * z);
+    k.partials[at] = acc;
+    k.partials[rows + at] = acc_ap;
+  }
+
+  KernelSlots slots_;
+  K kernel_{&slots_};
+};
+
+}  // namespace
+
+void addPcgInit(KernelRegistry& r) { r.add<InitRows>("pcg_init.comp", {}); }
 
 }  // namespace hf::cpu::kernels

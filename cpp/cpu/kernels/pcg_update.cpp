@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_update.comp built as C++ (cpu/kernel.h).
-// Every access is in range by the shader's own construction (clamped coordinates; or a loop
-// over its row of the grid that reads neighbours only across linked faces), so it runs
-// unchecked (UncheckedRunner).
+// A row stage: every access is in range by the shader's own construction (a loop over its row
+// of the grid that reads neighbours only across linked faces), so it runs unchecked, its rows
+// over every thread (RowLoopRunner).
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -26,7 +26,7 @@ struct PcgUpdateUnchecked : KernelBase {
 namespace hf::cpu::kernels {
 
 void addPcgUpdate(KernelRegistry& r) {
-  r.add<UncheckedRunner<PcgUpdateUnchecked>>("pcg_update.comp", {});
+  r.add<RowLoopRunner<PcgUpdateUnchecked>>("pcg_update.comp", {});
 }
 
 }  // namespace hf::cpu::kernels

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/vorticity.comp built as C++ (cpu/kernel.h).
-// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
-// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// shaders/vorticity.comp built as C++ (cpu/kernel.h), run by a row loop (SimdRowRunner) over the
+// shader's branch-free vorticityAt, which GCC vectorizes. Its lookups are clamped to the grid
+// (clampCell), so every access is in range and the loop runs the unchecked build.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
@@ -10,16 +9,10 @@ namespace hf::cpu::kernels {
 namespace {
 using namespace ::hf::cpu::glsl;
 
-struct Vorticity : KernelBase {
-  using KernelBase::KernelBase;
-#include "common.glsl"
-#include "vorticity.comp"
-};
-
 #undef HF_IMAGE
 #define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
 
-struct VorticityUnchecked : KernelBase {
+struct Vorticity : KernelBase {
   using KernelBase::KernelBase;
 #include "common.glsl"
 #include "vorticity.comp"
@@ -30,9 +23,18 @@ struct VorticityUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addVorticity(KernelRegistry& r) {
-  r.add<InteriorRunner<Vorticity, VorticityUnchecked>>("vorticity.comp", {});
-}
+struct VorticityRow {
+  static glm::ivec3 box(Vorticity& k, const glm::ivec3& n) { return glm::min(n, k.u_res); }
+  void operator()(Vorticity& k, int x, int y, int z) const {
+    const glm::ivec3 c(x, y, z);
+    glsl::imageStore(k.u_vorticity, c, glm::vec4(k.vorticityAt(c)));
+  }
+};
+
+}  // namespace
+
+void addVorticity(KernelRegistry& r) { r.add<SimdRowRunner<Vorticity, VorticityRow>>("vorticity.comp", {}); }
 
 }  // namespace hf::cpu::kernels

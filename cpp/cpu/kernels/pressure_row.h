@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// One row of cells of the pressure operator (common.glsl's operatorAt and residualAt) as arrays,
+// for the row loops of the stages that call them (mg_residual_restrict, pcg_init, pcg_apply): a
+// cell's mask, its six faces' open fractions (an RGBA32F texture keeps its channels as planes)
+// and its neighbours' values are loaded by index, so a loop over the row vectorizes. A load one
+// cell past the grid lands in the texture's guard band (cpu/cpu_device.cpp) and is not used:
+// the cell has no link there, and operatorAt reads only linked neighbours' values.
+#include <cstdint>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "common/error.h"
+#include "cpu/glsl.h"
+
+namespace hf::cpu::kernels {
+
+// Throws hf::Error naming the stage and the image when `image` is not bound at `want` texels.
+inline void checkBound(const ImageBinding& image, const glm::ivec3& want, const char* stage, const char* name) {
+  if (image.data == nullptr || image.size != want) {
+    throw Error(std::string(stage) + ": image " + name + " is not bound at the grid's size");
+  }
+}
+
+class PressureRow {
+ public:
+  // Row (y, z) of a grid of `res` cells: its mask, face fractions (res + 1 texels) and values x.
+  PressureRow(const ImageBinding& mask, const ImageBinding& faces, const ImageBinding& x, const glm::ivec3& res, int y,
+              int z)
+      : mask_(static_cast<const std::uint8_t*>(mask.data)),
+        fx_(static_cast<const float*>(faces.data)),
+        fy_(fx_ + faces.plane),
+        fz_(fx_ + 2 * faces.plane),
+        x_(static_cast<const float*>(x.data)),
+        sy_(res.x),
+        sz_(res.x * res.y),
+        fsy_(res.x + 1),
+        fsz_((res.x + 1) * (res.y + 1)),
+        cell_(y * sy_ + z * sz_),
+        face_(y * fsy_ + z * fsz_) {}
+
+  // The index of the row's cell i in a texture of the grid's size.
+  int cell(int i) const { return cell_ + i; }
+  float x(int i) const { return x_[cell_ + i]; }
+  std::uint32_t mask(int i) const { return mask_[cell_ + i]; }
+  glm::vec3 facesLo(int i) const {
+    const int f = face_ + i;
+    return glm::vec3(fx_[f], fy_[f], fz_[f]);
+  }
+  glm::vec3 facesHi(int i) const {
+    const int f = face_ + i;
+    return glm::vec3(fx_[f + 1], fy_[f + fsy_], fz_[f + fsz_]);
+  }
+  glm::vec3 xLo(int i) const {
+    const int c = cell_ + i;
+    return glm::vec3(x_[c - 1], x_[c - sy_], x_[c - sz_]);
+  }
+  glm::vec3 xHi(int i) const {
+    const int c = cell_ + i;
+    return glm::vec3(x_[c + 1], x_[c + sy_], x_[c + sz_]);
+  }
+
+ private:
+  const std::uint8_t* __restrict mask_;
+  const float* __restrict fx_;
+  const float* __restrict fy_;
+  const float* __restrict fz_;
+  const float* __restrict x_;
+  int sy_, sz_, fsy_, fsz_, cell_, face_;
+};
+
+}  // namespace hf::cpu::kernels
