@@ -12,15 +12,19 @@ UNIFORM(uint, u_slot_new);  // results[u_slot_new].x = r.z of this iteration
 UNIFORM(uint, u_slot_old);  // results[u_slot_old].x = r.z of the previous one
 UNIFORM(int, u_first);      // 1: s = z
 
+// Cell c's new direction s = z + beta s (s = z on the first iteration), 0 in a solid cell.
+// Branch-free (both values loaded, then chosen), so the CPU's row loop vectorizes it.
+float newDirection(ivec3 c) {
+  float old_rz = results[u_slot_old].x;
+  float beta = (u_first != 0 || old_rz <= 0.0f) ? 0.0f : results[u_slot_new].x / old_rz;
+  float s_old = imageLoad(u_s, c).x;
+  float s = u_first != 0 ? 0.0f : s_old;
+  float z = imageLoad(u_z, c).x;
+  return (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u ? 0.0f : z + beta * s;
+}
+
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  if ((imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) {
-    imageStore(u_s, c, vec4(0.0f));
-    return;
-  }
-  float old_rz = results[u_slot_old].x;
-  float beta = (u_first != 0 || old_rz <= 0.0f) ? 0.0f : results[u_slot_new].x / old_rz;
-  float s = u_first != 0 ? 0.0f : imageLoad(u_s, c).x;
-  imageStore(u_s, c, vec4(imageLoad(u_z, c).x + beta * s));
+  imageStore(u_s, c, vec4(newDirection(c)));
 }

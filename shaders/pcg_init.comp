@@ -17,18 +17,21 @@ IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
 IMAGE_WO(r32f, 0, u_r);
 BUFFER_WO(Partials, vec4, 0, partials);
 
-// One cell's starting residual r = b - A p with b = -rhs (0 in a solid cell), and its parts of
-// the row's sums: (r, 1, r r, b b) into `sums`, (b r, Ap Ap, b Ap, 0) into `sums_ap` (0 in a
-// solid cell).
-float startValues(uint m, vec3 w_lo, vec3 w_hi, float p, vec3 p_lo, vec3 p_hi, float rhs, OUT(vec4) sums,
-                  OUT(vec4) sums_ap) {
+// One cell's starting residual r = b - A p with b = -rhs (0 in a solid cell); b and A p go out
+// for the sums (addStartSums).
+float startResidual(uint m, vec3 w_lo, vec3 w_hi, float p, vec3 p_lo, vec3 p_hi, float rhs, OUT(float) b,
+                    OUT(float) ap) {
+  ap = operatorAt(m, w_lo, w_hi, p, p_lo, p_hi);
+  b = -rhs;
+  return (m & NB_SOLID) != 0u ? 0.0f : b - ap;
+}
+
+// A cell's parts of the row's sums: (r, 1, r r, b b) into acc, (b r, Ap Ap, b Ap, 0) into acc_ap;
+// nothing from a solid cell (adding 0 is exact).
+void addStartSums(INOUT(vec4) acc, INOUT(vec4) acc_ap, uint m, float r, float b, float ap) {
   bool solid = (m & NB_SOLID) != 0u;
-  float ap = operatorAt(m, w_lo, w_hi, p, p_lo, p_hi);
-  float b = -rhs;
-  float r = solid ? 0.0f : b - ap;
-  sums = solid ? vec4(0.0f) : vec4(r, 1.0f, r * r, b * b);
-  sums_ap = solid ? vec4(0.0f) : vec4(b * r, ap * ap, b * ap, 0.0f);
-  return r;
+  acc += solid ? vec4(0.0f) : vec4(r, 1.0f, r * r, b * b);
+  acc_ap += solid ? vec4(0.0f) : vec4(b * r, ap * ap, b * ap, 0.0f);
 }
 
 // The row's cells in order, their parts summed in that order (cpu/kernels/pcg_init.cpp sums in
@@ -42,12 +45,11 @@ void main() {
     ivec3 c = ivec3(i, row);
     FACE_OPEN_LO_HI(u_face_open, c, w_lo, w_hi);
     NEIGHBOURS_LO_HI(u_pressure, c, p_lo, p_hi);
-    vec4 sums;
-    vec4 sums_ap;
-    float r = startValues(imageLoad(u_nbmask, c).x, w_lo, w_hi, imageLoad(u_pressure, c).x, p_lo, p_hi,
-                          imageLoad(u_rhs, c).x, sums, sums_ap);
-    acc += sums;
-    acc_ap += sums_ap;
+    uint m = imageLoad(u_nbmask, c).x;
+    float b;
+    float ap;
+    float r = startResidual(m, w_lo, w_hi, imageLoad(u_pressure, c).x, p_lo, p_hi, imageLoad(u_rhs, c).x, b, ap);
+    addStartSums(acc, acc_ap, m, r, b, ap);
     imageStore(u_r, c, vec4(r));
   }
   partials[row.x + u_res.y * row.y] = acc;

@@ -23,31 +23,38 @@ UNIFORM(float, u_decay2);  // heat's
 // is `target` and whose advected sums are s (total, rise room, fall room).
 vec2 fractions(float target, vec4 s) {
   float deficit = target - s.x;
-  if (deficit > 0.0f && s.y > 0.0f) return vec2(min(deficit / s.y, 1.0f), 0.0f);
-  if (deficit < 0.0f && s.z > 0.0f) return vec2(0.0f, min(-deficit / s.z, 1.0f));
-  return vec2(0.0f);
+  bool up = deficit > 0.0f && s.y > 0.0f;
+  bool down = deficit < 0.0f && s.z > 0.0f;
+  float f_up = min(deficit / (up ? s.y : 1.0f), 1.0f);
+  float f_down = min(-deficit / (down ? s.z : 1.0f), 1.0f);
+  return vec2(up ? f_up : 0.0f, down ? f_down : 0.0f);  // deficit's sign makes them exclusive
+}
+
+// Cell c's corrected (smoke, heat). Branch-free (every neighbour loaded, the linked ones taken),
+// so the CPU's row loop (cpu/kernels/scalar_correct.cpp) vectorizes it.
+vec2 correctedValues(ivec3 c) {
+  vec2 v = vec2(imageLoad(u_density, c).x, imageLoad(u_temperature, c).x);
+  uint nb = imageLoad(u_nbmask, c).x;
+  vec4 before = results[0];
+  vec2 fd = fractions((before.x - before.z) * u_decay, results[1]);
+  vec2 ft = fractions((before.y - before.w) * u_decay2, results[2]);
+  vec2 hi = v;
+  vec2 lo = v;
+  UNROLL for (int n = 0; n < 6; ++n) {
+    ivec3 q = c + NEIGHBOUR[n];
+    vec2 w = vec2(imageLoad(u_density, q).x, imageLoad(u_temperature, q).x);
+    bool linked = (nb & (1u << uint(n))) != 0u;
+    hi = linked ? max(hi, w) : hi;
+    lo = linked ? min(lo, w) : lo;
+  }
+  vec2 corrected = v + vec2(fd.x, ft.x) * (hi - v) - vec2(fd.y, ft.y) * (v - lo);
+  return (nb & NB_SOLID) != 0u ? v : corrected;
 }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  vec2 v = vec2(imageLoad(u_density, c).x, imageLoad(u_temperature, c).x);
-  uint nb = imageLoad(u_nbmask, c).x;
-  if ((nb & NB_SOLID) == 0u) {
-    vec4 before = results[0];
-    vec2 fd = fractions((before.x - before.z) * u_decay, results[1]);
-    vec2 ft = fractions((before.y - before.w) * u_decay2, results[2]);
-    vec2 hi = v;
-    vec2 lo = v;
-    for (int n = 0; n < 6; ++n) {
-      if ((nb & (1u << uint(n))) == 0u) continue;
-      ivec3 q = c + NEIGHBOUR[n];
-      vec2 w = vec2(imageLoad(u_density, q).x, imageLoad(u_temperature, q).x);
-      hi = max(hi, w);
-      lo = min(lo, w);
-    }
-    v += vec2(fd.x, ft.x) * (hi - v) - vec2(fd.y, ft.y) * (v - lo);
-  }
+  vec2 v = correctedValues(c);
   imageStore(u_density_out, c, vec4(v.x));
   imageStore(u_temperature_out, c, vec4(v.y));
 }

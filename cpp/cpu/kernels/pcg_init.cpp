@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_init.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage:
 // one invocation per row of cells, run on every thread as RowLoopRunner does). The shader's
-// startValues gives every cell's residual and its parts of the row's two sums, vectorized over
-// the row (cpu/kernels/pressure_row.h says why its loads need no bounds tests); the parts are
-// then added in the row's order, as the shader adds them, so the sums have the GPU's bits.
+// startResidual gives every cell's residual, vectorized over the row (cpu/kernels/pressure_row.h
+// says why its loads need no bounds tests); its addStartSums then adds the cells' parts in the
+// row's order, as the shader adds them, so the sums have the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
 
 #include <vector>
@@ -53,23 +53,19 @@ class InitRows final : public CpuKernel {
   // (always_inline: flattened into each instruction set's build by runBest.)
   __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res) const {
     K k(kernel_);
-    thread_local std::vector<glm::vec4> parts;
+    thread_local std::vector<float> parts;
     parts.resize(static_cast<std::size_t>(2 * res.x));
-    glm::vec4* __restrict sums = parts.data();
-    glm::vec4* __restrict sums_ap = sums + res.x;
+    float* __restrict bs = parts.data();
+    float* __restrict aps = bs + res.x;
     const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + p.cell(0);
     float* __restrict r = static_cast<float*>(k.u_r.data) + p.cell(0);
 #pragma omp simd
     for (int i = 0; i < res.x; ++i) {
-      r[i] = k.startValues(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], sums[i],
-                           sums_ap[i]);
+      r[i] = k.startResidual(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
     }
     glm::vec4 acc(0.0f), acc_ap(0.0f);
-    for (int i = 0; i < res.x; ++i) {
-      acc += sums[i];
-      acc_ap += sums_ap[i];
-    }
+    for (int i = 0; i < res.x; ++i) k.addStartSums(acc, acc_ap, p.mask(i), r[i], bs[i], aps[i]);
     const std::size_t rows = static_cast<std::size_t>(res.y) * static_cast<std::size_t>(res.z);
     const std::size_t at = static_cast<std::size_t>(y + res.y * z);
     k.partials[at] = acc;
