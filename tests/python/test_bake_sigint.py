@@ -7,6 +7,7 @@ is written, or while the process is already winding down after the first one."""
 import json
 import os
 import random
+import shutil
 import signal
 import subprocess
 import sys
@@ -38,7 +39,7 @@ def start_bake(tmp_path, name):
     scene_file.write_text(json.dumps(scene(tmp_path / name)))
     out = open(tmp_path / f"{name}.out", "w+")
     err = open(tmp_path / f"{name}.err", "w+")
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONFAULTHANDLER="1")
     proc = subprocess.Popen([sys.executable, "-m", "hapticfluid", "bake", str(scene_file), "--quiet"],
                             stdout=out, stderr=err, env=env)
     deadline = time.monotonic() + 120
@@ -55,9 +56,32 @@ def start_bake(tmp_path, name):
     return proc, out, err
 
 
+def stacks(pid):
+    """Every thread's native stack of a process that did not exit (gdb, where installed), and its
+    Python threads' tracebacks (faulthandler, which PYTHONFAULTHANDLER=1 arms for SIGABRT): what a
+    hang is waiting on, for the failure's message."""
+    native = "gdb not installed"
+    if shutil.which("gdb"):
+        r = subprocess.run(["gdb", "-p", str(pid), "-batch", "-ex", "thread apply all bt"], capture_output=True,
+                           text=True, timeout=120)
+        native = r.stdout[-20000:]
+    os.kill(pid, signal.SIGABRT)  # faulthandler writes the Python tracebacks to the err file, then it dies
+    return native
+
+
 def finish(proc, out, err):
-    proc.wait(timeout=120)
+    """(exit status, stdout, stderr) of the bake; one that has not exited within 120 s fails the
+    test with its stacks, killed and its files closed (nothing left running for the next test)."""
     with out, err:
+        try:
+            proc.wait(timeout=120)
+        except subprocess.TimeoutExpired:
+            native = stacks(proc.pid)
+            proc.kill()
+            proc.wait()
+            err.seek(0)
+            pytest.fail(f"the bake did not exit within 120 s of the signals\nstderr (Python tracebacks last):\n"
+                        f"{err.read()[-20000:]}\nnative stacks:\n{native}")
         out.seek(0)
         err.seek(0)
         return proc.returncode, out.read(), err.read()
@@ -111,3 +135,41 @@ def test_a_storm_of_sigints(tmp_path):
         time.sleep(0.001)
     rc, stdout, stderr = finish(proc, out, err)
     check(rc, stdout, stderr, "20 SIGINTs 1 ms apart")
+
+
+def test_a_second_signal_inside_the_first_handler_stops_at_once(monkeypatch):
+    """The handler runs between two bytecodes of the main thread, and a second signal can run it
+    again inside the first one (here: inside its message). It must neither wait on a lock (a
+    threading.Event's set() there deadlocked: found by test_two_sigints_exit_130, 1 run in about
+    300) nor raise: the second call asks for a stop at once, a third changes nothing."""
+    from hapticfluid.bake.command import _SignalStop
+
+    stop = _SignalStop()
+    nested = []
+
+    class Stderr:
+        def write(self, text):
+            if not nested:
+                nested.append(text)
+                stop.on_signal(signal.SIGINT, None)  # the second SIGINT, inside the first one's print
+            return len(text)
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(sys, "stderr", Stderr())
+    assert not stop.cancelled() and not stop.now()
+    stop.on_signal(signal.SIGINT, None)
+    assert nested and stop.cancelled() and stop.now()
+    stop.on_signal(signal.SIGTERM, None)
+    assert stop.cancelled() and stop.now()
+    stop.over = True  # the bake is over: later signals change nothing
+    stop.on_signal(signal.SIGINT, None)
+
+
+def test_the_first_signal_stops_after_the_substep_only():
+    from hapticfluid.bake.command import _SignalStop
+
+    stop = _SignalStop()
+    stop.on_signal(signal.SIGTERM, None)
+    assert stop.cancelled() and not stop.now()

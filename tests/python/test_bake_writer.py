@@ -51,6 +51,33 @@ def test_the_queue_holds_at_most_depth_frames_beside_the_one_being_written():
     assert started == [1, 2, 3]
 
 
+def test_abort_when_drops_the_frames_not_yet_being_written():
+    """The bake's 'stop at once' (a second Ctrl-C sets a flag the writer polls): the frame being
+    written lands whole, the queued one and a put that waits for room are dropped."""
+    release = threading.Event()
+    started, stop = [], []
+
+    def slow(job):
+        started.append(job.frame)
+        release.wait(30)
+
+    w = _writer.FrameWriter(slow, depth=1, abort_when=lambda: bool(stop))
+    w.put(_job(1))  # being written
+    w.put(_job(2))  # queued
+    third = threading.Thread(target=w.put, args=(_job(3),))
+    third.start()
+    third.join(0.3)
+    assert third.is_alive()  # waits for room
+    stop.append(True)
+    third.join(5)  # put sees the flag within its poll and drops frame 3
+    assert not third.is_alive()
+    release.set()
+    w.close()
+    w.check()
+    assert started == [1]
+    assert [d.frame for d in w.finished()] == [1]
+
+
 def test_ctrl_c_while_closing_aborts_but_never_leaves_the_writer_running():
     """Issue 19: Ctrl-C storms on the bake ended with 'terminate called without an active
     exception' (exit -6): a KeyboardInterrupt raised inside close() left the daemon writer in a

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import signal
 import sys
-import threading
+import itertools
 from pathlib import Path
 
 import hapticfluid as hf
@@ -63,6 +63,40 @@ def add_parser(sub, resolution_type) -> None:
     p.set_defaults(func=cmd_bake)
 
 
+class _SignalStop:
+    """What Ctrl-C (SIGINT) and SIGTERM ask of a bake: the first, stop after this substep; the
+    second, stop at once (the frames still queued for the writer are dropped; the one being
+    written lands whole); later ones, nothing more. The bake reads cancelled() and now() where
+    it waits (bake.driver), so the handler only counts: it takes no lock and raises nothing. A
+    handler runs between two bytecodes of the main thread, wherever they are, and a second
+    signal can run it again inside the first: a threading.Event's set() there deadlocked on its
+    own lock (two SIGINTs at once), and a KeyboardInterrupt raised there can leave a queue's lock
+    held. next() on the counter is one C call, so two nested handlers still get 0 and 1."""
+
+    def __init__(self) -> None:
+        self._signals = itertools.count()
+        self._after_substep = False  # each flag is written by one handler call alone
+        self._at_once = False
+        self.over = False  # the bake has returned or raised: a signal now changes nothing
+
+    def on_signal(self, signum, _frame) -> None:
+        if self.over:
+            return
+        n = next(self._signals)
+        if n == 0:
+            self._after_substep = True
+            print(f"\nbake: {signal.Signals(signum).name}: stopping after this substep "
+                  "(again to stop at once)", file=sys.stderr, flush=True)
+        elif n == 1:
+            self._at_once = True  # no print: it could land inside the first one's (a reentrant write)
+
+    def cancelled(self) -> bool:
+        return self._after_substep or self._at_once
+
+    def now(self) -> bool:
+        return self._at_once
+
+
 def cmd_bake(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     if args.resolution is not None:
@@ -78,23 +112,8 @@ def cmd_bake(args: argparse.Namespace) -> int:
     if args.plan:
         return plan_command(scene)
 
-    cancel = threading.Event()
-    over = threading.Event()  # the bake has returned or raised: a signal now changes nothing
-    stopping_now = threading.Event()  # the second signal raised KeyboardInterrupt: later ones do nothing
-
-    def on_signal(signum, _frame):
-        if over.is_set():
-            return
-        if stopping_now.is_set():  # a third and later Ctrl-C: already stopping as fast as it can
-            return
-        if cancel.is_set():  # a second Ctrl-C: stop now (the frame in flight is lost, nothing else)
-            stopping_now.set()
-            raise KeyboardInterrupt
-        cancel.set()  # before the message: a second signal during the print stops at once
-        print(f"\nbake: {signal.Signals(signum).name}: stopping after this substep "
-              "(again to stop at once)", file=sys.stderr, flush=True)
-
-    previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    stop = _SignalStop()
+    previous = {s: signal.signal(s, stop.on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     last_len = [0]
 
     def show(p: BakeProgress) -> None:
@@ -112,9 +131,10 @@ def cmd_bake(args: argparse.Namespace) -> int:
             print(line, flush=True)
 
     try:
-        result = bake(scene, resume=args.resume, progress=show, cancel=cancel, log=log, until=args.until)
+        result = bake(scene, resume=args.resume, progress=show, cancel=stop.cancelled, log=log, until=args.until,
+                      stop_now=stop.now)
     finally:
-        over.set()
+        stop.over = True
         for s, handler in previous.items():
             # A program only prints its summary and exits from here. Python's own handler (back
             # in place) would raise KeyboardInterrupt where nothing catches it, and interpreter

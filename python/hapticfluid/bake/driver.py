@@ -271,7 +271,7 @@ def _cancel_check(cancel: CancelCheck) -> Callable[[], bool]:
 
 def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[BakeProgress], None]] = None,
          cancel: CancelCheck = None, log: Optional[Callable[[str], None]] = None,
-         until: Optional[int] = None) -> BakeResult:
+         until: Optional[int] = None, stop_now: CancelCheck = None) -> BakeResult:
     """Bake ``scene`` into its cache folder.
 
     resume: bake only what the cache lacks (plan.rebake_plan): keep every frame that still holds
@@ -289,6 +289,9 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
     log: receives one line per frame.
     until: stop after this frame (frame_start .. frame_end; default frame_end), keeping its
         checkpoint (a farm chunk: the next chunk resumes from it).
+    stop_now: like cancel, and more: once it is set, the frames stepped but not yet written are
+        dropped (the one being written lands whole, with its checkpoint); the bake stops at the
+        next substep or while it waits for the writer (a second Ctrl-C: bake.command).
     Raises InvalidArgumentError (scene, until), BakeError (cache, checkpoint), HapticFluidError (engine).
     """
     say = log or (lambda _line: None)
@@ -296,10 +299,15 @@ def bake(scene: BakeScene, resume: bool = False, progress: Optional[Callable[[Ba
                               or not scene.frame_start <= until <= scene.frame_end):
         raise hf.InvalidArgumentError(f"until must be a frame from {scene.frame_start} to {scene.frame_end} (the "
                                       f"scene's frames), got {until!r}")
-    is_cancelled = _cancel_check(cancel)
+    stops_now = _cancel_check(stop_now)
+    cancels = _cancel_check(cancel)
+
+    def is_cancelled() -> bool:
+        return cancels() or stops_now()
+
     cache_dir = _cache.prepare_cache(scene.cache_dir)  # before any work: a clear error if unwritable
     with _cache.bake_lock(cache_dir):  # one bake per cache folder at a time (processes included)
-        return _bake_locked(scene, cache_dir, resume, progress, is_cancelled, say,
+        return _bake_locked(scene, cache_dir, resume, progress, _Stops(is_cancelled, stops_now), say,
                             scene.frame_end if until is None else until)
 
 
@@ -345,7 +353,7 @@ def _start_state(scene: BakeScene, cache_dir: Path, plan: _plan.RebakePlan, ledg
 
 
 def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
-                 progress: Optional[Callable[[BakeProgress], None]], is_cancelled: Callable[[], bool],
+                 progress: Optional[Callable[[BakeProgress], None]], stops: "_Stops",
                  say: Callable[[str], None], until: int) -> BakeResult:
     ledger = _plan.InputsLedger(scene)
     plan, previous = _plan_for(scene, cache_dir, resume, ledger, say)
@@ -367,7 +375,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
     t0 = time.perf_counter()
     with make_simulation(scene) as sim:
         # a bad pose fails here, and a cancel returns here, before the old bake is touched
-        if not check_trajectory(sim, scene, first, is_cancelled) or is_cancelled():
+        if not check_trajectory(sim, scene, first, stops.cancelled) or stops.cancelled():
             say("cancelled before the first step; the cache is as it was")
             return result("cancelled", resumed_from=resumed_from, seconds=time.perf_counter() - t0,
                           last_frame=plan.last_kept_frame)
@@ -380,7 +388,7 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
             f"{sim.device['backend'].upper()} backend ({manifest.session['device']}) into {cache_dir}"
             + (f", from the checkpoint at {resumed_from}" if resumed_from is not None else ""))
         status, written = _run_frames(sim, scene, ledger, plan, manifest, range(first, until + 1),
-                                      _Callbacks(progress, is_cancelled, say, t0))
+                                      _Callbacks(progress, stops, say, t0))
     seconds = time.perf_counter() - t0
     if status == "cancelled":
         say(f"cancelled; {written} frame(s) written this session; resume continues after frame "
@@ -389,11 +397,20 @@ def _bake_locked(scene: BakeScene, cache_dir: Path, resume: bool,
 
 
 @dataclass(frozen=True)
+class _Stops:
+    """When the bake stops: cancelled (between substeps, every frame stepped still written) and
+    now (cancelled, and the frames waiting for the writer dropped)."""
+
+    cancelled: Callable[[], bool]
+    now: Callable[[], bool]
+
+
+@dataclass(frozen=True)
 class _Callbacks:
     """A bake session's callers: progress and log (on the bake's thread), cancel, and its start."""
 
     progress: Optional[Callable[[BakeProgress], None]]
-    is_cancelled: Callable[[], bool]
+    stops: _Stops
     say: Callable[[str], None]
     t0: float  # time.perf_counter() when the session started
 
@@ -429,7 +446,7 @@ def _run_frames(sim: "hf.Simulation", scene: BakeScene, ledger: _plan.InputsLedg
             if calls.progress is not None:
                 calls.progress(done)
 
-    writer = _writer.FrameWriter(write_job)
+    writer = _writer.FrameWriter(write_job, abort_when=calls.stops.now)
     try:
         for frame in frames:
             n = substeps_for_frame(scene, sim, frame)
@@ -438,7 +455,7 @@ def _run_frames(sim: "hf.Simulation", scene: BakeScene, ledger: _plan.InputsLedg
             for s in range(n):
                 report_written()
                 writer.check()
-                if calls.is_cancelled():
+                if calls.stops.cancelled():
                     status = "cancelled"
                     break
                 if scene.probe is not None:

@@ -53,10 +53,15 @@ class FrameWritten:
 class FrameWriter:
     """A thread that runs ``write(job)`` for each job put, in order (see the module)."""
 
-    def __init__(self, write: Callable[[FrameJob], None], depth: int = QUEUE_FRAMES) -> None:
+    def __init__(self, write: Callable[[FrameJob], None], depth: int = QUEUE_FRAMES,
+                 abort_when: Callable[[], bool] = lambda: False) -> None:
+        """abort_when: polled by put (while it waits) and by the writer before each job; once it
+        returns True, the frames not yet being written are dropped, as close(abort=True) does
+        (the bake's 'stop at once', asked from a signal handler that must not take a lock)."""
         if depth < 1:
             raise ValueError(f"depth must be >= 1, got {depth}")
         self._write = write
+        self._abort_when = abort_when
         self._jobs: "queue.Queue[Optional[FrameJob]]" = queue.Queue(maxsize=depth)
         self._done: "queue.Queue[FrameWritten]" = queue.Queue()
         self._error: Optional[BakeError] = None
@@ -67,9 +72,13 @@ class FrameWriter:
         self._thread.start()
 
     def put(self, job: FrameJob) -> None:
-        """Queue a frame; blocks while ``depth`` frames wait. Raises the writer's error."""
+        """Queue a frame; blocks while ``depth`` frames wait. Raises the writer's error. Drops
+        the frame once abort_when() says so."""
         while True:
             self.check()
+            if self._abort_when():
+                self._abort.set()
+                return
             try:
                 self._jobs.put(job, timeout=_POLL_S)
                 return
@@ -101,7 +110,7 @@ class FrameWriter:
         if self._closed:
             return
         self._closed = True
-        if abort:
+        if abort or self._abort_when():
             self._abort.set()
         interrupted: Optional[BaseException] = None
         while True:
@@ -140,7 +149,7 @@ class FrameWriter:
             job = self._jobs.get()
             if job is None:
                 return
-            if self._error is not None or self._abort.is_set():
+            if self._error is not None or self._abort.is_set() or self._abort_when():
                 continue  # dropped: nothing after a failed frame, nothing queued after an abort
             t0 = time.perf_counter()
             try:
