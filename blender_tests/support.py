@@ -202,6 +202,40 @@ def live_scene(resolution=16):
     return scene
 
 
+class BakePacer:
+    """Holds the add-on's bake (hapticfluid.bake.driver's frame loop, on the bake's worker thread)
+    to the test's timer: a frame starts only once the timer has ticked (tick()) since the last
+    one started, or after ``wait_s`` (so a UI that froze fails its own check instead of hanging
+    the bake). The CPU backend bakes these 24^3 scenes at about 0.03 s a frame, faster than a
+    window's timer runs: a check made while the bake runs (the modal's ticks, the Volume that
+    follows the frames, a disable or an Esc in the middle) needs the bake to outlast the
+    timer's ticks, on any machine. release() lets the bake run at its own pace again."""
+
+    def __init__(self, wait_s=5.0):
+        import threading
+
+        from hapticfluid.bake import driver
+
+        self._driver = driver
+        self._original = driver.substeps_for_frame
+        self._ticked = threading.Event()
+
+        def paced(*args, **kwargs):
+            self._ticked.wait(wait_s)
+            self._ticked.clear()
+            return self._original(*args, **kwargs)
+
+        driver.substeps_for_frame = paced
+        on_exit(self.release)
+
+    def tick(self):
+        self._ticked.set()
+
+    def release(self):
+        self._driver.substeps_for_frame = self._original
+        self._ticked.set()
+
+
 def frames_on_disk(cache_dir):
     folder = os.path.join(cache_dir, "data")
     return sorted(os.listdir(folder)) if os.path.isdir(folder) else []

@@ -21,7 +21,7 @@ import time
 
 import bpy
 
-from support import (area as area_of, check, clear_objects, close_splash, cube, drive, fail, finish,
+from support import (BakePacer, area as area_of, check, clear_objects, close_splash, cube, drive, fail, finish,
                      frames_on_disk as frames_in, ico_sphere, invoke, key_locations, out_dir, png_rgb, redraw_all,
                      region as region_of, remove_on_exit, screenshot as screenshot_to, set_roles, settings,
                      uv_sphere, window)
@@ -168,6 +168,7 @@ def step():
         check(invoke(bpy.ops.hapticfluid.bake) == {"RUNNING_MODAL"}, "Bake invoked from the UI runs modal")
         state["phase"] = "baking"
     elif phase == "baking":
+        pacer.tick()  # the bake's next frame may start (support.BakePacer)
         s = settings(scene)
         if not s.is_baking:
             fail(f"the bake ended before the add-on could be disabled: {s.status}")
@@ -183,6 +184,7 @@ def step():
             check(state["durations"] == sorted(state["durations"]),
                   f"the Volume follows the frames as they land: {state['durations']}")
             hapticfluid_blender.unregister()
+            pacer.release()  # Resume, later, bakes at its own pace
             check(not bake_threads(), "disabling the add-on joined the bake's worker")
             done = len(frames_on_disk())
             check(0 < done < FRAMES, f"the bake was cancelled with {done} complete frame(s)")
@@ -308,4 +310,5 @@ def step():
 
 
 setup()
+pacer = BakePacer()  # the bake outlasts the timer's ticks, however fast it is
 drive(step, 400, lambda: f"in phase {state['phase']}")

@@ -10,7 +10,7 @@ import time
 
 import bpy
 
-from support import (check, clear_objects, cube, drive, fail, finish, frames_on_disk as frames_in, invoke,
+from support import (BakePacer, check, clear_objects, cube, drive, fail, finish, frames_on_disk as frames_in, invoke,
                      key_locations, remove_on_exit, set_roles, settings, uv_sphere)
 
 import hapticfluid_blender  # noqa: E402  (support put the add-on on sys.path)
@@ -39,6 +39,7 @@ def frames_on_disk():
 def step():
     s = settings()
     phase = state["phase"]
+    pacer.tick()  # the bake's next frame may start (support.BakePacer)
     if phase == "start":
         check(invoke(bpy.ops.hapticfluid.bake) == {"RUNNING_MODAL"}, "Bake invoked from the UI runs modal")
         check(s.is_baking, "the scene says a bake is running")
@@ -51,6 +52,7 @@ def step():
             win = bpy.context.window_manager.windows[0]
             win.event_simulate(type="ESC", value="PRESS")
             state["phase"] = "cancelling"
+            pacer.release()  # Resume, later, bakes at its own pace
         elif not s.is_baking:
             fail(f"the bake ended before Esc could be sent: {s.status}")
     elif phase == "cancelling":
@@ -80,4 +82,5 @@ def step():
 
 
 setup()
+pacer = BakePacer()  # the bake outlasts the timer's ticks, however fast it is
 drive(step, 240, lambda: f"in phase {state['phase']} (status: {settings().status})")
