@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_apply.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage:
-// one invocation per row of cells, run on every thread as RowLoopRunner does). The shader's
+// one invocation per row of cells, run by pressure_row.h's PressureRowRunner). The shader's
 // appliedValues gives every cell's q = A s and its part of s.q, vectorized over the row
 // (cpu/kernels/pressure_row.h says why its loads need no bounds tests); the parts are then
 // added in the row's order, as the shader adds them, so the sum has the GPU's bits.
@@ -33,25 +33,17 @@ namespace {
 
 using K = PcgApplyUnchecked;
 
-class ApplyRows final : public CpuKernel {
- public:
-  KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
-    const glm::ivec3 res = kernel_.u_res;
+struct ApplyRows {
+  static void check(const K& kernel, const glm::ivec3& res) {
     constexpr const char* stage = "pcg_apply";
-    checkBound(kernel_.u_s, res, stage, "s");
-    checkBound(kernel_.u_q, res, stage, "q");
-    checkBound(kernel_.u_nbmask, res, stage, "nbmask");
-    checkBound(kernel_.u_face_open, res + 1, stage, "face_open");
-    forRows(
-        glm::ivec3(1, res.y, res.z), pool, [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res); }); },
-        [](int, int) {}, res.x);
+    checkBound(kernel.u_s, res, stage, "s");
+    checkBound(kernel.u_q, res, stage, "q");
+    checkBound(kernel.u_nbmask, res, stage, "nbmask");
+    checkBound(kernel.u_face_open, res + 1, stage, "face_open");
   }
 
- private:
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res) const {
-    K k(kernel_);
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res) {
     thread_local std::vector<float> parts;
     parts.resize(static_cast<std::size_t>(res.x));
     float* __restrict part = parts.data();
@@ -67,13 +59,10 @@ class ApplyRows final : public CpuKernel {
     for (int i = 0; i < res.x; ++i) acc += part[i];
     k.partials[static_cast<std::size_t>(y + res.y * z)] = glm::vec4(acc, 0.0f, 0.0f, 0.0f);
   }
-
-  KernelSlots slots_;
-  K kernel_{&slots_};
 };
 
 }  // namespace
 
-void addPcgApply(KernelRegistry& r) { r.add<ApplyRows>("pcg_apply.comp", {}); }
+void addPcgApply(KernelRegistry& r) { r.add<PressureRowRunner<K, ApplyRows>>("pcg_apply.comp", {}); }
 
 }  // namespace hf::cpu::kernels

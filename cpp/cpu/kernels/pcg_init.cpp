@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_init.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage:
-// one invocation per row of cells, run on every thread as RowLoopRunner does). The shader's
+// one invocation per row of cells, run by pressure_row.h's PressureRowRunner). The shader's
 // startResidual gives every cell's residual, vectorized over the row (cpu/kernels/pressure_row.h
 // says why its loads need no bounds tests); its addStartSums then adds the cells' parts in the
 // row's order, as the shader adds them, so the sums have the GPU's bits.
@@ -33,26 +33,18 @@ namespace {
 
 using K = PcgInitUnchecked;
 
-class InitRows final : public CpuKernel {
- public:
-  KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
-    const glm::ivec3 res = kernel_.u_res;
+struct InitRows {
+  static void check(const K& kernel, const glm::ivec3& res) {
     constexpr const char* stage = "pcg_init";
-    checkBound(kernel_.u_pressure, res, stage, "pressure");
-    checkBound(kernel_.u_rhs, res, stage, "rhs");
-    checkBound(kernel_.u_r, res, stage, "r");
-    checkBound(kernel_.u_nbmask, res, stage, "nbmask");
-    checkBound(kernel_.u_face_open, res + 1, stage, "face_open");
-    forRows(
-        glm::ivec3(1, res.y, res.z), pool, [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res); }); },
-        [](int, int) {}, res.x);
+    checkBound(kernel.u_pressure, res, stage, "pressure");
+    checkBound(kernel.u_rhs, res, stage, "rhs");
+    checkBound(kernel.u_r, res, stage, "r");
+    checkBound(kernel.u_nbmask, res, stage, "nbmask");
+    checkBound(kernel.u_face_open, res + 1, stage, "face_open");
   }
 
- private:
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res) const {
-    K k(kernel_);
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res) {
     thread_local std::vector<float> parts;
     parts.resize(static_cast<std::size_t>(2 * res.x));
     float* __restrict bs = parts.data();
@@ -71,13 +63,10 @@ class InitRows final : public CpuKernel {
     k.partials[at] = acc;
     k.partials[rows + at] = acc_ap;
   }
-
-  KernelSlots slots_;
-  K kernel_{&slots_};
 };
 
 }  // namespace
 
-void addPcgInit(KernelRegistry& r) { r.add<InitRows>("pcg_init.comp", {}); }
+void addPcgInit(KernelRegistry& r) { r.add<PressureRowRunner<K, InitRows>>("pcg_init.comp", {}); }
 
 }  // namespace hf::cpu::kernels

@@ -13,6 +13,7 @@
 
 #include "common/error.h"
 #include "cpu/glsl.h"
+#include "cpu/kernel.h"
 
 namespace hf::cpu::kernels {
 
@@ -68,6 +69,28 @@ class PressureRow {
   const float* __restrict fz_;
   const float* __restrict x_;
   int sy_, sz_, fsy_, fsz_, cell_, face_;
+};
+
+// The runner of a row stage with a row loop of its own over PressureRow (pcg_apply, pcg_init: one
+// invocation per row of the grid u_res): Rows::check(kernel, res) tests the bindings
+// (checkBound), then Rows::row(k, y, z, res) runs for every row on a per-thread copy k of the
+// unchecked build K, on every thread (the serial threshold counts the row's cells, as
+// RowLoopRunner's) with the best instruction set.
+template <class K, class Rows>
+class PressureRowRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 res = kernel_.u_res;
+    Rows::check(kernel_, res);
+    forEachRow(
+        glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
+        [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res); }, res.x);
+  }
+
+ private:
+  KernelSlots slots_;
+  K kernel_{&slots_};
 };
 
 }  // namespace hf::cpu::kernels
