@@ -76,8 +76,7 @@ class FrameWriter:
         the frame once abort_when() says so."""
         while True:
             self.check()
-            if self._abort_when():
-                self._abort.set()
+            if self._aborted():
                 return
             try:
                 self._jobs.put(job, timeout=_POLL_S)
@@ -89,6 +88,10 @@ class FrameWriter:
         """Raise the writer's error (a BakeError naming the frame), if it had one."""
         if self._error is not None:
             raise self._error
+
+    def _aborted(self) -> bool:
+        """close(abort=True) was called, or the owner's abort_when() says so."""
+        return self._abort.is_set() or self._abort_when()
 
     def finished(self) -> List[FrameWritten]:
         """Frames written since the last call, in order (never blocks)."""
@@ -110,7 +113,7 @@ class FrameWriter:
         if self._closed:
             return
         self._closed = True
-        if abort or self._abort_when():
+        if abort:
             self._abort.set()
         interrupted: Optional[BaseException] = None
         while True:
@@ -149,7 +152,7 @@ class FrameWriter:
             job = self._jobs.get()
             if job is None:
                 return
-            if self._error is not None or self._abort.is_set() or self._abort_when():
+            if self._error is not None or self._aborted():
                 continue  # dropped: nothing after a failed frame, nothing queued after an abort
             t0 = time.perf_counter()
             try:
