@@ -86,11 +86,13 @@ def feel_the_played_sweep_then_punch_in():
         grip_off.append(math.dist(want, grip))
         grip_to_path.append(distance_to_polyline(grip, [key_at(probe, f / 4.0) for f in range(4, 4 * 49 + 1)]))
         grip_x.append(grip[0])
-        s = session.stats()
-        offset = [float(s["guide_target"][i]) - grip[i] for i in range(3)]  # world: towards the played pose
-        scale = [float(v) for v in session.workspace_scale]
-        force = [math.copysign(1.0, scale[i]) * float(s["guide_force"][i]) for i in range(3)]  # world axes
-        if math.hypot(*offset) > 0.002:
+        # The guide's force against the offset it saw: the grip, the played pose and the force of one
+        # haptic period, device frame (a grip read apart from the pose is a period or more off, at
+        # these 37 mm/s in the device as much as the offset itself).
+        offset = [float(latest["guide_target"][i]) - float(latest["grip"][i]) for i in range(3)]
+        force = [float(v) for v in latest["guide_force"]]
+        scale = [abs(float(v)) for v in session.workspace_scale]
+        if math.hypot(*(offset[i] * scale[i] for i in range(3))) > 0.002:  # world m
             pulls.append(sum(force[i] * offset[i] for i in range(3)) / (math.hypot(*force) * math.hypot(*offset) or 1.0))
 
     # The guide engages over 0.25 s (6 frames) and brings the relaxed grip from where homing left it

@@ -354,6 +354,8 @@ void addSessionReadings(py::class_<HapticSession>& c) {
         d["stale_after"] = o.stale_after_s;
         d["guide_force"] = vec3Array(o.guide_n);
         d["guide_weight"] = o.guide_weight;
+        d["guide_target"] = vec3Array(o.guide_target_m);
+        d["grip"] = vec3Array(o.grip_m);
         const DeviceState state = s.latestState();
         d["position"] = vec3Array(state.position_m);
         d["homed"] = state.homed;
@@ -364,8 +366,10 @@ void addSessionReadings(py::class_<HapticSession>& c) {
       "(after the passivity controller), commanded_force (device N, device axes), commanded_force_world (the\n"
       "same newtons in world axes: an axis the workspace map mirrors is flipped back), damping (N s/m), cutoff_hz,\n"
       "force_age (s), stale_after (s: the age at which that force starts fading), guide_force (device N, the\n"
-      "playback guide's part of commanded_force) and guide_weight (0 off .. 1 engaged), position (m, device frame), homed, buttons (bit i: button i) of the device's\n"
-      "latest reading.");
+      "playback guide's part of commanded_force), guide_weight (0 off .. 1 engaged), guide_target (the played pose\n"
+      "this period, device frame, m; stats() gives it in world m) and grip (the device position this period's\n"
+      "forces came from, device frame, m): all of one period. position (m, device frame), homed, buttons (bit i:\n"
+      "button i) of the device's latest reading (it may be a period newer).");
   c.def(
       "trace",
       [](HapticSession& s) {

@@ -83,6 +83,7 @@ TickOutput ForcePipeline::tick(const TickInput& in) {
 // guide pulls the grip towards the played pose and, by its weight, hands the probe over to it.
 ForcePipeline::Period ForcePipeline::followHand(const TickInput& in, TickOutput& out) {
   Period p;
+  out.grip_m = in.state.position_m;
   p.grip_m_s = grip_.update(in.state.position_m, in.dt_s);
   p.grip_now_m_s = grip_now_.update(in.state.position_m, in.dt_s);
   out.grip_velocity_m_s =

@@ -95,6 +95,7 @@ struct TickInput {
 };
 
 struct TickOutput {
+  glm::vec3 grip_m{0.0f};             // the grip's position this period's forces came from, device frame
   glm::vec3 sim_force_n{0.0f};        // latest simulation force, fluid N
   glm::vec3 predicted_n{0.0f};        // after prediction (= sim force without it; the local
                                       // model's steady part with the coupling), fluid N
