@@ -44,13 +44,20 @@ def test_the_played_pose_leads_the_probe_and_the_grip_and_lets_go():
             # the guide's 2 N), 0.27 mm at 750 N/m, 3.3 mm in the world at the fitted scale 12.5.
             assert wait_until(lambda: math.dist(grip(), played) < 0.006, each=renew), grip()
             assert s.stats()["guide_weight"] == 1.0
-            # latest() gives one haptic period's played pose, grip and guide force (device frame):
-            # the spring-damper on the offset it saw, at rest here, so along the offset.
+            # latest() gives one haptic period's played pose, grip and guide force (device frame). The
+            # resting grip steps between encoder counts; in a period whose grip velocity reads zero the
+            # force is the spring alone on the offset that period saw, K e to float precision.
             one = s.latest()
             assert math.dist([float(v) for v in s.probe_origin(one["guide_target"])], played) < 1e-4
             assert math.dist([float(v) for v in s.probe_origin(one["grip"])], played) < 0.006
-            offset = [float(one["guide_target"][i]) - float(one["grip"][i]) for i in range(3)]
-            assert math.hypot(*one["guide_force"]) == pytest.approx(750.0 * math.hypot(*offset), abs=0.05)
+            spring_only = []
+            for _ in range(40):
+                renew()
+                one = s.latest()
+                spring = [750.0 * (float(one["guide_target"][i]) - float(one["grip"][i])) for i in range(3)]
+                spring_only.append(math.dist(spring, [float(v) for v in one["guide_force"]]) < 1e-3)
+                time.sleep(0.005)
+            assert any(spring_only), spring_only
             s.release_guide()
             assert wait_until(lambda: s.stats()["guide_weight"] == 0.0, timeout=5.0)
             assert wait_until(lambda: math.dist(centre(), grip()) < 0.02), (centre(), grip())
