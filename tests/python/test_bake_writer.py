@@ -197,8 +197,7 @@ def _state(rng):
             "density": field((6, 6, 5)), "pressure": field((6, 6, 5)), "time": 0.25, "steps": 6}
 
 
-def test_the_checkpoint_is_hashed_as_written_and_read_back_exactly(tmp_path):
-    import hashlib
+def test_the_checkpoint_is_read_back_exactly_and_its_crc_catches_damage(tmp_path):
     import json
     import zipfile
 
@@ -207,21 +206,58 @@ def test_the_checkpoint_is_hashed_as_written_and_read_back_exactly(tmp_path):
     state = _state(np.random.default_rng(1))
     (tmp_path / "checkpoint").mkdir()
     save_checkpoint(tmp_path, 3, state, {"a": 1})
-    with zipfile.ZipFile(checkpoint_path(tmp_path)) as z:
-        assert z.namelist()[-1] == "meta.npy"  # the digests are known only after the arrays
+    path = checkpoint_path(tmp_path)
+    with zipfile.ZipFile(path) as z:
+        assert z.namelist()[-1] == "meta.npy"
+        assert z.testzip() is None  # every member's CRC-32 matches its bytes
         meta = json.loads(np.load(z.open("meta.npy")).tobytes())
-    assert meta["format"] == 2
+        member = z.getinfo("density.npy")
+        data_at = member.header_offset + len(member.FileHeader(zip64=True))  # the member's bytes
+    assert meta["format"] == 3
     for name in ("velocity_x", "density"):
         info = meta["arrays"][name]
-        # the digest of the array's bytes in its own (Fortran) memory order: what the member holds
-        assert info["order"] == "F"
-        assert info["sha256"] == hashlib.sha256(state[name].tobytes(order="F")).hexdigest()
+        assert info["order"] == "F" and "sha256" not in info  # the array as it lies in memory
     frame, back = load_checkpoint(tmp_path, {"a": 1})
     assert frame == 3 and back["time"] == 0.25 and back["steps"] == 6
     for name, value in state.items():
         if isinstance(value, np.ndarray):
             np.testing.assert_array_equal(back[name], value, err_msg=name)
             assert back[name].flags.f_contiguous
+    # one flipped bit in the density's data: the zip's CRC-32 refuses it
+    raw = bytearray(path.read_bytes())
+    raw[data_at + member.file_size - 5] ^= 0x01
+    path.write_bytes(bytes(raw))
+    with pytest.raises(BakeError, match="damaged or incomplete.*CRC"):
+        load_checkpoint(tmp_path, {"a": 1})
+
+
+def test_a_format_2_checkpoint_still_resumes_and_its_digest_is_checked(tmp_path):
+    """Format 2: each array's SHA-256 in its memory order beside the zip's CRC-32."""
+    import hashlib
+    import json
+
+    from hapticfluid.bake.cache import checkpoint_path, load_checkpoint, settings_digest
+
+    arrays = {k: v for k, v in _state(np.random.default_rng(3)).items() if isinstance(v, np.ndarray)}
+
+    def write(digests):
+        meta = {"format": 2, "frame": 4, "scalars": {"time": 0.25, "steps": 6},
+                "settings_sha256": settings_digest({"a": 1}), "settings": {"a": 1},
+                "arrays": {k: {"sha256": digests[k], "order": "F", "shape": list(a.shape), "dtype": str(a.dtype)}
+                           for k, a in arrays.items()}}
+        with open(checkpoint_path(tmp_path), "wb") as f:
+            np.savez(f, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8), **arrays)
+
+    (tmp_path / "checkpoint").mkdir()
+    right = {k: hashlib.sha256(a.tobytes(order="F")).hexdigest() for k, a in arrays.items()}
+    write(right)
+    frame, back = load_checkpoint(tmp_path, {"a": 1})
+    assert frame == 4
+    for name, value in arrays.items():
+        np.testing.assert_array_equal(back[name], value, err_msg=name)
+    write({**right, "pressure": hashlib.sha256(b"other").hexdigest()})  # a sound zip, a wrong digest
+    with pytest.raises(BakeError, match="'pressure' does not match its checksum"):
+        load_checkpoint(tmp_path, {"a": 1})
 
 
 def test_a_format_1_checkpoint_still_resumes(tmp_path):

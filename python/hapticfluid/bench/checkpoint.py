@@ -3,9 +3,9 @@
 
 For the benchmark scene at 64^3, 128^3 and 192^3 (quick: 16^3 and 24^3) after a step:
 ``Simulation.state()`` (the read-back the frame file and the checkpoint share), writing the
-checkpoint (``cache.save_checkpoint``: SHA-256 of every array while it is written, fsync, rename),
+checkpoint (``cache.save_checkpoint``: the zip's CRC-32 of every array as it is written, fsync, rename),
 keeping it (``cache.keep_checkpoint``: a hard link, what every K-th frame adds), and loading it
-back with every digest checked (``cache.load_checkpoint``: what a re-bake pays once). Bytes on
+back with every CRC checked (``cache.load_checkpoint``: what a re-bake pays once). Bytes on
 disk beside the estimate the add-on shows (``cache.checkpoint_bytes``). Times are medians over
 repeats; the disk is the temporary folder's.
 
