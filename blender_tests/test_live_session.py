@@ -573,7 +573,7 @@ def measure():
         while run.controller.session.stats()["sim_steps"] < 12 and time.monotonic() < end:
             run_for_seconds(run, 0.5, each=move)
         s = run.controller.session.stats()
-        print(f"MEASURED live session {res}^3 in Blender (mouse mode, 40 Jacobi sweeps): sim {s['sim_rate_hz']:.1f} Hz, "
+        print(f"MEASURED live session {res}^3 in Blender (mouse mode, multigrid CG to 1e-3): sim {s['sim_rate_hz']:.1f} Hz, "
               f"step {s['sim_step_ms']:.1f} ms, haptic {s['haptic_rate_hz']:.0f} Hz, jitter p99 "
               f"{s['jitter_p99_ms']:.3f} ms, latency p50 {s['latency_p50_ms']:.1f} ms p99 {s['latency_p99_ms']:.1f} ms, "
               f"snapshots {s['snapshots']}, steps {s['sim_steps']}, realtime {s['realtime']}, load average "

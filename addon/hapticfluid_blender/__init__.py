@@ -31,7 +31,7 @@ bl_info = {
 from .bake import cache_plan, source_mesh  # noqa: E402  (bl_info first)
 from .live import live_ops, live_panel, live_props  # noqa: E402
 from .operators import bake_ops, farm_ops  # noqa: E402
-from .properties import legacy, object_props, roles  # noqa: E402
+from .properties import legacy, object_props, roles, versioning  # noqa: E402
 from .ui import cache_bar, panels, physics_panels, prefs  # noqa: E402
 
 classes = (
@@ -49,7 +49,8 @@ classes = (
     *live_panel.classes,
 )
 
-_LOAD_HANDLERS = (legacy.migrate_on_load, object_props.clear_stale_bake_state, live_props.clear_stale_live_state)
+_LOAD_HANDLERS = (legacy.migrate_on_load, versioning.migrate_on_load, object_props.clear_stale_bake_state,
+                  live_props.clear_stale_live_state)
 
 
 def register():
@@ -60,7 +61,7 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     # a role change: its checks first (they may take the role back), then the source's visibility
-    object_props.ROLE_CHANGED_HOOKS[:] = [roles.check_new_role, source_mesh.sync_render_visibility]
+    object_props.ROLE_CHANGED_HOOKS[:] = [roles.check_new_role, versioning.stamp, source_mesh.sync_render_visibility]
     object_props.attach()
     legacy.attach()
     live_props.attach()
@@ -72,6 +73,7 @@ def register():
             bpy.app.handlers.load_post.append(handler)
     try:  # a file opened while the add-on was disabled: move its old settings onto the objects
         legacy.migrate()
+        versioning.migrate()  # and keep what a file saved before a default changed simulated with
         object_props.clear_stale_bake_state()  # re-enabled after a bake was cut short: none runs now
     except AttributeError:  # bpy.data is not readable while Blender starts; load_post clears it then
         pass

@@ -13,7 +13,7 @@ import logging
 import bpy
 from bpy.props import PointerProperty
 
-from . import roles
+from . import roles, versioning
 
 log = logging.getLogger(__name__)
 
@@ -66,8 +66,11 @@ def migrate():
             obj.hapticfluid.role = role
             group_attr, cls = roles.GROUPS[role]
             group = getattr(obj.hapticfluid, group_attr)
+            before = dict(versioning.CHANGED_DEFAULTS) if role == "DOMAIN" else {}
             for key in cls.__annotations__:
-                setattr(group, key, getattr(old, key))
+                # a setting the old group does not store had the default of its day
+                value = before[key] if key in before and not old.is_property_set(key) else getattr(old, key)
+                setattr(group, key, value)
             moved.append(f"{name} '{obj.name}'" + (" (with the bake settings and cache)" if role == "DOMAIN" else ""))
         domain_moved = old.domain is not None and old.domain.hapticfluid.role == "DOMAIN"
         old.domain = old.probe = old.source = None

@@ -130,7 +130,7 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
     heat_dissipation: FloatProperty(name="Heat Dissipation (1/s)", default=0.4, **_limits("heat_dissipation"),
                                     description="Rate the heat fades (1/s)")
     pressure_solver: EnumProperty(
-        name="Pressure Solver", default="JACOBI",
+        name="Pressure Solver", default="MULTIGRID",  # the default before: versioning.CHANGED_DEFAULTS
         items=(("JACOBI", "Jacobi", "Fixed Jacobi sweeps: cheap per sweep, converges slowly"),
                ("MULTIGRID", "Multigrid", "Conjugate gradient with a multigrid V-cycle: a few iterations "
                                           "reach a small residual")),
@@ -138,7 +138,7 @@ class HapticFluidDomainSettings(bpy.types.PropertyGroup):
     pressure_iterations: IntProperty(name="Pressure Iterations", default=40, **_limits("pressure_iterations", True),
                                      description="Jacobi sweeps or multigrid iterations per step "
                                                  "(the cap when a tolerance is set)")
-    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=0.0, precision=6,
+    pressure_tolerance: FloatProperty(name="Pressure Tolerance", default=1e-3, precision=6,
                                       **_limits("pressure_tolerance", soft_max=0.5),
                                       description="Stop the pressure solve at this relative residual "
                                                   "(dimensionless); 0 runs the fixed iteration count")

@@ -35,7 +35,7 @@ BESIDE_M = 0.2              # domain m from the axis beyond which the probe is b
 MAX_FORCE_N = 4.0           # the add-on's default Max Force
 SCENE = {"fluid_density": 1.2, "gravity": (0.0, 0.0, -9.81), "open_top": True, "vorticity": 0.4,
          "heat_buoyancy": 1.0, "smoke_dissipation": 0.05, "heat_dissipation": 0.4, "pressure_iterations": 40,
-         "pressure_solver": "jacobi", "pressure_tolerance": 0.0}  # the add-on's defaults (properties.py)
+         "pressure_solver": "multigrid", "pressure_tolerance": 1e-3}  # the add-on's defaults (object_props.py)
 
 
 PASSIVE_LIMIT = "passive limit"  # force_gain of live_scene_run: the largest given gain Start accepts
