@@ -16,7 +16,8 @@ dragged along a circle (0.2 m across, a timer moving it as a drag would) in the 
    checked against the drawn probe at every redraw of phases 4-6: within a cell);
 7. ``plain`` again (the machine's load drifts: the no-session rate is the mean of 1 and 7).
 
-Viewport redraws/s are counted by a POST_PIXEL draw handler in the 3D view. The figures are
+Viewport redraws/s are counted by a POST_PIXEL draw handler in the 3D view. The figures, with
+the cores each group of the process's threads kept busy in each phase (cores_by_thread), are
 printed and written to out/live_pace_<resolution>.json (HAPTICFLUID_OUT_DIR). What is asserted holds
 under any load (it fails on main's behaviour): the CPU the window's threads (Blender's main
 thread and its llvmpipe threads, per /proc) spend per redraw with the session <= CPU_RATIO_MAX x
@@ -26,7 +27,9 @@ session's redraw rate against the no-session rate (goal 0.8; main: 0.23) is meas
 not asserted: its phases run one after another in wall time, and other processes' load between
 them moves it (the 2026-12-04 test audit, F8). Seconds per phase: HAPTICFLUID_PACE_SECONDS
 (default 15). Resolution: HAPTICFLUID_PACE_RESOLUTION (default 32; the GPU bench runs 64 and 100),
-domain height HAPTICFLUID_PACE_HEIGHT (m, default 1; 0.7 with 100 gives 100x100x70).
+domain height HAPTICFLUID_PACE_HEIGHT (m, default 1; 0.7 with 100 gives 100x100x70), pressure
+solver HAPTICFLUID_PACE_SOLVER (default: the new domain's, multigrid to 1e-3; "jacobi": 40 sweeps,
+the default before 2026-12-06, for a side-by-side).
 Exits 0 when every check passed, 1 otherwise."""
 
 import json
@@ -47,6 +50,7 @@ from hapticfluid_blender.live import live_ops, recording  # noqa: E402
 MEASURE_S = float(os.environ.get("HAPTICFLUID_PACE_SECONDS", "15"))
 RESOLUTION = int(os.environ.get("HAPTICFLUID_PACE_RESOLUTION", "32"))
 HEIGHT_M = float(os.environ.get("HAPTICFLUID_PACE_HEIGHT", "1.0"))  # 0.7: the 100x100x70 grid
+SOLVER = os.environ.get("HAPTICFLUID_PACE_SOLVER", "").lower()  # "jacobi": 40 sweeps, the old default
 WARMUP_S = 4.0
 CIRCLE_CENTRE = (0.5, 0.5, min(0.5, 0.5 * HEIGHT_M + 0.1))
 CIRCLE_RADIUS_M = 0.1          # a 0.2 m circle
@@ -73,7 +77,11 @@ def setup():
     source = ico_sphere(0.08, (0.5, 0.5, 0.14), "Source")
     source.display_type = "WIRE"
     probe = uv_sphere(0.08, circle_point(0.0), "Probe")
-    set_roles(scene, domain, probe, source)
+    bake = set_roles(scene, domain, probe, source)
+    if SOLVER == "jacobi":
+        bake.pressure_solver, bake.pressure_iterations, bake.pressure_tolerance = "JACOBI", 40, 0.0
+    elif SOLVER:
+        fail(f"HAPTICFLUID_PACE_SOLVER must be 'jacobi' or unset, got {SOLVER!r}")
     live = scene.hapticfluid_live
     live.device = "MOUSE"
     live.auto_resolution = False
@@ -154,6 +162,19 @@ def window_cpu_s():
     return sum(threads[tid][1] for tid in WINDOW_THREADS if tid in threads)
 
 
+def cores_by_thread(before, after, seconds):
+    """Cores busy in a phase per group of this process's threads: Blender's main thread as "main",
+    the others by name (llvmpipe-N: the GL driver's rasterizers; hf-cpu: the CPU backend's device
+    thread, which runs the steps, and its pool; blender: threads started unnamed from Blender's,
+    the session's simulation and haptic threads among them). Where the CPU goes while the viewport
+    redraws: the window's threads beside the session's."""
+    out = {}
+    for tid, (name, cpu) in after.items():
+        key = "main" if tid == os.getpid() else name
+        out[key] = out.get(key, 0.0) + (cpu - before.get(tid, (name, 0.0))[1]) / seconds
+    return {k: round(v, 3) for k, v in sorted(out.items(), key=lambda kv: -kv[1]) if v >= 0.005}
+
+
 # --- Mantaflow ---------------------------------------------------------------------------------
 
 def mantaflow_bake(cache_dir):
@@ -203,6 +224,8 @@ def next_phase(name):
     state["phase_t"] = time.time()
     state["count0"] = counter["n"]
     state["cpu0"] = window_cpu_s()
+    state["threads0"] = _thread_cpu_s()
+    state["steps0"] = sim_steps(live_ops.run_for(bpy.context.scene))
 
 
 def elapsed():
@@ -217,6 +240,7 @@ def measured(name, **figures):
     redraws = max(1, counter["n"] - state["count0"])
     row = dict(redraw_hz=redraw_rate(), window_cpu_ms_per_redraw=1e3 * (window_cpu_s() - state["cpu0"]) / redraws,
                seconds=elapsed(), load=os.getloadavg()[0], **figures)
+    row["cores_by_thread"] = cores_by_thread(state["threads0"], _thread_cpu_s(), row["seconds"])
     state["rows"][name] = row
     print(f"measured {name}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
                                            for k, v in row.items()), flush=True)
@@ -249,8 +273,16 @@ def session_stats(run):
         value = getattr(drawer, name, None)
         if isinstance(value, (int, float)):
             extra[name] = float(value)
-    return dict(sim_hz=live.sim_rate_hz, latency_p50_ms=live.latency_p50_ms, latency_p99_ms=live.latency_p99_ms,
-                haptic_hz=live.haptic_rate_hz, ticks=run.controller.ticks, **extra)
+    # Steps counted over the phase (the stats' rate is a moment's smoothed estimate, what the
+    # sidebar shows: sim_hz_shown).
+    sim_hz = (sim_steps(run) - state["steps0"]) / elapsed()
+    return dict(sim_hz=sim_hz, sim_hz_shown=live.sim_rate_hz, latency_p50_ms=live.latency_p50_ms,
+                latency_p99_ms=live.latency_p99_ms, haptic_hz=live.haptic_rate_hz, ticks=run.controller.ticks, **extra)
+
+
+def sim_steps(run):
+    """The running session's simulation steps so far (0 without a session)."""
+    return 0 if run is None or run.controller.session is None else run.controller.session.stats()["sim_steps"]
 
 
 def warmed_up(run, live):
@@ -369,7 +401,10 @@ def report():
     session, manta = rows["session"]["redraw_hz"], rows["mantaflow"]["redraw_hz"]
     cpu_plain = 0.5 * (rows["plain_before"]["window_cpu_ms_per_redraw"] + rows["plain_after"]["window_cpu_ms_per_redraw"])
     cpu_session = rows["session"]["window_cpu_ms_per_redraw"]
+    domain = bpy.data.objects["Domain"].hapticfluid.domain_settings
     summary = dict(resolution=RESOLUTION, window=[window().width, window().height], cpus=os.cpu_count(),
+                   pressure_solver=f"{domain.pressure_solver.lower()}, at most {domain.pressure_iterations}, "
+                                   f"tolerance {domain.pressure_tolerance:g}",
                    plain_redraw_hz=plain, mantaflow_redraw_hz=manta, session_redraw_hz=session,
                    session_over_plain=session / plain, session_over_mantaflow=session / manta,
                    window_cpu_ms_per_redraw_plain=cpu_plain, window_cpu_ms_per_redraw_session=cpu_session,
