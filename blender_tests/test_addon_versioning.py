@@ -121,6 +121,19 @@ def old_file_keeps_old_defaults(tmp):
     logging.getLogger(versioning.__name__).removeHandler(lines)
 
 
+def linked_domain_is_left_to_its_file(tmp):
+    """A domain linked from an older file is read-only here: migrate passes it by (no error)."""
+    path = old_file(tmp)
+    empty_file()
+    with bpy.data.libraries.load(path, link=True) as (src, dst):
+        dst.objects = ["OldDomain"]
+    linked = bpy.data.objects["OldDomain"]
+    bpy.context.scene.collection.objects.link(linked)
+    check(linked.library is not None, "the domain is linked")
+    check(versioning.migrate() == [] and pressure(linked) == ("MULTIGRID", 0.001),
+          f"a linked domain is left as its file has it: {pressure(linked)}")
+
+
 def scene_level_file_keeps_old_defaults():
     scene = empty_file()
     domain = cube(1.0, (0.5, 0.5, 0.5), "LegacyDomain")
@@ -138,6 +151,7 @@ def main():
     new_domain_keeps_new_defaults(tmp)
     old_file_keeps_old_defaults(tmp)
     scene_level_file_keeps_old_defaults()
+    linked_domain_is_left_to_its_file(tmp)
     hapticfluid_blender.unregister()
     print("versioning checks passed")
 

@@ -51,6 +51,8 @@ def migrate():
     before the change. Returns the log lines (one per object changed)."""
     lines = []
     for obj in bpy.data.objects:
+        if obj.library is not None:  # linked from another file: read-only here, that file's to migrate
+            continue
         group = _domain_group(obj)
         if group is None or not _was_domain(obj, group):
             continue
