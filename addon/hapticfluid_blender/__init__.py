@@ -28,7 +28,9 @@ bl_info = {
     "category": "Physics",
 }
 
-from .bake import cache_plan, source_mesh  # noqa: E402  (bl_info first)
+from bpy.app.handlers import persistent  # noqa: E402  (bl_info first)
+
+from .bake import cache_plan, source_mesh  # noqa: E402
 from .live import live_ops, live_panel, live_props  # noqa: E402
 from .operators import bake_ops, farm_ops  # noqa: E402
 from .properties import legacy, object_props, roles, versioning  # noqa: E402
@@ -49,8 +51,18 @@ classes = (
     *live_panel.classes,
 )
 
-_LOAD_HANDLERS = (legacy.migrate_on_load, versioning.migrate_on_load, object_props.clear_stale_bake_state,
-                  live_props.clear_stale_live_state)
+
+@persistent
+def _migrate_file(_filepath=None):
+    """An older file's settings brought up to date, on load and when the add-on is enabled: the
+    scene-level settings onto the objects (legacy), then the changed defaults kept on every domain,
+    those legacy just made included (versioning)."""
+    legacy.migrate()
+    versioning.migrate()
+
+
+# in order: a migrated is_baking is cleared next
+_LOAD_HANDLERS = (_migrate_file, object_props.clear_stale_bake_state, live_props.clear_stale_live_state)
 
 
 def register():
@@ -68,12 +80,11 @@ def register():
     physics_panels.attach()
     cache_bar.attach()
     cache_plan.attach()
-    for handler in _LOAD_HANDLERS:  # in order: a migrated is_baking is cleared next
+    for handler in _LOAD_HANDLERS:
         if handler not in bpy.app.handlers.load_post:
             bpy.app.handlers.load_post.append(handler)
-    try:  # a file opened while the add-on was disabled: move its old settings onto the objects
-        legacy.migrate()
-        versioning.migrate()  # and keep what a file saved before a default changed simulated with
+    try:  # a file opened while the add-on was disabled: bring its settings up to date
+        _migrate_file()
         object_props.clear_stale_bake_state()  # re-enabled after a bake was cut short: none runs now
     except AttributeError:  # bpy.data is not readable while Blender starts; load_post clears it then
         pass

@@ -86,11 +86,6 @@ def migrate():
     return lines
 
 
-@bpy.app.handlers.persistent
-def migrate_on_load(_filepath=None):
-    """load_post handler (before the stale-bake handler: a migrated is_baking is cleared then)."""
-    migrate()
-
 
 def attach():
     bpy.types.Scene.hapticfluid_bake = PointerProperty(type=HapticFluidBakeSettings, options={"HIDDEN"})

@@ -69,8 +69,3 @@ def migrate():
             lines.append(line)
     return lines
 
-
-@bpy.app.handlers.persistent
-def migrate_on_load(_filepath=None):
-    """load_post handler (after legacy.migrate_on_load: the domains it makes are migrated too)."""
-    migrate()
