@@ -24,6 +24,7 @@
 #include <vector>
 #include <zlib.h>
 
+#include "common/bulk_allocator.h"
 #include "common/format.h"
 
 namespace hf::io {
@@ -126,9 +127,10 @@ openvdb::FloatGrid::Ptr floatGrid(const std::string& name, const DenseView& v, c
 }
 
 // u, v, w on faces -> the mean of each cell's two faces, at cell centres; |v| <= tolerance -> 0.
+// (A BulkAllocator array: every element is written below, and a bake's frames reuse one block.)
 openvdb::Vec3SGrid::Ptr velocityGrid(const VdbFrame& f, const VdbWriteOptions& o) {
   const glm::ivec3 r = f.resolution;
-  std::vector<openvdb::Vec3s> centred(count(r));
+  std::vector<openvdb::Vec3s, BulkAllocator<openvdb::Vec3s>> centred(count(r));
   const float tol2 = o.tolerance * o.tolerance;
   std::size_t n = 0;
   for (int k = 0; k < r.z; ++k) {

@@ -60,8 +60,8 @@ void addParamProperties(py::class_<Simulation>& c) {
 // The checkpoint's arrays by their Python names, in the dict state() returns.
 constexpr const char* kStateArrays[] = {"velocity_x", "velocity_y", "velocity_z", "density", "temperature", "pressure"};
 
-std::vector<float>& stateArray(session::SimulationState& s, int i) {
-  std::vector<float>* arrays[] = {&s.velocity_x, &s.velocity_y, &s.velocity_z, &s.density, &s.temperature,
+BulkFloats& stateArray(session::SimulationState& s, int i) {
+  BulkFloats* arrays[] = {&s.velocity_x, &s.velocity_y, &s.velocity_z, &s.density, &s.temperature,
                                   &s.dynamic_pressure};
   return *arrays[i];
 }

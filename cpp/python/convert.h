@@ -123,10 +123,11 @@ inline py::array_t<float> vec3Array(const glm::vec3& v) {
 }
 
 // A field read back x fastest becomes an array indexed [i, j, k] (Fortran-ordered, no copy).
-template <class T>
-py::array_t<T> fieldArray(std::vector<T>&& data, const glm::ivec3& shape) {
-  auto* owned = new std::vector<T>(std::move(data));
-  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+template <class T, class Alloc>
+py::array_t<T> fieldArray(std::vector<T, Alloc>&& data, const glm::ivec3& shape) {
+  using Vector = std::vector<T, Alloc>;
+  auto* owned = new Vector(std::move(data));
+  py::capsule owner(owned, [](void* p) { delete static_cast<Vector*>(p); });
   const py::ssize_t s = static_cast<py::ssize_t>(sizeof(T));
   return py::array_t<T>({static_cast<py::ssize_t>(shape.x), static_cast<py::ssize_t>(shape.y),
                          static_cast<py::ssize_t>(shape.z)},

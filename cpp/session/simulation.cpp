@@ -280,16 +280,16 @@ compute::Texture3D& fieldTexture(fluid::FluidFields& fl, Field f) {
   throw InvalidArgument(std::string(fieldName(f)) + " is not a float field");
 }
 
-void checkWritable(Field f, const std::vector<float>& data, const glm::ivec3& shape) {
+void checkWritable(Field f, const float* data, std::size_t count, const glm::ivec3& shape) {
   if (f == Field::Pressure || f == Field::CellClass) {
     throw InvalidArgument(std::string(fieldName(f)) +
                           " cannot be written: write the dynamic pressure (the hydrostatic part is analytic); "
                           "cell classes are recomputed every step");
   }
   const std::size_t n = static_cast<std::size_t>(shape.x) * shape.y * shape.z;
-  if (data.size() != n) {
+  if (count != n) {
     throw InvalidArgument(std::string(fieldName(f)) + " needs " + std::to_string(n) + " values (shape " +
-                          ivecText(shape) + "), got " + std::to_string(data.size()));
+                          ivecText(shape) + "), got " + std::to_string(count));
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(data[i])) {
@@ -364,13 +364,13 @@ std::size_t Simulation::estimateBytes(const glm::ivec3& resolution) {
 // ---- checkpoint / restore (bake resume) -------------------------------------------------------
 
 void Simulation::writeFloat(Field f, const std::vector<float>& data) {
-  checkWritable(f, data, fieldShape(f));
+  checkWritable(f, data.data(), data.size(), fieldShape(f));
   onGl([&](StepPipeline& e) { fieldTexture(e.fields(), f).upload(data.data(), data.size() * sizeof(float)); });
 }
 
 SimulationState Simulation::saveState() {
   SimulationState s;
-  const std::pair<Field, std::vector<float>*> fields[] = {
+  const std::pair<Field, BulkFloats*> fields[] = {
       {Field::VelocityX, &s.velocity_x}, {Field::VelocityY, &s.velocity_y},
       {Field::VelocityZ, &s.velocity_z}, {Field::Density, &s.density},
       {Field::Temperature, &s.temperature}, {Field::DynamicPressure, &s.dynamic_pressure}};
@@ -392,11 +392,11 @@ SimulationState Simulation::saveState() {
 }
 
 void Simulation::restoreState(const SimulationState& s) {
-  const std::pair<Field, const std::vector<float>*> fields[] = {
+  const std::pair<Field, const BulkFloats*> fields[] = {
       {Field::VelocityX, &s.velocity_x}, {Field::VelocityY, &s.velocity_y},
       {Field::VelocityZ, &s.velocity_z}, {Field::Density, &s.density},
       {Field::Temperature, &s.temperature}, {Field::DynamicPressure, &s.dynamic_pressure}};
-  for (const auto& [f, data] : fields) checkWritable(f, *data, fieldShape(f));
+  for (const auto& [f, data] : fields) checkWritable(f, data->data(), data->size(), fieldShape(f));
   if (!std::isfinite(s.time_s) || s.time_s < 0.0) {
     throw InvalidArgument("state time must be finite and >= 0 s, got " + num(s.time_s));
   }

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/bulk_allocator.h"
 #include "emitter/mesh_source.h"
 #include "fluid/fluid_params.h"
 #include "fluid/grid.h"
@@ -75,10 +76,10 @@ struct StepReport {
 // clock. Arrays are x fastest with the shapes of fieldShape(). Probe, source and settings are
 // not part of it (they are inputs the caller sets before each step).
 struct SimulationState {
-  std::vector<float> velocity_x, velocity_y, velocity_z;  // m/s on x-, y-, z-faces
-  std::vector<float> density;                             // smoke concentration
-  std::vector<float> temperature;                         // K above ambient
-  std::vector<float> dynamic_pressure;                    // Pa, without the hydrostatic part
+  BulkFloats velocity_x, velocity_y, velocity_z;  // m/s on x-, y-, z-faces
+  BulkFloats density;                             // smoke concentration
+  BulkFloats temperature;                         // K above ambient
+  BulkFloats dynamic_pressure;                    // Pa, without the hydrostatic part
   double time_s = 0.0;
   std::int64_t steps = 0;
 };

@@ -19,6 +19,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/bulk_allocator.h"
 #include "compute/compute_worker.h"
 #include "cpu/cpu_device.h"
 #include "cpu/kernel.h"
@@ -335,7 +336,7 @@ Trajectory run(const std::string& backend, int threads, int steps) {
   return r;
 }
 
-double relativeDifference(const std::vector<float>& a, const std::vector<float>& b) {
+double relativeDifference(const BulkFloats& a, const BulkFloats& b) {
   double scale = 0.0, worst = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     scale = std::max(scale, static_cast<double>(std::fabs(a[i])));

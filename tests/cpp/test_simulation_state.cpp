@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <vector>
 #include <string>
 
+#include "common/bulk_allocator.h"
 #include "common/error.h"
 #include "session/simulation.h"
 
@@ -86,11 +89,45 @@ TEST(SimulationState, BadStatesAreRefusedBeforeAnythingChanges) {
   bad.time_s = -1.0;
   EXPECT_THROW(s.restoreState(bad), InvalidArgument);
   EXPECT_EQ(s.saveState().density, good.density);  // nothing changed
-  EXPECT_THROW(s.writeFloat(Field::Pressure, good.density), InvalidArgument);
-  EXPECT_THROW(s.writeFloat(Field::CellClass, good.density), InvalidArgument);
+  const std::vector<float> density(good.density.begin(), good.density.end());
+  EXPECT_THROW(s.writeFloat(Field::Pressure, density), InvalidArgument);
+  EXPECT_THROW(s.writeFloat(Field::CellClass, density), InvalidArgument);
   std::vector<float> ones(good.density.size(), 1.0f);
   s.writeFloat(Field::Temperature, ones);
   EXPECT_EQ(s.readFloat(Field::Temperature), ones);
+}
+
+// The state's arrays (common/bulk_allocator.h): one of the seed grid's fields (2.8 MB) and a small
+// one keep what is written through resizes, copies and moves; a freed large block is handed to the
+// next array of its size, and the pool keeps no more than its cap.
+TEST(SimulationState, BulkArraysKeepWhatIsWrittenAndReuseFreedBlocks) {
+  for (const std::size_t n : {std::size_t{100 * 100 * 70}, std::size_t{17 * 17 * 17}}) {
+    BulkFloats a;
+    a.resize(n);
+    for (std::size_t i = 0; i < n; ++i) a[i] = static_cast<float>(i) * 0.5f;
+    BulkFloats copy = a;
+    EXPECT_EQ(copy, a);
+    a.resize(2 * n);  // reallocates: the old values move over
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(a[i], static_cast<float>(i) * 0.5f) << i;
+    a[2 * n - 1] = -1.0f;
+    EXPECT_EQ(a[2 * n - 1], -1.0f);
+    BulkFloats moved = std::move(copy);
+    EXPECT_EQ(moved[n - 1], static_cast<float>(n - 1) * 0.5f);
+  }
+  const std::size_t n = 100 * 100 * 70;
+  const float* first = nullptr;
+  {
+    BulkFloats a(n, 1.0f);
+    first = a.data();
+  }
+  BulkFloats again;
+  again.resize(n);
+  EXPECT_EQ(again.data(), first);  // the freed block, not a fresh mapping
+  {
+    BulkFloats huge((kBulkPoolBytes + 4096) / sizeof(float), 2.0f);
+    EXPECT_EQ(huge.back(), 2.0f);
+  }
+  EXPECT_LE(detail::BulkPool::instance().heldBytes(), kBulkPoolBytes);
 }
 
 }  // namespace
