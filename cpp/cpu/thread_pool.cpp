@@ -13,9 +13,12 @@
 namespace hf::cpu {
 namespace {
 
-// Polls before sleeping: about 20-50 us, longer than the gap between two dispatches of a step,
-// far shorter than the gap between steps.
 constexpr int kSpins = 4000;
+
+constexpr std::uint64_t kFieldMask = (std::uint64_t{1} << 12) - 1;
+std::uint64_t generationOf(std::uint64_t job) { return job >> 24; }
+int chunksOf(std::uint64_t job) { return static_cast<int>((job >> 12) & kFieldMask); }
+int nextOf(std::uint64_t job) { return static_cast<int>(job & kFieldMask); }
 
 }  // namespace
 
@@ -26,77 +29,86 @@ ThreadPool::ThreadPool(int threads) : threads_(threads < 1 ? 1 : threads) {
 ThreadPool::~ThreadPool() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-    generation_.fetch_add(1);
+    stopping_.store(true);
   }
   wake_.notify_all();
   for (auto& t : workers_) t.join();
 }
 
-void ThreadPool::runChunk(int chunk) {
-  if (chunk >= chunks_) return;
-  const int begin = static_cast<int>(static_cast<long long>(n_) * chunk / chunks_);
-  const int end = static_cast<int>(static_cast<long long>(n_) * (chunk + 1) / chunks_);
+void ThreadPool::runChunk(int chunk, int chunks) {
+  const int begin = static_cast<int>(static_cast<long long>(n_) * chunk / chunks);
+  const int end = static_cast<int>(static_cast<long long>(n_) * (chunk + 1) / chunks);
   try {
     call_(ctx_, begin, end);
   } catch (...) {
     if (!failed_.exchange(true)) error_ = std::current_exception();
   }
+  if (done_chunks_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) {
+    std::lock_guard<std::mutex> lock(mutex_);  // the caller may be asleep on done_
+    done_.notify_all();
+  }
+}
+
+void ThreadPool::claimAndRun(std::uint64_t generation) {
+  std::uint64_t job = job_.load(std::memory_order_acquire);
+  while (generationOf(job) == generation && nextOf(job) < chunksOf(job)) {
+    if (job_.compare_exchange_weak(job, job + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
+      runChunk(nextOf(job), chunksOf(job));
+      job = job_.load(std::memory_order_acquire);
+    }
+  }
 }
 
 void ThreadPool::run(int n, Call call, void* ctx) {
-  const int chunks = n < threads_ ? n : threads_;
-  if (chunks == 1) {
+  int chunks = threads_ * kChunksPerThread;
+  if (chunks > kMaxChunks) chunks = kMaxChunks;
+  if (chunks > n) chunks = n;
+  if (threads_ == 1 || chunks == 1) {
     call(ctx, 0, n);
     return;
   }
   call_ = call;
   ctx_ = ctx;
   n_ = n;
-  chunks_ = chunks;
   failed_.store(false);
   error_ = nullptr;
-  pending_.store(threads_ - 1, std::memory_order_relaxed);
+  done_chunks_.store(0, std::memory_order_relaxed);
+  ++generation_;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    generation_.fetch_add(1, std::memory_order_release);
+    job_.store((generation_ << 24) | (static_cast<std::uint64_t>(chunks) << 12), std::memory_order_release);
   }
   wake_.notify_all();
-  runChunk(0);
-  for (int spin = 0; pending_.load(std::memory_order_acquire) != 0; ++spin) {
+  claimAndRun(generation_);
+  for (int spin = 0; done_chunks_.load(std::memory_order_acquire) != chunks; ++spin) {
     if (spin < kSpins) {
       HF_PAUSE();
       continue;
     }
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return pending_.load(std::memory_order_acquire) == 0; });
+    done_.wait(lock, [&] { return done_chunks_.load(std::memory_order_acquire) == chunks; });
   }
   if (failed_.load()) std::rethrow_exception(error_);
 }
 
-void ThreadPool::work(int index) {
+void ThreadPool::work(int) {
   std::uint64_t seen = 0;
   for (;;) {
-    std::uint64_t now = generation_.load(std::memory_order_acquire);
-    for (int spin = 0; now == seen && spin < kSpins; ++spin) {
+    std::uint64_t now = generationOf(job_.load(std::memory_order_acquire));
+    for (int spin = 0; now == seen && spin < kSpins && !stopping_.load(std::memory_order_relaxed); ++spin) {
       HF_PAUSE();
-      now = generation_.load(std::memory_order_acquire);
+      now = generationOf(job_.load(std::memory_order_acquire));
     }
     if (now == seen) {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
-      now = generation_.load(std::memory_order_acquire);
+      wake_.wait(lock, [&] {
+        return stopping_.load() || generationOf(job_.load(std::memory_order_acquire)) != seen;
+      });
+      now = generationOf(job_.load(std::memory_order_acquire));
     }
+    if (stopping_.load()) return;
     seen = now;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (stopping_) return;
-    }
-    runChunk(index);
-    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      done_.notify_all();
-    }
+    claimAndRun(seen);
   }
 }
 
