@@ -3,7 +3,9 @@
 
 #include <sched.h>
 
+#include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -69,15 +71,19 @@ class CpuTexture final : public compute::TextureImpl {
       : bindings_(bindings),
         block_(checkedBytes(size, format, label),
                (static_cast<std::size_t>(size.x) * size.y + size.x + 1) * compute::texelBytes(format), label),
-        size_(size), format_(format) {}
+        size_(size), format_(format) {
+    renewVersion();
+  }
   ~CpuTexture() override {
     for (ImageBinding& b : bindings_.images) {
       if (b.data == block_.data()) b = ImageBinding{};  // a unit left bound to freed memory reads nothing
     }
   }
-  void bindImage(unsigned unit, compute::Access) const override {
+  void bindImage(unsigned unit, compute::Access access) const override {
     if (unit >= bindings_.images.size()) throw Error("image unit " + std::to_string(unit) + " is past the device's units");
+    if (access != compute::Access::Read) renewVersion();
     ImageBinding& b = bindings_.images[unit];
+    b.version = version_;
     b.data = block_.data();
     b.size = size_;
     b.stride_y = size_.x;
@@ -85,7 +91,10 @@ class CpuTexture final : public compute::TextureImpl {
     b.plane = format_ == compute::TexelFormat::RGBA32F ? texels() : 0;
     b.format = imageFormat(format_);
   }
-  void clear() override { std::memset(block_.data(), 0, block_.bytes()); }
+  void clear() override {
+    std::memset(block_.data(), 0, block_.bytes());
+    renewVersion();
+  }
   // The caller's layout is x fastest with a texel's channels together; a 4-channel texture keeps
   // them in planes (glsl.h), so those two are reordered.
   void download(void* dst, std::size_t bytes) const override {
@@ -102,6 +111,7 @@ class CpuTexture final : public compute::TextureImpl {
     compute::countSync();
   }
   void upload(const void* src, std::size_t bytes) override {
+    renewVersion();
     if (format_ == compute::TexelFormat::RGBA32F) {
       float* planes = reinterpret_cast<float*>(block_.data());
       const float* in = static_cast<const float*>(src);
@@ -128,10 +138,21 @@ class CpuTexture final : public compute::TextureImpl {
 
   std::size_t texels() const { return static_cast<std::size_t>(size_.x) * size_.y * size_.z; }
 
+  // A new version for these contents, also on every unit the texture is bound to now (one bound
+  // for reading may be read again after a write through another unit, without a new bind).
+  void renewVersion() const {
+    static std::atomic<std::uint64_t> counter{0};
+    version_ = counter.fetch_add(1, std::memory_order_relaxed) + 1;
+    for (ImageBinding& b : bindings_.images) {
+      if (b.data == block_.data()) b.version = version_;
+    }
+  }
+
   Bindings& bindings_;
   HostBlock block_;
   glm::ivec3 size_;
   compute::TexelFormat format_;
+  mutable std::uint64_t version_ = 0;
 };
 
 class CpuBuffer final : public compute::BufferImpl {

@@ -41,6 +41,10 @@ struct ImageBinding {
   // loops load each channel contiguously); 0 for 1-channel images.
   std::size_t plane = 0;
   ImageFormat format = ImageFormat::R32F;
+  // The contents' version: a number no other contents of any texture had, renewed whenever the
+  // texture may have been written (bound writable, cleared, uploaded), so that a runner may keep
+  // what it derived from an image it only reads (mg_smooth's regular rows) until it changes.
+  std::uint64_t version = 0;
 };
 
 struct BufferBinding {

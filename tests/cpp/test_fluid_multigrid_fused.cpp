@@ -5,7 +5,8 @@
 // restriction in one pass (mg_residual_restrict) against mg_residual + mg_restrict, and the
 // prolongation folded into the first post-smoothing sweep (mg_smooth with PROLONG) against
 // mg_prolong + two sweeps. The same arithmetic in each: equal to float rounding (measured: equal
-// to the bit on llvmpipe; the bound allows a compiler's different contraction).
+// to the bit on llvmpipe; the bound allows a compiler's different contraction). And a sweep over
+// rows that are wholly open inside against the cell formula on the host.
 #include <GL/gl.h>
 #include <gtest/gtest.h>
 
@@ -183,6 +184,81 @@ TEST_F(MultigridFused, ProlongFoldedIntoTheFirstSweepEqualsProlongThenSweeps) {
   });
   const Diff d = compare(separate, fused);
   EXPECT_LE(d.rel, 1e-6) << "exact: " << d.exact;
+}
+
+// The sweep's arithmetic on the host, in mg_smooth.comp's order: one colour of a red-black sweep of
+// x in place (the other colour read), over faces (RGBA32F, (n + 1) texels, x fastest, channels
+// together) and b.
+void hostSweep(const glm::ivec3& n, const std::vector<std::uint8_t>& m, const std::vector<float>& faces,
+               const std::vector<float>& b, int colour, std::vector<float>& x) {
+  const glm::ivec3 fn = n + 1;
+  auto face = [&](const glm::ivec3& c, int axis) { return faces[4 * at(fn, c) + static_cast<std::size_t>(axis)]; };
+  auto xat = [&](const glm::ivec3& c) { return inside(n, c) ? x[at(n, c)] : 0.0f; };
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) {
+        if (((i + j + k) & 1) != colour) continue;
+        const glm::ivec3 c(i, j, k);
+        const unsigned mc = m[at(n, c)];
+        const float w[6] = {face(c, 0), face(c + glm::ivec3(1, 0, 0), 0), face(c, 1),
+                            face(c + glm::ivec3(0, 1, 0), 1), face(c, 2), face(c + glm::ivec3(0, 0, 1), 2)};
+        float nsum = (mc & kOpenTop) != 0 ? w[5] : 0.0f;
+        for (int d = 0; d < 6; ++d) nsum += ((mc >> d) & 1u) != 0 ? w[d] : 0.0f;
+        float sum = 0.0f;
+        for (int d = 0; d < 6; ++d) sum += ((mc >> d) & 1u) != 0 ? w[d] * xat(c + kNb[d]) : 0.0f;
+        x[at(n, c)] = ((mc & kSolid) != 0 || nsum == 0.0f) ? 0.0f : (b[at(n, c)] + sum) / nsum;
+      }
+}
+
+// Most rows of a real grid are wholly open inside (the CPU backend's sweep takes those rows with
+// the mask and fractions as constants, cpu/kernels/mg_smooth.cpp): on a grid with such rows beside
+// rows with a solid block, cut faces and the open top, a sweep of each colour equals the host's
+// arithmetic, to the bit on the CPU backend; and a changed face (a new upload) is seen at once.
+TEST_F(MultigridFused, SweepsOverOpenRowsEqualTheCellFormula) {
+  const glm::ivec3 n(21, 9, 8);
+  const auto m = maskWithBlock(n, {6, 5, 2}, {9, 7, 4});
+  std::vector<float> faces(count(n + 1) * 4, 1.0f);
+  for (std::size_t t = 0; t < count(n + 1); ++t) {
+    const glm::ivec3 c(static_cast<int>(t % (n.x + 1)), static_cast<int>(t / (n.x + 1) % (n.y + 1)),
+                       static_cast<int>(t / ((n.x + 1) * (n.y + 1))));
+    if (c.y == 2) faces[4 * t + 1] = 0.5f + 0.01f * static_cast<float>(c.x);  // a row of cut y-faces
+  }
+  const std::vector<float> b = values(count(n), 13, 17, 0.3f, -2.4f);
+  std::vector<float> host = values(count(n), 11, 13, 0.7f, -4.0f);
+  std::vector<float> device_after_first, device_after_second;
+  std::vector<float> faces_cut = faces;
+  faces_cut[4 * at(n + 1, glm::ivec3(10, 4, 6)) + 0] = 0.25f;  // a cut x-face in an open row
+  onGl([&] {
+    MultigridVCycle v(n);
+    Level l(n, m);
+    l.faces.upload(faces.data(), faces.size() * sizeof(float));
+    l.b.upload(b.data(), b.size() * sizeof(float));
+    l.setX(host);
+    v.smooth(n, l.mask, l.faces, l.x, l.b, 0, false);
+    v.smooth(n, l.mask, l.faces, l.x, l.b, 1, false);
+    device_after_first = download(l.x);
+    l.faces.upload(faces_cut.data(), faces_cut.size() * sizeof(float));
+    v.smooth(n, l.mask, l.faces, l.x, l.b, 0, false);
+    v.smooth(n, l.mask, l.faces, l.x, l.b, 1, false);
+    device_after_second = download(l.x);
+  });
+  hostSweep(n, m, faces, b, 0, host);
+  hostSweep(n, m, faces, b, 1, host);
+  Diff d = compare(host, device_after_first);
+  if (test::testOnCpu()) {
+    EXPECT_TRUE(d.exact) << "relative difference " << d.rel;
+  } else {
+    EXPECT_LE(d.rel, 1e-6);
+  }
+  hostSweep(n, m, faces_cut, b, 0, host);
+  hostSweep(n, m, faces_cut, b, 1, host);
+  d = compare(host, device_after_second);
+  if (test::testOnCpu()) {
+    EXPECT_TRUE(d.exact) << "relative difference " << d.rel;
+  } else {
+    EXPECT_LE(d.rel, 1e-6);
+  }
+  EXPECT_GT(*std::max_element(host.begin(), host.end()), 0.1f);
 }
 
 }  // namespace

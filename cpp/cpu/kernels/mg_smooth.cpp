@@ -4,9 +4,16 @@
 // loads each cell's neighbourhood from the arrays and calls the shader's smoothedValue, the
 // per-cell arithmetic the GPU runs too (the same bits). Loads past the grid's edge land in the
 // textures' guard bands and are not used (the cell has no link there), so no bounds tests.
+// A row whose inner cells (1 .. nx - 2) are all fluid with six links and six wholly open faces (most
+// rows away from the walls and the probe) calls smoothedValue with that mask and those fractions
+// as constants, and so reads neither mask nor faces for them (the sweeps are bound by the bytes
+// they stream); the flags are derived once per (mask, faces) contents, by their versions.
+// With w = 1 the shader's sums are the same bits (1 * x is x; n adds six 1s).
 #include "cpu/kernels/kernel_list.h"
 
+#include <cstdint>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "common/error.h"
@@ -53,6 +60,61 @@ void checkSize(const ImageBinding& image, const glm::ivec3& want, const char* na
   }
 }
 
+// Bits 0..5 of common.glsl's neighbour mask: all six neighbours are linked fluid cells (no open
+// top, not solid).
+constexpr std::uint32_t kAllLinks = 0x3Fu;
+
+// For each row (y, z) of a level: 1 where its cells 1 .. nx - 2 all have the mask kAllLinks and
+// six open fractions of exactly 1. Kept per (mask, faces) contents: one entry per multigrid level.
+class RegularRows {
+ public:
+  const std::uint8_t* flags(const ImageBinding& mask, const ImageBinding& faces, const glm::ivec3& res,
+                            ThreadPool& pool) {
+    for (Entry& e : entries_) {
+      if (e.mask == mask.data && e.mask_version == mask.version && e.faces == faces.data &&
+          e.faces_version == faces.version && e.res == res) {
+        return e.flags.data();
+      }
+    }
+    if (entries_.size() >= kMaxEntries) entries_.clear();
+    Entry e{mask.data, mask.version, faces.data, faces.version, res, std::vector<std::uint8_t>()};
+    e.flags.assign(static_cast<std::size_t>(res.y) * res.z, 0);
+    const std::uint8_t* m = static_cast<const std::uint8_t*>(mask.data);
+    const float* fx = static_cast<const float*>(faces.data);
+    const float* fy = fx + faces.plane;
+    const float* fz = fx + 2 * faces.plane;
+    const int sy = res.x + 1, sz = (res.x + 1) * (res.y + 1);
+    std::uint8_t* out = e.flags.data();
+    forRows(
+        glm::ivec3(1, res.y, res.z), pool,
+        [&](int y, int z) {
+          const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
+          bool regular = res.x > 2;
+          for (int i = 1; i < res.x - 1 && regular; ++i) {
+            const int f = frow + i;
+            regular = m[row + i] == kAllLinks && fx[f] == 1.0f && fx[f + 1] == 1.0f && fy[f] == 1.0f &&
+                      fy[f + sy] == 1.0f && fz[f] == 1.0f && fz[f + sz] == 1.0f;
+          }
+          out[y + z * res.y] = regular ? 1 : 0;
+        },
+        [](int, int) {}, res.x);
+    entries_.push_back(std::move(e));
+    return entries_.back().flags.data();
+  }
+
+ private:
+  static constexpr std::size_t kMaxEntries = 16;
+  struct Entry {
+    const void* mask;
+    std::uint64_t mask_version;
+    const void* faces;
+    std::uint64_t faces_version;
+    glm::ivec3 res;
+    std::vector<std::uint8_t> flags;
+  };
+  std::vector<Entry> entries_;
+};
+
 template <class K, bool kProlong>
 class SmoothRows final : public CpuKernel {
  public:
@@ -70,8 +132,9 @@ class SmoothRows final : public CpuKernel {
         throw Error("mg_smooth: the coarse x is not bound at the next level's size");
       }
     }
+    const std::uint8_t* regular = regular_.flags(kernel_.u_mask, kernel_.u_faces, res, pool);
     forRows(glm::ivec3(res.x, res.y, res.z), pool,
-            [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res, coarse); }); },
+            [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res, coarse, regular[y + z * res.y] != 0); }); },
             [](int, int) {});
   }
 
@@ -81,7 +144,8 @@ class SmoothRows final : public CpuKernel {
   // and writes elsewhere. The other colour's cells are the only ones a cell reads, and they do
   // not change, so the copy's timing does not matter.
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res, const glm::ivec3& coarse) const {
+  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res, const glm::ivec3& coarse,
+                                          bool regular) const {
     K k(kernel_);
     thread_local std::vector<float> buffer;
     buffer.resize(static_cast<std::size_t>(res.x));
@@ -98,15 +162,34 @@ class SmoothRows final : public CpuKernel {
     const int row = y * sy + z * sz, frow = y * fy + z * fz;
     const int colour = (y + z + k.u_colour) & 1;  // cells with (i + colour) even are this sweep's
     const float* __restrict xr = x;
+    // A regular row: its inner cells with the mask and fractions as constants, its end cells as any.
+    const glm::vec3 open(1.0f);
     if constexpr (!kProlong) {
-#pragma omp simd
-      for (int i = 0; i < res.x; ++i) {
+      auto general = [&](int i) {
         const int c = row + i, f = frow + i;
-        const float v = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
-                                        glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
-                                        glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
-                                        glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
-        out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        return k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]), glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                               glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]), glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]),
+                               b[c]);
+      };
+      if (regular) {
+#pragma omp simd
+        for (int i = 1; i < res.x - 1; ++i) {
+          const int c = row + i;
+          const float v = k.smoothedValue(kAllLinks, open, open, glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
+                                          glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
+          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        }
+        for (int i : {0, res.x - 1}) out[i] = ((i + colour) & 1) == 0 ? general(i) : xr[row + i];
+      } else {
+#pragma omp simd
+        for (int i = 0; i < res.x; ++i) {
+          const int c = row + i, f = frow + i;
+          const float v = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
+                                          glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                                          glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
+                                          glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
+          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        }
       }
     } else {
       // x + the coarse level's x of the neighbour's parent: mg_prolong folded into the sweep. The
@@ -128,15 +211,34 @@ class SmoothRows final : public CpuKernel {
       const float* __restrict yhi = mid + 2 * width;
       const float* __restrict zlo = mid + 3 * width;
       const float* __restrict zhi = mid + 4 * width;
-#pragma omp simd
-      for (int i = 0; i < res.x; ++i) {
+      auto general = [&](int i) {
         const int c = row + i, f = frow + i;
-        const float v = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
-                                        glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
-                                        glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                                        glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
-                                        b[c]);
-        out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        return k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]), glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                               glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
+                               glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c]);
+      };
+      if (regular) {
+#pragma omp simd
+        for (int i = 1; i < res.x - 1; ++i) {
+          const int c = row + i;
+          const float v = k.smoothedValue(kAllLinks, open, open,
+                                          glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
+                                          glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
+                                          b[c]);
+          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        }
+        for (int i : {0, res.x - 1}) out[i] = ((i + colour) & 1) == 0 ? general(i) : xr[row + i];
+      } else {
+#pragma omp simd
+        for (int i = 0; i < res.x; ++i) {
+          const int c = row + i, f = frow + i;
+          const float v = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
+                                          glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                                          glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
+                                          glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
+                                          b[c]);
+          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        }
       }
     }
     std::memcpy(x + row, out, sizeof(float) * static_cast<std::size_t>(res.x));
@@ -144,6 +246,7 @@ class SmoothRows final : public CpuKernel {
 
   KernelSlots slots_;
   K kernel_{&slots_};
+  RegularRows regular_;
 };
 
 }  // namespace
