@@ -17,6 +17,7 @@
 #include "common/host_memory.h"
 #include "common/thread_priority.h"
 #include "cpu/kernel.h"
+#include "cpu/regular_rows.h"
 #include "cpu/thread_pool.h"
 
 namespace hf::cpu {
@@ -276,6 +277,7 @@ class CpuDevice final : public compute::Device {
  public:
   CpuDevice(int threads, bool x86_v3) : pool_(threads) {
     bindings_.x86_v3 = x86_v3;
+    bindings_.regular_rows = &regular_rows_;
     info_.backend = compute::Backend::Cpu;
     info_.threads = pool_.threads();
     info_.renderer = std::string("hapticfluid CPU kernels (") + (x86_v3 ? "AVX2" : "baseline") + "), " +
@@ -304,6 +306,7 @@ class CpuDevice final : public compute::Device {
  private:
   Bindings bindings_;
   ThreadPool pool_;
+  RegularRows regular_rows_;
   compute::DeviceInfo info_;
 };
 

@@ -31,10 +31,13 @@ namespace hf::cpu {
 inline constexpr int kImageUnits = 8;
 inline constexpr int kBufferBindings = 8;
 
+class RegularRows;
+
 struct Bindings {
   std::array<ImageBinding, kImageUnits> images{};
   std::array<BufferBinding, kBufferBindings> buffers{};
   bool x86_v3 = false;  // the device runs the x86-64-v3 build of every loop (see runBest)
+  RegularRows* regular_rows = nullptr;  // the device's (cpu/regular_rows.h)
 };
 
 class CpuKernel {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cpu/kernels/pressure_row.h"
+#include "cpu/regular_rows.h"
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -47,15 +48,19 @@ class ResidualRestrictRows final : public CpuKernel {
     checkBound(kernel_.u_mask, fine, stage, "mask");
     checkBound(kernel_.u_faces, fine + 1, stage, "faces");
     checkBound(kernel_.u_coarse_b, coarse, stage, "coarse b");
+    const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, fine, pool);
     forRows(
         glm::ivec3(1, coarse.y, coarse.z), pool,
-        [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, coarse, fine); }); }, [](int, int) {},
+        [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, coarse, fine, open); }); }, [](int, int) {},
         8LL * coarse.x);
   }
 
  private:
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& coarse, const glm::ivec3& fine) const {
+  // `open`: the fine rows' flags (cpu/regular_rows.h): an open row's inner cells take kAllLinks
+  // and unit fractions as constants.
+  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& coarse, const glm::ivec3& fine,
+                                          const std::uint8_t* open) const {
     K k(kernel_);
     const int width = 2 * coarse.x;  // at least fine.x; children past it are 0
     thread_local std::vector<float> buffer;
@@ -67,9 +72,20 @@ class ResidualRestrictRows final : public CpuKernel {
       const PressureRow p(k.u_mask, k.u_faces, k.u_x, fine, fy, fz);
       float* __restrict r = buffer.data() + q * width;
       const int n = std::min(fine.x, width);  // fine cells past 2 coarse.x have no parent
+      if (open[fy + fz * fine.y] != 0 && n == fine.x) {
+        const glm::vec3 unit(1.0f);
 #pragma omp simd
-      for (int i = 0; i < n; ++i) {
-        r[i] = k.residualAt(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
+        for (int i = 1; i < n - 1; ++i) {
+          r[i] = k.residualAt(kAllLinks, unit, unit, p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
+        }
+        for (int i : {0, n - 1}) {
+          r[i] = k.residualAt(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
+        }
+      } else {
+#pragma omp simd
+        for (int i = 0; i < n; ++i) {
+          r[i] = k.residualAt(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
+        }
       }
     }
     const float* __restrict r0 = buffer.data();

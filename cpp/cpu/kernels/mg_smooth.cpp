@@ -6,9 +6,8 @@
 // textures' guard bands and are not used (the cell has no link there), so no bounds tests.
 // A row whose inner cells (1 .. nx - 2) are all fluid with six links and six wholly open faces (most
 // rows away from the walls and the probe) calls smoothedValue with that mask and those fractions
-// as constants, and so reads neither mask nor faces for them (the sweeps are bound by the bytes
-// they stream); the flags are derived once per (mask, faces) contents, by their versions.
-// With w = 1 the shader's sums are the same bits (1 * x is x; n adds six 1s).
+// as constants (cpu/regular_rows.h), so the mask's bit tests fold away and neither mask nor faces
+// is read for them. With w = 1 the shader's sums are the same bits (1 * x is x; n adds six 1s).
 #include "cpu/kernels/kernel_list.h"
 
 #include <cstdint>
@@ -17,6 +16,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "cpu/regular_rows.h"
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -60,61 +60,6 @@ void checkSize(const ImageBinding& image, const glm::ivec3& want, const char* na
   }
 }
 
-// Bits 0..5 of common.glsl's neighbour mask: all six neighbours are linked fluid cells (no open
-// top, not solid).
-constexpr std::uint32_t kAllLinks = 0x3Fu;
-
-// For each row (y, z) of a level: 1 where its cells 1 .. nx - 2 all have the mask kAllLinks and
-// six open fractions of exactly 1. Kept per (mask, faces) contents: one entry per multigrid level.
-class RegularRows {
- public:
-  const std::uint8_t* flags(const ImageBinding& mask, const ImageBinding& faces, const glm::ivec3& res,
-                            ThreadPool& pool) {
-    for (Entry& e : entries_) {
-      if (e.mask == mask.data && e.mask_version == mask.version && e.faces == faces.data &&
-          e.faces_version == faces.version && e.res == res) {
-        return e.flags.data();
-      }
-    }
-    if (entries_.size() >= kMaxEntries) entries_.clear();
-    Entry e{mask.data, mask.version, faces.data, faces.version, res, std::vector<std::uint8_t>()};
-    e.flags.assign(static_cast<std::size_t>(res.y) * res.z, 0);
-    const std::uint8_t* m = static_cast<const std::uint8_t*>(mask.data);
-    const float* fx = static_cast<const float*>(faces.data);
-    const float* fy = fx + faces.plane;
-    const float* fz = fx + 2 * faces.plane;
-    const int sy = res.x + 1, sz = (res.x + 1) * (res.y + 1);
-    std::uint8_t* out = e.flags.data();
-    forRows(
-        glm::ivec3(1, res.y, res.z), pool,
-        [&](int y, int z) {
-          const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
-          bool regular = res.x > 2;
-          for (int i = 1; i < res.x - 1 && regular; ++i) {
-            const int f = frow + i;
-            regular = m[row + i] == kAllLinks && fx[f] == 1.0f && fx[f + 1] == 1.0f && fy[f] == 1.0f &&
-                      fy[f + sy] == 1.0f && fz[f] == 1.0f && fz[f + sz] == 1.0f;
-          }
-          out[y + z * res.y] = regular ? 1 : 0;
-        },
-        [](int, int) {}, res.x);
-    entries_.push_back(std::move(e));
-    return entries_.back().flags.data();
-  }
-
- private:
-  static constexpr std::size_t kMaxEntries = 16;
-  struct Entry {
-    const void* mask;
-    std::uint64_t mask_version;
-    const void* faces;
-    std::uint64_t faces_version;
-    glm::ivec3 res;
-    std::vector<std::uint8_t> flags;
-  };
-  std::vector<Entry> entries_;
-};
-
 template <class K, bool kProlong>
 class SmoothRows final : public CpuKernel {
  public:
@@ -132,7 +77,7 @@ class SmoothRows final : public CpuKernel {
         throw Error("mg_smooth: the coarse x is not bound at the next level's size");
       }
     }
-    const std::uint8_t* regular = regular_.flags(kernel_.u_mask, kernel_.u_faces, res, pool);
+    const std::uint8_t* regular = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, res, pool);
     forRows(glm::ivec3(res.x, res.y, res.z), pool,
             [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res, coarse, regular[y + z * res.y] != 0); }); },
             [](int, int) {});
@@ -246,7 +191,6 @@ class SmoothRows final : public CpuKernel {
 
   KernelSlots slots_;
   K kernel_{&slots_};
-  RegularRows regular_;
 };
 
 }  // namespace

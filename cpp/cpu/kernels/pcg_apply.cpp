@@ -43,17 +43,33 @@ struct ApplyRows {
   }
 
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res) {
+  // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
     thread_local std::vector<float> parts;
     parts.resize(static_cast<std::size_t>(res.x));
     float* __restrict part = parts.data();
     const PressureRow s(k.u_nbmask, k.u_face_open, k.u_s, res, y, z);
     float* __restrict q = static_cast<float*>(k.u_q.data) + s.cell(0);
+    if (open) {
+      const glm::vec3 unit(1.0f);
 #pragma omp simd
-    for (int i = 0; i < res.x; ++i) {
-      const glm::vec2 v = k.appliedValues(s.mask(i), s.facesLo(i), s.facesHi(i), s.x(i), s.xLo(i), s.xHi(i));
-      q[i] = v.x;
-      part[i] = v.y;
+      for (int i = 1; i < res.x - 1; ++i) {
+        const glm::vec2 v = k.appliedValues(kAllLinks, unit, unit, s.x(i), s.xLo(i), s.xHi(i));
+        q[i] = v.x;
+        part[i] = v.y;
+      }
+      for (int i : {0, res.x - 1}) {
+        const glm::vec2 v = k.appliedValues(s.mask(i), s.facesLo(i), s.facesHi(i), s.x(i), s.xLo(i), s.xHi(i));
+        q[i] = v.x;
+        part[i] = v.y;
+      }
+    } else {
+#pragma omp simd
+      for (int i = 0; i < res.x; ++i) {
+        const glm::vec2 v = k.appliedValues(s.mask(i), s.facesLo(i), s.facesHi(i), s.x(i), s.xLo(i), s.xHi(i));
+        q[i] = v.x;
+        part[i] = v.y;
+      }
     }
     float acc = 0.0f;
     for (int i = 0; i < res.x; ++i) acc += part[i];

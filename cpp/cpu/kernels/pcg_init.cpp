@@ -44,7 +44,8 @@ struct InitRows {
   }
 
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res) {
+  // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
     thread_local std::vector<float> parts;
     parts.resize(static_cast<std::size_t>(2 * res.x));
     float* __restrict bs = parts.data();
@@ -52,9 +53,20 @@ struct InitRows {
     const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + p.cell(0);
     float* __restrict r = static_cast<float*>(k.u_r.data) + p.cell(0);
+    if (open) {
+      const glm::vec3 unit(1.0f);
 #pragma omp simd
-    for (int i = 0; i < res.x; ++i) {
-      r[i] = k.startResidual(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
+      for (int i = 1; i < res.x - 1; ++i) {
+        r[i] = k.startResidual(kAllLinks, unit, unit, p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
+      }
+      for (int i : {0, res.x - 1}) {
+        r[i] = k.startResidual(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
+      }
+    } else {
+#pragma omp simd
+      for (int i = 0; i < res.x; ++i) {
+        r[i] = k.startResidual(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
+      }
     }
     glm::vec4 acc(0.0f), acc_ap(0.0f);
     for (int i = 0; i < res.x; ++i) k.addStartSums(acc, acc_ap, p.mask(i), r[i], bs[i], aps[i]);

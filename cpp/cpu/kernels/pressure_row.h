@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "cpu/glsl.h"
 #include "cpu/kernel.h"
+#include "cpu/regular_rows.h"
 
 namespace hf::cpu::kernels {
 
@@ -73,9 +74,10 @@ class PressureRow {
 
 // The runner of a row stage with a row loop of its own over PressureRow (pcg_apply, pcg_init: one
 // invocation per row of the grid u_res): Rows::check(kernel, res) tests the bindings
-// (checkBound), then Rows::row(k, y, z, res) runs for every row on a per-thread copy k of the
-// unchecked build K, on every thread (the serial threshold counts the row's cells, as
-// RowLoopRunner's) with the best instruction set.
+// (checkBound), then Rows::row(k, y, z, res, open) runs for every row on a per-thread copy k of
+// the unchecked build K, on every thread (the serial threshold counts the row's cells, as
+// RowLoopRunner's) with the best instruction set; `open`: the row is wholly open inside
+// (cpu/regular_rows.h, of the kernel's u_nbmask and u_face_open).
 template <class K, class Rows>
 class PressureRowRunner final : public CpuKernel {
  public:
@@ -83,9 +85,10 @@ class PressureRowRunner final : public CpuKernel {
   void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     const glm::ivec3 res = kernel_.u_res;
     Rows::check(kernel_, res);
+    const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_nbmask, kernel_.u_face_open, res, pool);
     forEachRow(
         glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
-        [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res); }, res.x);
+        [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res, open[y + z * res.y] != 0); }, res.x);
   }
 
  private:

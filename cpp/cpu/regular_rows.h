@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Which rows of a pressure grid are wholly open inside: for each row (y, z), whether its cells
+// 1 .. nx - 2 are all fluid with six linked neighbours (common.glsl's mask bits 0..5, no open top,
+// not solid) and six face fractions of exactly 1. Most rows of a real grid are (6522 of the seed
+// grid's 7000), and for them the row loops of the pressure stages (mg_smooth, mg_residual_restrict,
+// pcg_apply, pcg_init) call the shader's per-cell function with kAllLinks and unit fractions as
+// constants: the mask's bit tests fold away and neither mask nor faces is read, with the same bits
+// (1 * v is v; the sums add the same terms in the same order).
+//
+// One per CPU device (Bindings::regular_rows), used on its thread: the flags of a (mask, faces)
+// pair are derived on first use and kept while neither changes (ImageBinding::version), one set
+// per multigrid level, shared by the stages that read the same level.
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cpu/glsl.h"
+#include "cpu/kernel.h"
+#include "cpu/thread_pool.h"
+
+namespace hf::cpu {
+
+inline constexpr std::uint32_t kAllLinks = 0x3Fu;
+
+class RegularRows {
+ public:
+  // Row flags (1: wholly open inside), indexed y + z * res.y, of the grid `res` whose mask and
+  // face fractions ((res + 1) texels, RGBA32F planes) are bound in `mask` and `faces`.
+  const std::uint8_t* flags(const ImageBinding& mask, const ImageBinding& faces, const glm::ivec3& res,
+                            ThreadPool& pool) {
+    for (Entry& e : entries_) {
+      if (e.mask == mask.data && e.mask_version == mask.version && e.faces == faces.data &&
+          e.faces_version == faces.version && e.res == res) {
+        return e.flags.data();
+      }
+    }
+    if (entries_.size() >= kMaxEntries) entries_.clear();
+    Entry e{mask.data, mask.version, faces.data, faces.version, res, std::vector<std::uint8_t>()};
+    e.flags.assign(static_cast<std::size_t>(res.y) * res.z, 0);
+    const std::uint8_t* m = static_cast<const std::uint8_t*>(mask.data);
+    const float* fx = static_cast<const float*>(faces.data);
+    const float* fy = fx + faces.plane;
+    const float* fz = fx + 2 * faces.plane;
+    const int sy = res.x + 1, sz = (res.x + 1) * (res.y + 1);
+    std::uint8_t* out = e.flags.data();
+    forRows(
+        glm::ivec3(1, res.y, res.z), pool,
+        [&](int y, int z) {
+          const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
+          bool open = res.x > 2;
+          for (int i = 1; i < res.x - 1 && open; ++i) {
+            const int f = frow + i;
+            open = m[row + i] == kAllLinks && fx[f] == 1.0f && fx[f + 1] == 1.0f && fy[f] == 1.0f &&
+                   fy[f + sy] == 1.0f && fz[f] == 1.0f && fz[f + sz] == 1.0f;
+          }
+          out[y + z * res.y] = open ? 1 : 0;
+        },
+        [](int, int) {}, res.x);
+    entries_.push_back(std::move(e));
+    return entries_.back().flags.data();
+  }
+
+ private:
+  static constexpr std::size_t kMaxEntries = 16;
+  struct Entry {
+    const void* mask;
+    std::uint64_t mask_version;
+    const void* faces;
+    std::uint64_t faces_version;
+    glm::ivec3 res;
+    std::vector<std::uint8_t> flags;
+  };
+  std::vector<Entry> entries_;
+};
+
+}  // namespace hf::cpu
