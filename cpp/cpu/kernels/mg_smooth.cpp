@@ -138,18 +138,25 @@ class SmoothRows final : public CpuKernel {
       }
     } else {
       // x + the coarse level's x of the neighbour's parent: mg_prolong folded into the sweep. The
-      // parents' values are first spread to fine resolution along the row (par[r][1 + i] for the
-      // cell at i - 1 .. i + 1 of row r), so the main loop's loads are contiguous.
+      // parents' values are first spread to fine resolution along the row (d[1 + i] for cell i of
+      // row r, i = -1 .. res.x), so the main loop's loads are contiguous.
       const float* cx = texels<float>(k.u_coarse_x);
       const int csy = coarse.x, csz = coarse.x * coarse.y;
       const int rows[5] = {(y / 2) * csy + (z / 2) * csz, ((y - 1) / 2) * csy + (z / 2) * csz,
                            ((y + 1) / 2) * csy + (z / 2) * csz, (y / 2) * csy + ((z - 1) / 2) * csz,
                            (y / 2) * csy + ((z + 1) / 2) * csz};  // this row, y-1, y+1, z-1, z+1
+      // (Written in pairs, each parent twice: an element loop with i / 2 cost more than the sweep.)
       thread_local std::vector<float> spread;
-      const int width = res.x + 2;
+      const int width = res.x + 3;  // cells -1 .. res.x, and one spare for the last pair
       spread.resize(static_cast<std::size_t>(5 * width));
       for (int r = 0; r < 5; ++r) {
-        for (int i = -1; i <= res.x; ++i) spread[static_cast<std::size_t>(r * width + 1 + i)] = cx[i / 2 + rows[r]];
+        float* __restrict d = spread.data() + r * width;  // d[1 + i]: the parent of cell i
+        const float* __restrict parents = cx + rows[r];
+        d[0] = parents[0];  // cell -1's, as (-1) / 2 = 0
+        for (int j = 0; j <= res.x / 2; ++j) {  // cells 2j and 2j + 1
+          d[1 + 2 * j] = parents[j];
+          d[2 + 2 * j] = parents[j];
+        }
       }
       const float* __restrict mid = spread.data() + 1;
       const float* __restrict ylo = mid + width;
