@@ -74,7 +74,14 @@ UNIFORM(ivec3, u_res);  // cells per axis
 
 bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, u_res)); }
 
+// Cell c clamped into the grid. A CPU kernel file may also build a stage with HF_CLAMP_FREE for
+// the cells whose every neighbour is in the grid, where the clamp changes nothing: its loads are
+// then contiguous along a row (cpu/kernel.h, InteriorSimdRowRunner).
+#ifdef HF_CLAMP_FREE
+ivec3 clampCell(ivec3 c) { return c; }
+#else
 ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
+#endif
 
 // Cell c's open fractions as two vectors (the branch-free stages' FACE_OPEN_ALL): W_LO of its
 // -x, -y, -z faces, W_HI of its +x, +y, +z faces, declared here.

@@ -262,6 +262,52 @@ class SimdRowRunner final : public CpuKernel {
   KU kernel_{&slots_};
 };
 
+// SimdRowRunner for a stage whose lookups are clamped to the grid (clampCell) and reach at most one
+// cell from the invocation's: KI is the same shader built with HF_CLAMP_FREE (clampCell the
+// identity), run on the cells 1 .. res - 2 of every axis (u_res), where every neighbour is in the
+// grid and the clamp changes nothing, so the same bits; the other cells run KU. The clamp per lane
+// made the row's loads gathers; without it they are contiguous.
+template <class KU, class KI, class Body>
+class InteriorSimdRowRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 box = Body::box(clamped_, n);
+    if (box.x <= 0 || box.y <= 0 || box.z <= 0) return;
+    const glm::ivec3 res = clamped_.u_res;
+    forRows(
+        box, pool,
+        [&](int y, int z) {
+          runBest(bindings.x86_v3, [&] {
+            KU k(clamped_);
+            const Body body;
+            const bool inner_row = y >= 1 && y <= res.y - 2 && z >= 1 && z <= res.z - 2;
+            const int lo = inner_row ? std::min(1, box.x) : box.x;
+            const int hi = inner_row ? std::max(lo, std::min(box.x, res.x - 1)) : box.x;
+            for (int x = 0; x < lo; ++x) body(k, x, y, z);
+            KI ki(free_);
+            HF_OMP_SIMD
+            for (int x = lo; x < hi; ++x) body(ki, x, y, z);
+            HF_OMP_SIMD
+            for (int x = hi; x < box.x; ++x) body(k, x, y, z);
+          });
+        },
+        [&](int x0, int x1) {
+          runBest(bindings.x86_v3, [&] {
+            KU k(clamped_);
+            const Body body;
+            for (int x = x0; x < x1; ++x) body(k, x, 0, 0);
+          });
+        },
+        1);
+  }
+
+ private:
+  KernelSlots slots_;  // both builds register here: binding and uniforms reach both
+  KU clamped_{&slots_};
+  KI free_{&slots_};
+};
+
 template <class K>
 class GroupSumRunner final : public CpuKernel {
  public:
