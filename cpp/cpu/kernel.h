@@ -10,6 +10,9 @@
 //     first level of a reduction): each workgroup's sum goes to partials[part * groups + group];
 //   - InteriorRunner<K, KU> / UncheckedRunner<KU>: the same with the bounds tests left out where
 //     the runner proves every access in range (KU: the shader built with glsl::UncheckedImage);
+//   - SimdRowRunner<KU, Body> / InteriorSimdRowRunner<KU, KI, Body>: a kernel file's vectorized
+//     row loop over the shader's per-cell function (KI: built with HF_CLAMP_FREE, for the cells
+//     whose neighbours are all in the grid);
 //   - a runner of the kernel's own, where the shader needs workgroup barriers or where a row loop
 //     runs the shader's per-cell functions faster (its file says why).
 #include <algorithm>
