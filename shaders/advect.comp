@@ -71,26 +71,40 @@ vec3 velocityHere(ivec3 idx) { return vec3(crossX(idx), crossY(idx), imageLoad(u
 #endif
 #endif
 
-// Where texel idx's back-trace lands, in the field's texel space (the lookup of its new value).
-vec3 traceFoot(ivec3 idx) {
-  vec3 X = vec3(idx) + u_field_offset;
-  vec3 mid = X - 0.5f * u_dt_over_h * velocityHere(idx);
-  vec3 back = X - u_dt_over_h * velocityAt(mid);
+// Texel idx's point in grid units.
+vec3 fieldPoint(ivec3 idx) { return vec3(idx) + u_field_offset; }
+
+// The back-trace in pieces, so that the CPU can run the lookups between them its own way
+// (cpu/kernels/advect.cpp): its midpoint, half a step back along the velocity here; its foot,
+// a step back along velocityAt(midpoint), in the field's texel space; the new value(s) from the
+// field(s) sampled at the foot (.y: the second field's, with PAIR).
+vec3 traceMid(ivec3 idx) { return fieldPoint(idx) - 0.5f * u_dt_over_h * velocityHere(idx); }
+
+vec3 traceFootFrom(ivec3 idx, vec3 mid_velocity) {
+  vec3 back = fieldPoint(idx) - u_dt_over_h * mid_velocity;
   back = clamp(back, vec3(0.0f), vec3(u_res));
   return back - u_field_offset;
 }
 
-// Texel idx's new value(s): the field(s) at the foot of its back-trace, times the decay; 0 in a
-// solid cell where u_zero_in_solid. Branch-free, so the CPU's row loop (cpu/kernels/advect.cpp)
-// vectorizes it. (With PAIR, .y is the second field's.)
-vec2 advectedValues(ivec3 idx) {
-  vec3 t = traceFoot(idx);
-  vec2 v = vec2(sampleSrc(u_field_size, t) * u_decay, 0.0f);
+// Times the decay; 0 in a solid cell where u_zero_in_solid.
+vec2 finishedValues(ivec3 idx, vec2 sampled) {
+  vec2 v = vec2(sampled.x * u_decay, 0.0f);
 #ifdef PAIR
-  v.y = sampleSrc2(u_field_size, t) * u_decay2;
+  v.y = sampled.y * u_decay2;
 #endif
   bool solid = (imageLoad(u_nbmask, idx).x & NB_SOLID) != 0u;  // read always: no branch around a load
   return (u_zero_in_solid != 0 && solid) ? vec2(0.0f) : v;
+}
+
+// Texel idx's new value(s): the field(s) at the foot of its back-trace, finished. Branch-free, so
+// the CPU's row loop vectorizes it.
+vec2 advectedValues(ivec3 idx) {
+  vec3 t = traceFootFrom(idx, velocityAt(traceMid(idx)));
+  vec2 sampled = vec2(sampleSrc(u_field_size, t), 0.0f);
+#ifdef PAIR
+  sampled.y = sampleSrc2(u_field_size, t);
+#endif
+  return finishedValues(idx, sampled);
 }
 
 void main() {

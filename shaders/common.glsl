@@ -24,6 +24,7 @@
 #define UNROLL       // a short loop of constant count (C++: unrolled, so its index folds)
 #define OUT(T) out T  // an out parameter (C++: a reference)
 #define INOUT(T) inout T  // an in-out parameter (C++: a reference)
+#define INLINE  // a small function a C++ row loop calls from several places (C++: always inlined)
 #endif
 
 // Cell classes of the seed paper (values shared with cpp/obstacle/cell_class.h).
@@ -126,32 +127,41 @@ float residualAt(uint m, vec3 w_lo, vec3 w_hi, float x, vec3 x_lo, vec3 x_hi, fl
 // at integer t), clamped to the edge: the value texture() gives with GL_LINEAR and
 // GL_CLAMP_TO_EDGE, but with full-precision weights (hardware filtering uses 8-bit ones), so
 // every back-trace (advect.comp, maccormack.comp) gives the same point on every device.
+// In three pieces, so that the CPU can fetch the eight corners its own way (cpu/kernels/
+// advect.cpp: a block of texels from one window of rows) around the same arithmetic: the corner
+// below t (i0), t's fractions past it (f), and the blend of the corners c<x><y><z> (0: at i0,
+// 1: at i0 + 1, clamped to the edge).
+INLINE ivec3 trilinearCorner(ivec3 size, vec3 t) { return ivec3(clamp(t, vec3(0.0f), vec3(size - 1))); }
+INLINE vec3 trilinearFraction(ivec3 size, vec3 t) {
+  vec3 c = clamp(t, vec3(0.0f), vec3(size - 1));
+  return c - vec3(ivec3(c));
+}
+INLINE float trilinearBlend(float c000, float c100, float c010, float c110, float c001, float c101, float c011,
+                            float c111, vec3 f) {
+  return mix(mix(mix(c000, c100, f.x), mix(c010, c110, f.x), f.y), mix(mix(c001, c101, f.x), mix(c011, c111, f.x), f.y),
+             f.z);
+}
 // A macro, because an image passed as a function argument loses its format.
-#define DEFINE_TRILINEAR(NAME, IMG)                                                        \
-  float NAME(ivec3 size, vec3 t) {                                                         \
-    t = clamp(t, vec3(0.0f), vec3(size - 1));                                               \
-    ivec3 i0 = ivec3(t);                                                                   \
-    vec3 f = t - vec3(i0);                                                                 \
-    ivec3 i1 = min(i0 + 1, size - 1);                                                      \
-    float c00 = mix(imageLoad(IMG, i0).x, imageLoad(IMG, ivec3(i1.x, i0.y, i0.z)).x, f.x); \
-    float c10 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i0.z)).x,                             \
-                    imageLoad(IMG, ivec3(i1.x, i1.y, i0.z)).x, f.x);                       \
-    float c01 = mix(imageLoad(IMG, ivec3(i0.x, i0.y, i1.z)).x,                             \
-                    imageLoad(IMG, ivec3(i1.x, i0.y, i1.z)).x, f.x);                       \
-    float c11 = mix(imageLoad(IMG, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(IMG, i1).x, f.x); \
-    return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);                               \
+#define DEFINE_TRILINEAR(NAME, IMG)                                                                 \
+  INLINE float NAME(ivec3 size, vec3 t) {                                                                  \
+    ivec3 i0 = trilinearCorner(size, t);                                                            \
+    ivec3 i1 = min(i0 + 1, size - 1);                                                               \
+    return trilinearBlend(imageLoad(IMG, i0).x, imageLoad(IMG, ivec3(i1.x, i0.y, i0.z)).x,          \
+                          imageLoad(IMG, ivec3(i0.x, i1.y, i0.z)).x, imageLoad(IMG, ivec3(i1.x, i1.y, i0.z)).x, \
+                          imageLoad(IMG, ivec3(i0.x, i0.y, i1.z)).x, imageLoad(IMG, ivec3(i1.x, i0.y, i1.z)).x, \
+                          imageLoad(IMG, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(IMG, i1).x,                      \
+                          trilinearFraction(size, t));                                              \
   }
 
 // Defines velocityAt(vec3 X): the trilinear velocity (m/s) at grid-unit position X from the
-// staggered images VX, VY, VZ (face fields at offsets (0,.5,.5), (.5,0,.5), (.5,.5,0)).
-#define DEFINE_VELOCITY_AT(VX, VY, VZ)                                     \
-  DEFINE_TRILINEAR(sampleVx, VX)                                          \
-  DEFINE_TRILINEAR(sampleVy, VY)                                          \
-  DEFINE_TRILINEAR(sampleVz, VZ)                                          \
-  vec3 velocityAt(vec3 X) {                                               \
-    return vec3(sampleVx(u_res + ivec3(1, 0, 0), X - vec3(0.0f, 0.5f, 0.5f)), \
-                sampleVy(u_res + ivec3(0, 1, 0), X - vec3(0.5f, 0.0f, 0.5f)), \
-                sampleVz(u_res + ivec3(0, 0, 1), X - vec3(0.5f, 0.5f, 0.0f))); \
+// staggered images VX, VY, VZ (face fields of faceSize(axis) texels at faceOffset(axis)).
+#define DEFINE_VELOCITY_AT(VX, VY, VZ)                                                     \
+  DEFINE_TRILINEAR(sampleVx, VX)                                                          \
+  DEFINE_TRILINEAR(sampleVy, VY)                                                          \
+  DEFINE_TRILINEAR(sampleVz, VZ)                                                          \
+  vec3 velocityAt(vec3 X) {                                                               \
+    return vec3(sampleVx(faceSize(0), X - faceOffset(0)), sampleVy(faceSize(1), X - faceOffset(1)), \
+                sampleVz(faceSize(2), X - faceOffset(2)));                                \
   }
 
 // Texel offset of face component `axis` (0=u, 1=v, 2=w).

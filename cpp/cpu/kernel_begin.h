@@ -24,6 +24,7 @@
 #define UNROLL _Pragma("GCC unroll 8")
 #define OUT(T) T&
 #define INOUT(T) T&
+#define INLINE __attribute__((always_inline))
 // main() takes its invocation; the built-ins read from it.
 #define main() hf_main(const ::hf::cpu::glsl::Invocation& hf_invocation)
 #define gl_GlobalInvocationID (hf_invocation.global_id)

@@ -16,6 +16,7 @@
 #undef UNROLL
 #undef OUT
 #undef INOUT
+#undef INLINE
 #undef main
 #undef gl_GlobalInvocationID
 #undef gl_LocalInvocationID

@@ -399,5 +399,27 @@ TEST(CpuBackend, BaselineAndAvx2BuildsGiveTheSameBits) {
   for (const auto& [name, bytes] : after[false]) EXPECT_EQ(bytes, after[true].at(name)) << name;
 }
 
+// The same from a random state (displacements up to about a cell, with noise): the AVX2 build
+// advects in blocks that read a window of rows (one row and slice for every lane, or three of
+// each) and falls back to the shader's lookup where a block strays or its window would leave the
+// field (cpu/kernels/advect.cpp); the baseline build looks up every texel as the shader does.
+TEST(CpuBackend, BaselineAndAvx2BuildsGiveTheSameBitsFromARandomState) {
+  if (!cpu::cpuHasX86V3()) GTEST_SKIP() << "this CPU has no AVX2 (or HAPTICFLUID_CPU_ISA=baseline)";
+  for (const Scene& scene : {sphereScene({37, 22, 19}), meshScene({29, 26, 21})}) {
+    std::map<bool, Snapshot> after;
+    for (bool v3 : {false, true}) {
+      cpu::CpuWorker worker(2, std::nullopt, v3);
+      worker.call([&] {
+        StepPipeline p(scene.grid);
+        p.step(scene.in);
+        randomState(p.fields(), 4321);
+        p.step(scene.in);
+        after[v3] = snapshot(p.fields());
+      });
+    }
+    for (const auto& [name, bytes] : after[false]) EXPECT_EQ(bytes, after[true].at(name)) << scene.name << ": " << name;
+  }
+}
+
 }  // namespace
 }  // namespace hf::session
