@@ -8,13 +8,11 @@
 // with branches, ran it scalar: 2.3 % of a seed step).
 #include "cpu/kernels/kernel_list.h"
 
-#include <algorithm>
 #include <cstdint>
-#include <string>
-#include <utility>
 #include <vector>
 
 #include "common/error.h"
+#include "cpu/kernels/pressure_row.h"  // checkBound
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -42,26 +40,20 @@ using K = ScalarHeadroomUnchecked;
 class HeadroomRows final : public CpuKernel {
  public:
   KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     const glm::ivec3 res = kernel_.u_res;
-    for (const auto& [image, name] : {std::pair<const ImageBinding*, const char*>{&kernel_.u_density, "density"},
-                                      {&kernel_.u_temperature, "temperature"},
-                                      {&kernel_.u_nbmask, "nbmask"}}) {
-      if (image->data == nullptr || image->size != res) {
-        throw Error(std::string("scalar_headroom: image ") + name + " is not bound at the grid's size");
-      }
-    }
+    constexpr const char* stage = "scalar_headroom";
+    checkBound(kernel_.u_density, res, stage, "density");
+    checkBound(kernel_.u_temperature, res, stage, "temperature");
+    checkBound(kernel_.u_nbmask, res, stage, "nbmask");
     if (kernel_.partials.length() < 2 * static_cast<std::size_t>(res.y) * static_cast<std::size_t>(res.z)) {
       throw Error("scalar_headroom: the partials buffer holds fewer than two vec4s per row");
     }
-    // Invocation (j, k) sums the grid's row (y, z) = (j, k): forEachRow's rows of invocations are
-    // the grid's slices z, their invocations x0 .. x1 its rows y.
+    // One grid row per row of the box, as PressureRowRunner dispatches (the serial threshold
+    // counts the row's cells).
     forEachRow(
-        glm::min(n, glm::ivec3(res.y, res.z, 1)), pool, bindings.x86_v3, kernel_,
-        [&](K& k, int z, int, int y0, int y1) {
-          for (int y = y0; y < y1; ++y) row(k, y, z, res);
-        },
-        std::max(1, res.x));
+        glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
+        [&](K& k, int y, int z, int, int) { row(k, y, z, res); }, res.x);
   }
 
  private:
