@@ -176,6 +176,17 @@ vec3 faceOffset(int axis) { return vec3(0.5f) - 0.5f * vec3(unitAxis(axis)); }
 
 ivec3 faceSize(int axis) { return u_res + unitAxis(axis); }
 
+// pcg_init and pcg_apply sum their row's cells in ROW_PARTS interleaved parts: cell i into part
+// i % ROW_PARTS, each part in the row's order, then the parts in a fixed tree (rowPartsTotal). Both
+// backends add in this order; the CPU, which has the cells' terms in row buffers there, adds a
+// block of ROW_PARTS cells with one vector add where a sum in the row's order was a chain of
+// dependent adds, one a cell (cpu/kernels/pressure_row.h, addRowParts).
+CONST int ROW_PARTS = 8;
+
+vec4 rowPartsTotal(vec4 p[ROW_PARTS]) {
+  return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+}
+
 #if defined(GROUP_SUM) && !defined(HF_CPU)  // C++: cpu/glsl.h sums a workgroup in order
 // First level of a parallel reduction: every invocation of a workgroup calls writeGroupSum with
 // its value; the workgroup's sum lands in partials[workgroup index] for reduce.comp.

@@ -18,19 +18,20 @@ vec2 appliedValues(uint m, vec3 w_lo, vec3 w_hi, float s, vec3 s_lo, vec3 s_hi) 
   return vec2(q, solid ? 0.0f : s * q);
 }
 
-// The row's cells in order, their parts of s.q summed in that order (cpu/kernels/pcg_apply.cpp
-// sums in it too).
+// The row's cells, their parts of s.q summed by parts (common.glsl, ROW_PARTS; cpu/kernels/
+// pcg_apply.cpp sums the same way).
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
-  vec4 acc = vec4(0.0f);
+  vec4 parts[ROW_PARTS];
+  UNROLL for (int l = 0; l < ROW_PARTS; ++l) parts[l] = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
     FACE_OPEN_LO_HI(u_face_open, c, w_lo, w_hi);
     NEIGHBOURS_LO_HI(u_s, c, s_lo, s_hi);
     vec2 v = appliedValues(imageLoad(u_nbmask, c).x, w_lo, w_hi, imageLoad(u_s, c).x, s_lo, s_hi);
     imageStore(u_q, c, vec4(v.x));
-    acc.x += v.y;
+    parts[i % ROW_PARTS].x += v.y;
   }
-  partials[row.x + u_res.y * row.y] = acc;
+  partials[row.x + u_res.y * row.y] = rowPartsTotal(parts);
 }

@@ -18,7 +18,7 @@ IMAGE_WO(r32f, 0, u_r);
 BUFFER_WO(Partials, vec4, 0, partials);
 
 // One cell's starting residual r = b - A p with b = -rhs (0 in a solid cell); b and A p go out
-// for the sums (addStartSums).
+// for the sums (startSums, startApSums).
 float startResidual(uint m, vec3 w_lo, vec3 w_hi, float p, vec3 p_lo, vec3 p_hi, float rhs, OUT(float) b,
                     OUT(float) ap) {
   ap = operatorAt(m, w_lo, w_hi, p, p_lo, p_hi);
@@ -26,21 +26,28 @@ float startResidual(uint m, vec3 w_lo, vec3 w_hi, float p, vec3 p_lo, vec3 p_hi,
   return (m & NB_SOLID) != 0u ? 0.0f : b - ap;
 }
 
-// A cell's parts of the row's sums: (r, 1, r r, b b) into acc, (b r, Ap Ap, b Ap, 0) into acc_ap;
-// nothing from a solid cell (adding 0 is exact).
-void addStartSums(INOUT(vec4) acc, INOUT(vec4) acc_ap, uint m, float r, float b, float ap) {
-  bool solid = (m & NB_SOLID) != 0u;
-  acc += solid ? vec4(0.0f) : vec4(r, 1.0f, r * r, b * b);
-  acc_ap += solid ? vec4(0.0f) : vec4(b * r, ap * ap, b * ap, 0.0f);
+// A cell's parts of the row's sums: (r, 1, r r, b b) (startSums) and (b r, Ap Ap, b Ap, 0)
+// (startApSums); 0 from a solid cell. Selects per component (the CPU's row loop vectorizes them).
+vec4 startSums(uint m, float r, float b) {
+  bool fluid = (m & NB_SOLID) == 0u;
+  return vec4(fluid ? r : 0.0f, fluid ? 1.0f : 0.0f, fluid ? r * r : 0.0f, fluid ? b * b : 0.0f);
+}
+vec4 startApSums(uint m, float r, float b, float ap) {
+  bool fluid = (m & NB_SOLID) == 0u;
+  return vec4(fluid ? b * r : 0.0f, fluid ? ap * ap : 0.0f, fluid ? b * ap : 0.0f, 0.0f);
 }
 
-// The row's cells in order, their parts summed in that order (cpu/kernels/pcg_init.cpp sums in
-// it too).
+// The row's cells, their parts summed by parts (common.glsl, ROW_PARTS; cpu/kernels/pcg_init.cpp
+// sums the same way).
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
-  vec4 acc = vec4(0.0f);
-  vec4 acc_ap = vec4(0.0f);
+  vec4 parts[ROW_PARTS];
+  vec4 parts_ap[ROW_PARTS];
+  UNROLL for (int l = 0; l < ROW_PARTS; ++l) {
+    parts[l] = vec4(0.0f);
+    parts_ap[l] = vec4(0.0f);
+  }
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
     FACE_OPEN_LO_HI(u_face_open, c, w_lo, w_hi);
@@ -49,9 +56,10 @@ void main() {
     float b;
     float ap;
     float r = startResidual(m, w_lo, w_hi, imageLoad(u_pressure, c).x, p_lo, p_hi, imageLoad(u_rhs, c).x, b, ap);
-    addStartSums(acc, acc_ap, m, r, b, ap);
+    parts[i % ROW_PARTS] += startSums(m, r, b);
+    parts_ap[i % ROW_PARTS] += startApSums(m, r, b, ap);
     imageStore(u_r, c, vec4(r));
   }
-  partials[row.x + u_res.y * row.y] = acc;
-  partials[u_res.y * u_res.z + row.x + u_res.y * row.y] = acc_ap;
+  partials[row.x + u_res.y * row.y] = rowPartsTotal(parts);
+  partials[u_res.y * u_res.z + row.x + u_res.y * row.y] = rowPartsTotal(parts_ap);
 }

@@ -3,7 +3,7 @@
 // one invocation per row of cells, run by pressure_row.h's PressureRowRunner). The shader's
 // appliedValues gives every cell's q = A s and its part of s.q, vectorized over the row
 // (cpu/kernels/pressure_row.h says why its loads need no bounds tests); the parts are then
-// added in the row's order, as the shader adds them, so the sum has the GPU's bits.
+// summed by parts (addRowParts, common.glsl's ROW_PARTS) as the shader sums them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
 
 #include <vector>
@@ -71,9 +71,11 @@ struct ApplyRows {
         part[i] = v.y;
       }
     }
-    float acc = 0.0f;
-    for (int i = 0; i < res.x; ++i) acc += part[i];
-    k.partials[static_cast<std::size_t>(y + res.y * z)] = glm::vec4(acc, 0.0f, 0.0f, 0.0f);
+    float sums[K::ROW_PARTS] = {};
+    addRowParts(part, res.x, sums);
+    glm::vec4 totals[K::ROW_PARTS];
+    for (int l = 0; l < K::ROW_PARTS; ++l) totals[l] = glm::vec4(sums[l], 0.0f, 0.0f, 0.0f);
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = k.rowPartsTotal(totals);
   }
 };
 

@@ -2,8 +2,9 @@
 // shaders/pcg_init.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage:
 // one invocation per row of cells, run by pressure_row.h's PressureRowRunner). The shader's
 // startResidual gives every cell's residual, vectorized over the row (cpu/kernels/pressure_row.h
-// says why its loads need no bounds tests); its addStartSums then adds the cells' parts in the
-// row's order, as the shader adds them, so the sums have the GPU's bits.
+// says why its loads need no bounds tests); its startSums and startApSums, vectorized too, give
+// the cells' terms, summed by parts (addRowParts, common.glsl's ROW_PARTS) as the shader sums
+// them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
 
 #include <vector>
@@ -46,10 +47,11 @@ struct InitRows {
   // (always_inline: flattened into each instruction set's build by runBest.)
   // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
   __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
-    thread_local std::vector<float> parts;
-    parts.resize(static_cast<std::size_t>(2 * res.x));
-    float* __restrict bs = parts.data();
+    thread_local std::vector<float> buffer;
+    buffer.resize(static_cast<std::size_t>(9 * res.x));
+    float* __restrict bs = buffer.data();
     float* __restrict aps = bs + res.x;
+    float* __restrict terms = aps + res.x;  // 7 rows: startSums' x y z w, startApSums' x y z
     const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + p.cell(0);
     float* __restrict r = static_cast<float*>(k.u_r.data) + p.cell(0);
@@ -68,12 +70,30 @@ struct InitRows {
         r[i] = k.startResidual(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
       }
     }
-    glm::vec4 acc(0.0f), acc_ap(0.0f);
-    for (int i = 0; i < res.x; ++i) k.addStartSums(acc, acc_ap, p.mask(i), r[i], bs[i], aps[i]);
+#pragma omp simd
+    for (int i = 0; i < res.x; ++i) {
+      const glm::vec4 s = k.startSums(p.mask(i), r[i], bs[i]);
+      const glm::vec4 a = k.startApSums(p.mask(i), r[i], bs[i], aps[i]);
+      terms[i] = s.x;
+      terms[res.x + i] = s.y;
+      terms[2 * res.x + i] = s.z;
+      terms[3 * res.x + i] = s.w;
+      terms[4 * res.x + i] = a.x;
+      terms[5 * res.x + i] = a.y;
+      terms[6 * res.x + i] = a.z;
+    }
+    constexpr int kParts = K::ROW_PARTS;
+    float sums[7][kParts] = {};
+    for (int c = 0; c < 7; ++c) addRowParts(terms + c * res.x, res.x, sums[c]);
+    glm::vec4 parts[kParts], parts_ap[kParts];
+    for (int l = 0; l < kParts; ++l) {
+      parts[l] = glm::vec4(sums[0][l], sums[1][l], sums[2][l], sums[3][l]);
+      parts_ap[l] = glm::vec4(sums[4][l], sums[5][l], sums[6][l], 0.0f);
+    }
     const std::size_t rows = static_cast<std::size_t>(res.y) * static_cast<std::size_t>(res.z);
     const std::size_t at = static_cast<std::size_t>(y + res.y * z);
-    k.partials[at] = acc;
-    k.partials[rows + at] = acc_ap;
+    k.partials[at] = k.rowPartsTotal(parts);
+    k.partials[rows + at] = k.rowPartsTotal(parts_ap);
   }
 };
 

@@ -25,6 +25,18 @@ inline void checkBound(const ImageBinding& image, const glm::ivec3& want, const 
   }
 }
 
+// Adds a row's terms t[0 .. n - 1] (one component) into common.glsl's ROW_PARTS parts: part l takes
+// t[l], t[l + P], ... in order, as the shaders' `parts[i % ROW_PARTS] +=`. A block of P cells is
+// one vector add (per part, the same adds in the same order).
+template <int P>
+__attribute__((always_inline)) inline void addRowParts(const float* __restrict t, int n, float (&parts)[P]) {
+  int i0 = 0;
+  for (; i0 + P <= n; i0 += P) {
+    for (int l = 0; l < P; ++l) parts[l] += t[i0 + l];
+  }
+  for (int l = 0; i0 + l < n; ++l) parts[l] += t[i0 + l];
+}
+
 class PressureRow {
  public:
   // Row (y, z) of a grid of `res` cells: its mask, face fractions (res + 1 texels) and values x.
