@@ -1,9 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/enforce_boundaries.comp built as C++ (cpu/kernel.h).
-// Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
-// children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// shaders/enforce_boundaries.comp built as C++ (cpu/kernel.h), with a row loop of its own.
+// The shader stores only on the domain's walls and on faces whose open fraction is not above 0
+// (wholly covered); for every other face main() returns after loading the fraction. Those are
+// nearly all faces (the stage ran 4 % of a one-thread seed step calling main() for each), so the
+// loop tests the axis's fraction plane 16 faces at a time (vectorized) and calls the shader's main()
+// only for the faces of a block that has a covered one, and for every wall face: main() then
+// decides, as on the GPU. That main() is the bounds-tested build: it runs for few faces.
 #include "cpu/kernels/kernel_list.h"
+
+#include <algorithm>
+#include <string>
+
+#include "common/error.h"
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -16,23 +24,81 @@ struct EnforceBoundaries : KernelBase {
 #include "enforce_boundaries.comp"
 };
 
-#undef HF_IMAGE
-#define HF_IMAGE ::hf::cpu::glsl::UncheckedImage
-
-struct EnforceBoundariesUnchecked : KernelBase {
-  using KernelBase::KernelBase;
-#include "common.glsl"
-#include "enforce_boundaries.comp"
-};
 
 }  // namespace
 }  // namespace hf::cpu::kernels
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
+
+constexpr int kBlock = 16;  // faces tested together
+
+class BoundaryRows final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const int axis = kernel_.u_axis;
+    if (axis < 0 || axis > 2) throw Error("enforce_boundaries: u_axis must be 0, 1 or 2, got " + std::to_string(axis));
+    const glm::ivec3 res = kernel_.u_res;
+    const glm::ivec3 unit(axis == 0 ? 1 : 0, axis == 1 ? 1 : 0, axis == 2 ? 1 : 0);
+    const glm::ivec3 faces = glm::min(n, res + unit);  // the dispatch within the shader's bounds test
+    if (faces.x <= 0 || faces.y <= 0 || faces.z <= 0) return;
+    const ImageBinding& open = kernel_.u_face_open;
+    if (open.data == nullptr || glm::any(glm::lessThan(open.size, faces))) {
+      throw Error("enforce_boundaries: the face fractions are not bound over the axis's faces");
+    }
+    const float* plane = static_cast<const float*>(open.data) + open.plane * static_cast<std::size_t>(axis);
+    forRows(
+        faces, pool,
+        [&](int y, int z) {
+          runBest(bindings.x86_v3, [&] {
+            EnforceBoundaries k(kernel_);
+            glsl::Invocation inv;
+            const bool wall_row = (axis == 1 && (y == 0 || y == res.y)) || (axis == 2 && (z == 0 || z == res.z));
+            if (wall_row) {
+              for (int x = 0; x < faces.x; ++x) runInvocation(k, inv, x, y, z);
+              return;
+            }
+            int lo = 0, hi = faces.x;
+            if (axis == 0) {  // the row's two wall faces
+              runInvocation(k, inv, 0, y, z);
+              if (res.x < faces.x) runInvocation(k, inv, res.x, y, z);
+              lo = 1;
+              hi = std::min(faces.x, res.x);
+            }
+            const float* fraction = plane + static_cast<std::ptrdiff_t>(y) * open.stride_y +
+                                    static_cast<std::ptrdiff_t>(z) * open.stride_z;
+            for (int x0 = lo; x0 < hi; x0 += kBlock) {
+              const int x1 = std::min(hi, x0 + kBlock);
+              unsigned covered = 0;
+#pragma omp simd reduction(|: covered)
+              for (int x = x0; x < x1; ++x) covered |= fraction[x] > 0.0f ? 0u : 1u;
+              if (covered == 0) continue;
+              for (int x = x0; x < x1; ++x) {
+                if (!(fraction[x] > 0.0f)) runInvocation(k, inv, x, y, z);
+              }
+            }
+          });
+        },
+        [&](int x0, int x1) {  // one long row: every face through main()
+          runBest(bindings.x86_v3, [&] {
+            EnforceBoundaries k(kernel_);
+            glsl::Invocation inv;
+            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
+          });
+        });
+  }
+
+ private:
+  KernelSlots slots_;
+  EnforceBoundaries kernel_{&slots_};
+};
+
+}  // namespace
 
 void addEnforceBoundaries(KernelRegistry& r) {
-  r.add<InteriorRunner<EnforceBoundaries, EnforceBoundariesUnchecked>>("enforce_boundaries.comp", {});
+  r.add<BoundaryRows>("enforce_boundaries.comp", {});
 }
 
 }  // namespace hf::cpu::kernels
