@@ -51,13 +51,16 @@ class RegularRows {
         glm::ivec3(1, res.y, res.z), pool,
         [&](int y, int z) {
           const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
-          bool open = res.x > 2;
-          for (int i = 1; i < res.x - 1 && open; ++i) {
+          // Every cell tested, no early exit, so that the loop vectorizes (most rows are open).
+          unsigned closed = res.x > 2 ? 0u : 1u;
+          for (int i = 1; i < res.x - 1; ++i) {
             const int f = frow + i;
-            open = m[row + i] == kAllLinks && fx[f] == 1.0f && fx[f + 1] == 1.0f && fy[f] == 1.0f &&
-                   fy[f + sy] == 1.0f && fz[f] == 1.0f && fz[f + sz] == 1.0f;
+            closed |= static_cast<unsigned>(m[row + i] != kAllLinks) | static_cast<unsigned>(fx[f] != 1.0f) |
+                      static_cast<unsigned>(fx[f + 1] != 1.0f) | static_cast<unsigned>(fy[f] != 1.0f) |
+                      static_cast<unsigned>(fy[f + sy] != 1.0f) | static_cast<unsigned>(fz[f] != 1.0f) |
+                      static_cast<unsigned>(fz[f + sz] != 1.0f);
           }
-          out[y + z * res.y] = open ? 1 : 0;
+          out[y + z * res.y] = closed == 0 ? 1 : 0;
         },
         [](int, int) {}, res.x);
     entries_.push_back(std::move(e));
