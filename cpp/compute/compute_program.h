@@ -38,6 +38,12 @@ class ComputeProgram {
   // stage and to read-backs.
   void dispatch(const glm::ivec3& invocations) { impl_->dispatch(invocations); }
 
+  // dispatch(invocations), then next.dispatch(next_invocations), the images and buffers bound as
+  // they are now: the same result, which a device may compute in one pass (ProgramImpl::dispatchThen).
+  void dispatchThen(const glm::ivec3& invocations, ComputeProgram& next, const glm::ivec3& next_invocations) {
+    impl_->dispatchThen(invocations, *next.impl_, next_invocations);
+  }
+
  private:
   std::string name_;
   std::unique_ptr<ProgramImpl> impl_;

@@ -212,6 +212,34 @@ class CpuProgram final : public compute::ProgramImpl {
   void setMat4(const char* name, const glm::mat4& v) override { set(name, KernelSlots::UniformType::Mat4, &v, sizeof v); }
 
   void dispatch(const glm::ivec3& invocations) override {
+    bindSlots();
+    kernel_->run(invocations, local_size_, bindings_, pool_);
+    countDispatch(invocations);
+  }
+
+  void dispatchThen(const glm::ivec3& invocations, compute::ProgramImpl& next_impl,
+                    const glm::ivec3& next_invocations) override {
+    auto* next = dynamic_cast<CpuProgram*>(&next_impl);
+    if (next == nullptr) {
+      compute::ProgramImpl::dispatchThen(invocations, next_impl, next_invocations);
+      return;
+    }
+    bindSlots();
+    next->bindSlots();
+    if (kernel_->runThen(invocations, *next->kernel_, next_invocations, bindings_, pool_)) {
+      countDispatch(invocations);
+      countDispatch(next_invocations);
+      return;
+    }
+    kernel_->run(invocations, local_size_, bindings_, pool_);
+    countDispatch(invocations);
+    next->kernel_->run(next_invocations, next->local_size_, bindings_, pool_);
+    countDispatch(next_invocations);
+  }
+
+ private:
+  // The bound images and buffers into the kernel's slots.
+  void bindSlots() {
     KernelSlots& slots = kernel_->slots();
     for (const auto& image : slots.images) {
       const ImageBinding& bound = bindings_.images[static_cast<std::size_t>(image.unit)];
@@ -221,12 +249,13 @@ class CpuProgram final : public compute::ProgramImpl {
       image.target->format = image.format;
     }
     for (const auto& buffer : slots.buffers) *buffer.target = bindings_.buffers[static_cast<std::size_t>(buffer.binding)];
-    kernel_->run(invocations, local_size_, bindings_, pool_);
+  }
+
+  static void countDispatch(const glm::ivec3& invocations) {
     compute::countDispatch(static_cast<std::uint64_t>(invocations.x) * static_cast<std::uint64_t>(invocations.y) *
                            static_cast<std::uint64_t>(invocations.z));
   }
 
- private:
   void set(const char* name, KernelSlots::UniformType type, const void* value, std::size_t bytes) {
     // Every struct of the kernel's runner has it (a runner may hold a checked and an unchecked
     // build); a uniform the kernel does not have is ignored, as GL ignores location -1.

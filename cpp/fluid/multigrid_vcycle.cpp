@@ -36,6 +36,7 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
       coarsen_("mg_coarsen_mask.comp", compute::cellGroupDefines()),
       coarsen_faces_("mg_coarsen_faces.comp", compute::cellGroupDefines()),
       smooth_("mg_smooth.comp", compute::cellGroupDefines()),
+      smooth_second_("mg_smooth.comp", compute::cellGroupDefines()),
       residual_("mg_residual.comp", compute::cellGroupDefines()),
       restrict_("mg_restrict.comp", compute::cellGroupDefines()),
       prolong_("mg_prolong.comp", compute::cellGroupDefines()),
@@ -130,6 +131,23 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const compute::Text
   prolong_.dispatch(fine_res);
 }
 
+// A red-black pair: `first`'s sweep of `colour` from its zero guess or not (PROLONG's coarse x bound
+// by the caller), then `second`'s of the other colour: the two sweeps' result, which a device may
+// compute in one pass (ComputeProgram::dispatchThen; the CPU does, a plane apart).
+void MultigridVCycle::sweepPair(compute::ComputeProgram& first, compute::ComputeProgram& second, const glm::ivec3& res,
+                                const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
+                                const compute::Texture3D& b, int colour, bool zero_guess) {
+  bindSmoothInputs(mask, faces, x, compute::Access::ReadWrite, b);
+  first.set("u_res", res);
+  first.set("u_colour", colour);
+  first.set("u_zero_guess", zero_guess ? 1 : 0);
+  second.set("u_res", res);
+  second.set("u_colour", 1 - colour);
+  second.set("u_zero_guess", 0);
+  const glm::ivec3 invocations((res.x + 1) / 2, res.y, res.z);
+  first.dispatchThen(invocations, second, invocations);
+}
+
 void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
                                       compute::Texture3D& x, const compute::Texture3D& b, const compute::Texture3D& coarse_x,
                                       int colour) {
@@ -184,23 +202,20 @@ void MultigridVCycle::apply(const compute::Texture3D& fine_mask, const compute::
   auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
 
   for (int l = 0; l < last; ++l) {
-    for (int s = 0; s < kSmoothSweeps; ++s) {
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0);
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
+    for (int s = 0; s < kSmoothSweeps; ++s) {  // red then black
+      sweepPair(smooth_, smooth_second_, level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0);
     }
     residualRestrict(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, level(l + 1),
                      coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
   }
   solveCoarsest(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b);
   for (int l = last - 1; l >= 0; --l) {
-    // The coarse correction is folded into the first sweep (prolongAdd then smooth, in one pass).
+    // Black then red. The coarse correction is folded into the first sweep (smoothProlonged's
+    // prolongAdd then smooth, in one pass).
     for (int s = 0; s < kSmoothSweeps; ++s) {
-      if (s == 0) {
-        smoothProlonged(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, *v[l + 1].x, 1);
-      } else {
-        smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
-      }
-      smooth(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, false);
+      if (s == 0) v[l + 1].x->bindImage(3, compute::Access::Read);
+      sweepPair(s == 0 ? smooth_prolong_ : smooth_second_, smooth_, level(l), *v[l].mask, *v[l].faces, *v[l].x,
+                *v[l].b, 1, false);
     }
   }
 }

@@ -86,6 +86,9 @@ class MultigridVCycle {
   compute::Texture3D& faces(int level) { return coarse_[static_cast<std::size_t>(level - 1)].faces; }
 
  private:
+  void sweepPair(compute::ComputeProgram& first, compute::ComputeProgram& second, const glm::ivec3& res,
+                 const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
+                 const compute::Texture3D& b, int colour, bool zero_guess);
   void sweep(compute::ComputeProgram& program, const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
              compute::Texture3D& x, const compute::Texture3D& b, int colour, bool zero_guess);
   static void bindSmoothInputs(const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
@@ -103,6 +106,7 @@ class MultigridVCycle {
   compute::ComputeProgram coarsen_;
   compute::ComputeProgram coarsen_faces_;
   compute::ComputeProgram smooth_;
+  compute::ComputeProgram smooth_second_;  // the other colour of a sweepPair (its own uniforms)
   compute::ComputeProgram residual_;
   compute::ComputeProgram restrict_;
   compute::ComputeProgram prolong_;

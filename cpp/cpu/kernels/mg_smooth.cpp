@@ -8,8 +8,11 @@
 // rows away from the walls and the probe) calls smoothedValue with that mask and those fractions
 // as constants (cpu/regular_rows.h), so the mask's bit tests fold away and neither mask nor faces
 // is read for them. With w = 1 the shader's sums are the same bits (1 * x is x; n adds six 1s).
+// A red-black pair of sweeps dispatched with dispatchThen (MultigridVCycle::sweepPair) runs in one
+// pass over the level, the second colour a plane behind the first (SmoothSweep::runThen).
 #include "cpu/kernels/kernel_list.h"
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <utility>
@@ -60,27 +63,115 @@ void checkSize(const ImageBinding& image, const glm::ivec3& want, const char* na
   }
 }
 
+// One sweep of either build (plain or PROLONG), as the fused pair sees it: its level's images,
+// colour and rows.
+class SmoothSweep : public CpuKernel {
+ public:
+  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    prepare(bindings, pool);
+    const glm::ivec3 n = res();
+    forRows(n, pool, [&](int y, int z) { rows(z, y, y + 1, bindings.x86_v3); }, [](int, int) {});
+  }
+
+  // Both sweeps of a red-black pair in one pass over the level (MultigridVCycle's dispatchThen),
+  // where `next` is the other colour's sweep of the same level: the second sweep's plane z - 1
+  // right after the first sweep's plane z, so the second reads the planes the first just wrote
+  // from the cache instead of a second pass over memory. Each cell's update reads the same values
+  // as in two passes (the first colour's cells read the second's before it runs: planes z - 1 .. z
+  // + 1 of the second colour are unchanged until after plane z of the first; the second's plane z -
+  // 1 reads the first's planes z - 2 .. z, all done), so the result has the same bits. On several
+  // threads the grid is cut into slabs of planes, one a thread; a slab's first and last planes of
+  // the second sweep read the neighbouring slab's first sweep, so they run after every slab is
+  // done (a second, short parallel pass).
+  bool runThen(const glm::ivec3&, CpuKernel& next_kernel, const glm::ivec3&, const Bindings& bindings,
+               ThreadPool& pool) override {
+    auto* next = dynamic_cast<SmoothSweep*>(&next_kernel);
+    if (next == nullptr || !sameLevel(*next) || next->colour() == colour()) return false;
+    prepare(bindings, pool);
+    next->prepare(bindings, pool);
+    const glm::ivec3 n = res();
+    const bool v3 = bindings.x86_v3;
+    const long long cells = static_cast<long long>(n.x) * n.y * n.z;
+    const int slabs = (cells >= kSlabbedCells && n.z >= 4 * pool.threads()) ? pool.threads() : 1;
+    auto slabStart = [&](int slab) { return static_cast<int>(static_cast<long long>(n.z) * slab / slabs); };
+    // The second sweep's planes at a slab's edge that read another slab's first sweep.
+    auto deferred = [&](int plane, int z0, int z1) { return (plane == z0 && z0 > 0) || (plane == z1 - 1 && z1 < n.z); };
+    pool.parallelFor(slabs, [&](int s0, int s1) {
+      for (int slab = s0; slab < s1; ++slab) {
+        const int z0 = slabStart(slab), z1 = slabStart(slab + 1);
+        for (int z = z0; z <= z1; ++z) {
+          if (z < z1) rows(z, 0, n.y, v3);
+          if (z - 1 >= z0 && !deferred(z - 1, z0, z1)) next->rows(z - 1, 0, n.y, v3);
+        }
+      }
+    });
+    if (slabs > 1) {
+      std::vector<int> planes;
+      for (int slab = 0; slab < slabs; ++slab) {
+        const int z0 = slabStart(slab), z1 = slabStart(slab + 1);
+        for (int z : {z0, z1 - 1}) {
+          if (deferred(z, z0, z1) && (planes.empty() || planes.back() != z)) planes.push_back(z);
+        }
+      }
+      const int count = static_cast<int>(planes.size()) * n.y;
+      pool.parallelFor(count, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) next->rows(planes[static_cast<std::size_t>(i / n.y)], i % n.y, i % n.y + 1, v3);
+      });
+    }
+    return true;
+  }
+
+ protected:
+  // Below this many cells a level's fused pair runs on one thread (a coarse level: the slabs'
+  // hand-over would cost more than the plane loop).
+  static constexpr long long kSlabbedCells = 32768;
+
+  // Checks the bindings and finds the open rows; then rows() may run.
+  virtual void prepare(const Bindings& bindings, ThreadPool& pool) = 0;
+  // Rows y0 .. y1 - 1 of plane z, with the best instruction set.
+  virtual void rows(int z, int y0, int y1, bool x86_v3) const = 0;
+  virtual glm::ivec3 res() const = 0;
+  virtual int colour() const = 0;
+  // The level's images: x, b, mask, faces.
+  virtual std::array<const void*, 4> images() const = 0;
+
+ private:
+  bool sameLevel(const SmoothSweep& other) const { return res() == other.res() && images() == other.images(); }
+};
+
 template <class K, bool kProlong>
-class SmoothRows final : public CpuKernel {
+class SmoothRows final : public SmoothSweep {
  public:
   KernelSlots& slots() override { return slots_; }
-  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+
+ protected:
+  void prepare(const Bindings& bindings, ThreadPool& pool) override {
     const glm::ivec3 res = kernel_.u_res;
     checkSize(kernel_.u_x, res, "x");
     checkSize(kernel_.u_b, res, "b");
     checkSize(kernel_.u_mask, res, "mask");
     checkSize(kernel_.u_faces, res + 1, "faces");
-    glm::ivec3 coarse(0);
+    coarse_ = glm::ivec3(0);
     if constexpr (kProlong) {
-      coarse = kernel_.u_coarse_x.size;
-      if (kernel_.u_coarse_x.data == nullptr || glm::any(glm::lessThan(coarse * 2, res))) {
+      coarse_ = kernel_.u_coarse_x.size;
+      if (kernel_.u_coarse_x.data == nullptr || glm::any(glm::lessThan(coarse_ * 2, res))) {
         throw Error("mg_smooth: the coarse x is not bound at the next level's size");
       }
     }
-    const std::uint8_t* regular = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, res, pool);
-    forRows(glm::ivec3(res.x, res.y, res.z), pool,
-            [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, res, coarse, regular[y + z * res.y] != 0); }); },
-            [](int, int) {});
+    regular_ = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, res, pool);
+  }
+
+  void rows(int z, int y0, int y1, bool x86_v3) const override {
+    const glm::ivec3 res = kernel_.u_res;
+    runBest(x86_v3, [&] {
+      for (int y = y0; y < y1; ++y) row(y, z, res, coarse_, regular_[y + z * res.y] != 0);
+    });
+  }
+
+  glm::ivec3 res() const override { return kernel_.u_res; }
+  int colour() const override { return kernel_.u_colour & 1; }
+  std::array<const void*, 4> images() const override {
+    return {kernel_.u_x.data, kernel_.u_b.data, kernel_.u_mask.data, kernel_.u_faces.data};
   }
 
  private:
@@ -198,6 +289,8 @@ class SmoothRows final : public CpuKernel {
 
   KernelSlots slots_;
   K kernel_{&slots_};
+  glm::ivec3 coarse_{0};
+  const std::uint8_t* regular_ = nullptr;
 };
 
 }  // namespace
