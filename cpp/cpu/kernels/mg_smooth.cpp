@@ -14,7 +14,6 @@
 
 #include <array>
 #include <cstdint>
-#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -284,7 +283,11 @@ class SmoothRows final : public SmoothSweep {
         }
       }
     }
-    std::memcpy(x + row, out, sizeof(float) * static_cast<std::size_t>(res.x));
+    // A loop, not memcpy: a row is tens of floats, and the library call's start-up cost was 2.5 %
+    // of a one-thread 48^3 step.
+    float* __restrict dst = x + row;
+#pragma omp simd
+    for (int i = 0; i < res.x; ++i) dst[i] = out[i];
   }
 
   KernelSlots slots_;
