@@ -163,7 +163,8 @@ class SmoothRows final : public SmoothSweep {
   void rows(int z, int y0, int y1, bool x86_v3) const override {
     const glm::ivec3 res = kernel_.u_res;
     runBest(x86_v3, [&] {
-      for (int y = y0; y < y1; ++y) row(y, z, res, coarse_, regular_[y + z * res.y] != 0);
+      K k(kernel_);  // one copy for the rows (a coarse level's rows are a few cells)
+      for (int y = y0; y < y1; ++y) row(k, y, z, res, coarse_, regular_[y + z * res.y] != 0);
     });
   }
 
@@ -179,9 +180,8 @@ class SmoothRows final : public SmoothSweep {
   // and writes elsewhere. The other colour's cells are the only ones a cell reads, and they do
   // not change, so the copy's timing does not matter.
   // (always_inline: flattened into each instruction set's build by runBest.)
-  __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& res, const glm::ivec3& coarse,
-                                          bool regular) const {
-    K k(kernel_);
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, const glm::ivec3& coarse,
+                                                 bool regular) {
     thread_local std::vector<float> buffer;
     buffer.resize(static_cast<std::size_t>(res.x));
     float* __restrict out = buffer.data();
