@@ -7,7 +7,7 @@
 // its foot) on its own, which on a CPU is a gather of eight scattered loads per lookup and lane.
 // Here (the AVX2 build) the row runs in blocks of kLanes texels and, per lookup, a block whose
 // lanes' lower corners all lie at one of two columns past the lane's own, one of two rows and
-// one of two slices (a displacement varying by under a cell across the block: 93 % of the seed
+// one of two slices (a displacement varying by under a cell across the block: 98 % of the seed
 // grid's lookups) reads a window of 3 x 3 rows of kLanes + 2 texels as contiguous runs and picks
 // each lane's corners from them: with one row and slice for every lane (the usual case) 2 x 2
 // rows and the shader's trilinearBlend; else its lerps, x, then y, then z, each between the two
