@@ -19,7 +19,8 @@
 // the row's last texels call the shader's lookup itself. Seed grid, 2 threads: advect 21.7-22.0
 // ms against 29.9-30.0 with the lookup per texel. (Until the window was allowed to load a texel
 // before the row and a column, row and slice past it, in the guard band, a row's first and last
-// blocks mostly fell back: 28 % of 48^3's lookups, 2.6 % since.)
+// blocks mostly fell back: 28 % of 48^3's lookups; 3 % since, with the far column's clamp taken
+// as the lookup takes it.)
 #include "cpu/kernels/kernel_list.h"
 
 #include <algorithm>
@@ -167,6 +168,32 @@ class AdvectRows final : public CpuKernel {
     }
   }
 
+  // The 2 x 2 rows' lookups (rows[slice][row] from column x_lo): lane l's corners at column
+  // x_lo + l or one past it (cx: the corner's column less l), trilinearBlend as the shader's.
+  // kFarColumn: a lane whose corner is the last column (size_x - 1) takes its "+ 1" as the corner
+  // itself, as the lookup's clamp does (the same operands).
+  template <bool kFarColumn>
+  __attribute__((always_inline)) static void blendRows(K& k, const float* const (&rows)[3][3], const int* cx,
+                                                       const float* fx, const float* fy, const float* fz, int x_lo,
+                                                       int size_x, float* __restrict result) {
+    for (int l = 0; l < kLanes; ++l) {
+      const bool up_x = cx[l] != x_lo;
+      const bool last = kFarColumn && cx[l] + l == size_x - 1;
+      auto corners = [&](const float* r, float& c0, float& c1) __attribute__((always_inline)) {
+        const float r0 = r[l], r1 = r[l + 1], r2 = r[l + 2];  // loaded always: no branch around a load
+        c0 = up_x ? r1 : r0;
+        c1 = up_x ? r2 : r1;
+        if constexpr (kFarColumn) c1 = last ? c0 : c1;
+      };
+      float c000, c100, c010, c110, c001, c101, c011, c111;
+      corners(rows[0][0], c000, c100);
+      corners(rows[0][1], c010, c110);
+      corners(rows[1][0], c001, c101);
+      corners(rows[1][1], c011, c111);
+      result[l] = k.trilinearBlend(c000, c100, c010, c110, c001, c101, c011, c111, glm::vec3(fx[l], fy[l], fz[l]));
+    }
+  }
+
   // result[l] = the trilinear lookup of `image` (`size` texels) at p[l] - offset (the shader's
   // NAME(size, p - offset) of DEFINE_TRILINEAR, which `lookup` is).
   template <class Image, class Lookup>
@@ -205,9 +232,15 @@ class AdvectRows final : public CpuKernel {
       z_lo = std::min(z_lo, cz[l]);
       z_hi = std::max(z_hi, cz[l]);
     }
-    const bool window = x_hi - x_lo <= 1 && y_hi - y_lo <= 1 && z_hi - z_lo <= 1 && x_lo >= -1 &&
-                        x_top + 1 <= size.x - 1 && y_hi + 1 <= size.y - 1 && z_hi + 1 <= size.z - 1;
-    if (!window) {
+    const bool near = x_hi - x_lo <= 1 && y_hi - y_lo <= 1 && z_hi - z_lo <= 1 && x_lo >= -1 &&
+                      y_hi + 1 <= size.y - 1 && z_hi + 1 <= size.z - 1;
+    const bool inside = x_top + 1 <= size.x - 1;
+    // A block at the row's far end whose last corner is the far column (its "+ 1" clamps to it),
+    // with one row and slice for every lane: the 2 x 2 rows below, that corner's "+ 1" taken as
+    // itself as the lookup takes it. Its loads reach two texels past the row: the next row's, or
+    // the guard band after the last.
+    const bool far_column = x_top == size.x - 1 && y_hi == y_lo && z_hi == z_lo;
+    if (!near || !(inside || far_column)) {
       for (int l = 0; l < kLanes; ++l) result[l] = lookup(glm::vec3(p.x[l], p.y[l], p.z[l]) - offset);
       return;
     }
@@ -216,19 +249,10 @@ class AdvectRows final : public CpuKernel {
       for (int dy = 0; dy < 3; ++dy)
         rows[dz][dy] = static_cast<const float*>(image.data) + image.index(glm::ivec3(x_lo, y_lo + dy, z_lo + dz));
     if (y_hi == y_lo && z_hi == z_lo) {  // one row and slice for every lane (the usual case): 2 x 2 rows
-      for (int l = 0; l < kLanes; ++l) {
-        const bool up_x = cx[l] != x_lo;
-        auto corners = [&](const float* r, float& c0, float& c1) __attribute__((always_inline)) {
-          const float r0 = r[l], r1 = r[l + 1], r2 = r[l + 2];  // loaded always: no branch around a load
-          c0 = up_x ? r1 : r0;
-          c1 = up_x ? r2 : r1;
-        };
-        float c000, c100, c010, c110, c001, c101, c011, c111;
-        corners(rows[0][0], c000, c100);
-        corners(rows[0][1], c010, c110);
-        corners(rows[1][0], c001, c101);
-        corners(rows[1][1], c011, c111);
-        result[l] = k.trilinearBlend(c000, c100, c010, c110, c001, c101, c011, c111, glm::vec3(fx[l], fy[l], fz[l]));
+      if (inside) {
+        blendRows<false>(k, rows, cx, fx, fy, fz, x_lo, size.x, result);
+      } else {
+        blendRows<true>(k, rows, cx, fx, fy, fz, x_lo, size.x, result);
       }
       return;
     }
