@@ -41,8 +41,9 @@ steps of that phase are averaged:
   Which steps are that close to the push's start is the phase of the steps (every 0.5 s from the
   session's start) against the hand's clock (the simulated Falcon's packets), and start-up moves
   it: with the CPU engine's quick start the steps fell 0.01-0.09 s into each pass, and a rule that
-  only skipped the first 0.5 s of the pass judged those next steps: +0.6% to +28.2% over 8 runs
-  here and 4 failures in 6 runs of the whole suite on 2026-12-06. With the rule by the step
+  only skipped the first 0.5 s of the pass judged those next steps: -1.9% to +28.2% over 8 runs
+  here (+1.5% to +20.9% in 4 more with a core busy) and 4 failures in 6 runs of the whole suite
+  on 2026-12-06. With the rule by the step
   before, 14 runs (4 of them with a core busy; the steps 0.01-0.10 s and 0.40 s into the pass)
   gave -14.2% to +8.5%, the added-mass part -30.6% to +19.5%. Judged: along the motion, the
   force gain x (F_rest + drag(v) - m_a a); its added-mass part is that less the drag part the
