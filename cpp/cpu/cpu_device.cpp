@@ -231,10 +231,8 @@ class CpuProgram final : public compute::ProgramImpl {
       countDispatch(next_invocations);
       return;
     }
-    kernel_->run(invocations, local_size_, bindings_, pool_);
-    countDispatch(invocations);
-    next->kernel_->run(next_invocations, next->local_size_, bindings_, pool_);
-    countDispatch(next_invocations);
+    dispatch(invocations);
+    next->dispatch(next_invocations);
   }
 
  private:

@@ -41,53 +41,40 @@ class BoundaryRows final : public CpuKernel {
     const int axis = kernel_.u_axis;
     if (axis < 0 || axis > 2) throw Error("enforce_boundaries: u_axis must be 0, 1 or 2, got " + std::to_string(axis));
     const glm::ivec3 res = kernel_.u_res;
-    const glm::ivec3 unit(axis == 0 ? 1 : 0, axis == 1 ? 1 : 0, axis == 2 ? 1 : 0);
-    const glm::ivec3 faces = glm::min(n, res + unit);  // the dispatch within the shader's bounds test
+    const glm::ivec3 faces = glm::min(n, kernel_.faceSize(axis));  // the dispatch within the shader's bounds test
     if (faces.x <= 0 || faces.y <= 0 || faces.z <= 0) return;
     const ImageBinding& open = kernel_.u_face_open;
     if (open.data == nullptr || glm::any(glm::lessThan(open.size, faces))) {
       throw Error("enforce_boundaries: the face fractions are not bound over the axis's faces");
     }
     const float* plane = static_cast<const float*>(open.data) + open.plane * static_cast<std::size_t>(axis);
-    forRows(
-        faces, pool,
-        [&](int y, int z) {
-          runBest(bindings.x86_v3, [&] {
-            EnforceBoundaries k(kernel_);
-            glsl::Invocation inv;
-            const bool wall_row = (axis == 1 && (y == 0 || y == res.y)) || (axis == 2 && (z == 0 || z == res.z));
-            if (wall_row) {
-              for (int x = 0; x < faces.x; ++x) runInvocation(k, inv, x, y, z);
-              return;
-            }
-            int lo = 0, hi = faces.x;
-            if (axis == 0) {  // the row's two wall faces
-              runInvocation(k, inv, 0, y, z);
-              if (res.x < faces.x) runInvocation(k, inv, res.x, y, z);
-              lo = 1;
-              hi = std::min(faces.x, res.x);
-            }
-            const float* fraction = plane + static_cast<std::ptrdiff_t>(y) * open.stride_y +
-                                    static_cast<std::ptrdiff_t>(z) * open.stride_z;
-            for (int x0 = lo; x0 < hi; x0 += kBlock) {
-              const int x1 = std::min(hi, x0 + kBlock);
-              unsigned covered = 0;
+    forEachRow(faces, pool, bindings.x86_v3, kernel_, [&](EnforceBoundaries& k, int y, int z, int x0, int x1) {
+      glsl::Invocation inv;
+      if ((axis == 1 && (y == 0 || y == res.y)) || (axis == 2 && (z == 0 || z == res.z))) {  // a wall's row
+        for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, y, z);
+        return;
+      }
+      int lo = x0, hi = x1;
+      if (axis == 0) {  // the row's two wall faces
+        for (int x : {0, res.x}) {
+          if (x0 <= x && x < x1) runInvocation(k, inv, x, y, z);
+        }
+        lo = std::max(x0, 1);
+        hi = std::min(x1, res.x);
+      }
+      const float* fraction = plane + static_cast<std::ptrdiff_t>(y) * open.stride_y +
+                              static_cast<std::ptrdiff_t>(z) * open.stride_z;
+      for (int b0 = lo; b0 < hi; b0 += kBlock) {
+        const int b1 = std::min(hi, b0 + kBlock);
+        unsigned covered = 0;
 #pragma omp simd reduction(|: covered)
-              for (int x = x0; x < x1; ++x) covered |= fraction[x] > 0.0f ? 0u : 1u;
-              if (covered == 0) continue;
-              for (int x = x0; x < x1; ++x) {
-                if (!(fraction[x] > 0.0f)) runInvocation(k, inv, x, y, z);
-              }
-            }
-          });
-        },
-        [&](int x0, int x1) {  // one long row: every face through main()
-          runBest(bindings.x86_v3, [&] {
-            EnforceBoundaries k(kernel_);
-            glsl::Invocation inv;
-            for (int x = x0; x < x1; ++x) runInvocation(k, inv, x, 0, 0);
-          });
-        });
+        for (int x = b0; x < b1; ++x) covered |= fraction[x] > 0.0f ? 0u : 1u;
+        if (covered == 0) continue;
+        for (int x = b0; x < b1; ++x) {
+          if (!(fraction[x] > 0.0f)) runInvocation(k, inv, x, y, z);
+        }
+      }
+    });
   }
 
  private:
