@@ -337,7 +337,7 @@ void GroupSumRunner<K>::run(const glm::ivec3& n, const glm::ivec3& local, const 
   const glm::ivec3 groups = (n + local - 1) / local;
   const int count = groups.x * groups.y * groups.z;
   const BufferBinding& partials = bindings.buffers[0];
-  pool.parallelFor(count, [&](int begin, int end) {
+  auto groupRange = [&](int begin, int end) {
     glsl::Invocation inv;
     inv.groups = glm::uvec3(groups);
     for (int g = begin; g < end; ++g) {
@@ -358,7 +358,13 @@ void GroupSumRunner<K>::run(const glm::ivec3& n, const glm::ivec3& local, const 
       }
       storeGroupSums(sums, static_cast<unsigned>(g), static_cast<unsigned>(count), partials);
     }
-  });
+  };
+  const long long invocations = static_cast<long long>(count) * local.x * local.y * local.z;
+  if (invocations < kSerialInvocations) {
+    groupRange(0, count);
+  } else {
+    pool.parallelFor(count, groupRange);
+  }
 }
 
 // The kernels the CPU device can run, by shader file and the #defines that select a variant

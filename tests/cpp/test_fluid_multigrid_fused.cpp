@@ -20,6 +20,7 @@
 #include "compute/compute_program.h"
 #include "compute/workgroup.h"
 #include "cpu/cpu_device.h"
+#include "cpu/kernel.h"
 #include "fluid/fluid_fields.h"
 #include "fluid/multigrid_vcycle.h"
 #include "test_util.h"
@@ -273,7 +274,8 @@ TEST_F(MultigridFused, SweepsOverOpenRowsEqualTheCellFormula) {
 // pre-smoothing pair (red from the zero guess, then black) and the post-smoothing one (black
 // with the coarse correction folded in, then red), with a solid block, an open top and cut faces.
 TEST(MultigridSweepPairs, InOnePassEqualTheTwoSweepsToTheBit) {
-  const glm::ivec3 n(37, 29, 41);  // 44k cells, 41 planes
+  const glm::ivec3 n(37, 29, 67);  // 72k cells, 67 planes
+  static_assert(37LL * 29 * 67 >= cpu::kSerialInvocations, "a grid the CPU cuts into slabs");
   const glm::ivec3 coarse = (n + 1) / 2;
   const auto m = maskWithBlock(n, {9, 7, 12}, {20, 15, 23});
   const std::vector<float> x0 = values(count(n), 11, 23, 0.25f, -2.0f);

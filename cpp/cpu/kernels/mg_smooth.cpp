@@ -121,9 +121,9 @@ class SmoothSweep : public CpuKernel {
   }
 
  protected:
-  // Below this many cells a level's fused pair runs on one thread (a coarse level: the slabs'
-  // hand-over would cost more than the plane loop).
-  static constexpr long long kSlabbedCells = 32768;
+  // Below this many cells a level's fused pair runs on one thread, as any other small dispatch
+  // (kSerialInvocations: the slabs' hand-over and the idle workers' spinning cost more).
+  static constexpr long long kSlabbedCells = kSerialInvocations;
 
   // Checks the bindings and finds the open rows; then rows() may run.
   virtual void prepare(const Bindings& bindings, ThreadPool& pool) = 0;
