@@ -97,7 +97,7 @@ def test_thread_niceness_on_the_cpu_backend_reaches_its_device_thread_and_pool()
 
 def test_thread_niceness_lowers_the_simulations_threads_and_the_drivers_only():
     """A live session beside Blender's drawing on llvmpipe asks for nicer simulation threads
-    (hapticfluid.assembly.live_thread_niceness). The GL worker ("hf-gl") and the driver's threads it
+    (hapticfluid.assembly.live_share). The GL worker ("hf-gl") and the driver's threads it
     computes on (llvmpipe's, made when the process's first context was: probe_device's here, at the
     caller's niceness) get it; the caller's thread keeps its own. Then a simulation at 0 takes the
     driver's threads back where the process may lower niceness (root; CAP_SYS_NICE), else its device
@@ -130,6 +130,25 @@ def test_thread_niceness_lowers_the_simulations_threads_and_the_drivers_only():
         hf.FluidSettings(thread_niceness=20)
     with pytest.raises(TypeError, match="thread_niceness"):
         hf.FluidSettings(thread_niceness="low")
+
+
+def test_viewport_first_on_the_cpu_is_nicer_and_caps_the_step_rate(small_sim):
+    """Viewport First where the simulation computes on the CPU: niceness 10 and at most 30 steps a
+    second (min_sim_dt 1/30 s); on a GPU or with Equal, niceness 0 and the engine's own rate. A
+    session with that min_sim_dt steps no faster (an upper bound: load only slows it)."""
+    from hapticfluid import assembly
+    share = assembly.live_share(True, True)
+    assert share == assembly.LiveShare(10, pytest.approx(1.0 / 30.0))
+    assert assembly.live_share(False, True) == assembly.LiveShare(0, None)
+    assert assembly.live_share(True, False) == assembly.LiveShare(0, None)
+    settings = hf.HapticSessionSettings(min_sim_dt=share.min_sim_dt, realtime=False)
+    t0 = time.monotonic()
+    with hf.HapticSession(small_sim, hf.null_device(), settings) as session:  # started here
+        time.sleep(0.6)
+        steps = session.stats()["sim_steps"]
+        elapsed = time.monotonic() - t0
+    assert steps >= 1, "the session never stepped"
+    assert steps <= elapsed * assembly.VIEWPORT_FIRST_STEP_RATE_HZ + 1, (steps, elapsed)
 
 
 @pytest.mark.parametrize("cls, name, value, error, words", [

@@ -48,11 +48,11 @@ ROTATION_NOTE = ("The object's location and rotation drive the fluid; its scale 
 CPU_SHARE_ITEMS = (
     ("AUTO", "Auto", "Viewport First when the mouse or the timeline moves the probe (the viewport is what you "
                      "follow), Equal with a Falcon (what the hand feels needs the simulation's rate)"),
-    ("VIEWPORT", "Viewport First", "The simulation runs at a lower priority: the viewport keeps its pace, the "
-                                   "simulation steps in what the drawing leaves (2 cores, 32^3: about 80% of the "
-                                   "redraws without a session, 2 steps/s)"),
-    ("EQUAL", "Equal", "The simulation and the drawing share the cores equally (2 cores, 32^3: about 55% of the "
-                       "redraws without a session, 6 steps/s)"),
+    ("VIEWPORT", "Viewport First", "The simulation runs at a lower priority and at most 30 steps a second: the "
+                                   "viewport keeps its pace, the simulation steps in what the drawing leaves "
+                                   "(2 cores, 32^3: about 80% of the redraws without a session, 20-30 steps/s)"),
+    ("EQUAL", "Equal", "The simulation and the drawing share the cores equally (2 cores, 32^3: about 60% of the "
+                       "redraws without a session, 80-90 steps/s)"),
 )
 
 DEVICE_ITEMS = (

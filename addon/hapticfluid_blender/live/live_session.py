@@ -190,11 +190,14 @@ class _Engine:
         except hf.HapticFluidError as exc:
             raise SessionError(_gl_context_problem(exc)) from None
         res = plan.resolution if plan.resolution is not None else preview_resolution(on_cpu)
+        share = assembly.live_share(on_cpu, plan.viewport_first)
+        session_args = dict(plan.session_args)
+        if share.min_sim_dt is not None:
+            session_args["min_sim_dt"] = share.min_sim_dt
         try:
             settings = assembly.fluid_settings(plan.domain_lo, size, res, plan.fluid, backend=plan.backend,
-                                               thread_niceness=assembly.live_thread_niceness(on_cpu,
-                                                                                             plan.viewport_first))
-            session_settings = assembly.session_settings(plan.session_args, plan.auto_workspace)
+                                               thread_niceness=share.thread_niceness)
+            session_settings = assembly.session_settings(session_args, plan.auto_workspace)
         except (hf.InvalidArgumentError, TypeError) as exc:
             raise SessionError(_fix_first(str(exc))) from None
         scene = assembly.SceneDescription(
