@@ -175,16 +175,16 @@ class SmoothRows final : public SmoothSweep {
   }
 
  private:
-  // Every cell of the row is computed (contiguous loads vectorize; strided ones do not) into a
-  // row buffer that keeps the other colour's old values, then copied back: the loop reads x
-  // and writes elsewhere. The other colour's cells are the only ones a cell reads, and they do
-  // not change, so the copy's timing does not matter.
+  // Only this colour's cells of the row are computed: every second cell, by a loop over j that
+  // GCC vectorizes with stride-2 loads (two vector loads and a permute per operand; the stores go
+  // lane by lane). They are written in place: a cell of this colour reads only the other colour's
+  // cells (its x neighbours in the row, its y and z neighbours at the same i), which this sweep
+  // does not write, so the order of the writes does not matter. (Storing each result with the
+  // unchanged cell after it, one contiguous store a pair, cost more: the next lanes' loads of
+  // those cells waited on the stores, 27 % of a one-thread 48^3 step against 20 %.)
   // (always_inline: flattened into each instruction set's build by runBest.)
   __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, const glm::ivec3& coarse,
                                                  bool regular) {
-    thread_local std::vector<float> buffer;
-    buffer.resize(static_cast<std::size_t>(res.x));
-    float* __restrict out = buffer.data();
     float* x = texels<float>(k.u_x);
     const float* __restrict b = texels<float>(k.u_b);
     const std::uint8_t* __restrict mask = texels<std::uint8_t>(k.u_mask);
@@ -195,10 +195,15 @@ class SmoothRows final : public SmoothSweep {
     const int sy = res.x, sz = res.x * res.y;
     const int fy = res.x + 1, fz = (res.x + 1) * (res.y + 1);
     const int row = y * sy + z * sz, frow = y * fy + z * fz;
-    const int colour = (y + z + k.u_colour) & 1;  // cells with (i + colour) even are this sweep's
-    const float* __restrict xr = x;
+    const int first = (y + z + k.u_colour) & 1;  // this sweep's cells: i = first, first + 2, ...
+    const float* __restrict xr = x;  // read: the other colour's cells only
+    float* __restrict xw = x + row;  // written: this colour's cells of the row only
+    // Cells i = from, from + 2, ... up to `to` (inclusive) of this colour: their count.
+    auto count = [](int from, int to) { return from <= to ? (to - from) / 2 + 1 : 0; };
     // A regular row: its inner cells with the mask and fractions as constants, its end cells as any.
     const glm::vec3 open(1.0f);
+    const int inner0 = first == 0 ? 2 : 1;  // the first inner cell (1 .. res.x - 2) of this colour
+    auto isMine = [&](int i) { return ((i - first) & 1) == 0; };
     if constexpr (!kProlong) {
       auto general = [&](int i) {
         const int c = row + i, f = frow + i;
@@ -207,29 +212,30 @@ class SmoothRows final : public SmoothSweep {
                                b[c]);
       };
       if (regular) {
+        const int n = count(inner0, res.x - 2);
 #pragma omp simd
-        for (int i = 1; i < res.x - 1; ++i) {
-          const int c = row + i;
-          const float v = k.smoothedValue(kAllLinks, open, open, glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
-                                          glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
-          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        for (int j = 0; j < n; ++j) {
+          const int i = inner0 + 2 * j, c = row + i;
+          xw[i] = k.smoothedValue(kAllLinks, open, open, glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
+                                  glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
         }
-        for (int i : {0, res.x - 1}) out[i] = ((i + colour) & 1) == 0 ? general(i) : xr[row + i];
+        for (int i : {0, res.x - 1})
+          if (isMine(i)) xw[i] = general(i);
       } else {
+        const int n = count(first, res.x - 1);
 #pragma omp simd
-        for (int i = 0; i < res.x; ++i) {
-          const int c = row + i, f = frow + i;
-          const float v = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
-                                          glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
-                                          glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
-                                          glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
-          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        for (int j = 0; j < n; ++j) {
+          const int i = first + 2 * j, c = row + i, f = frow + i;
+          xw[i] = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
+                                  glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                                  glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
+                                  glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
         }
       }
     } else {
       // x + the coarse level's x of the neighbour's parent: mg_prolong folded into the sweep. The
       // parents' values are first spread to fine resolution along the row (d[1 + i] for cell i of
-      // row r, i = -1 .. res.x), so the main loop's loads are contiguous.
+      // row r, i = -1 .. res.x), so the main loop's loads are those of the row's own cells.
       const float* cx = texels<float>(k.u_coarse_x);
       const int csy = coarse.x, csz = coarse.x * coarse.y;
       const int rows[5] = {(y / 2) * csy + (z / 2) * csz, ((y - 1) / 2) * csy + (z / 2) * csz,
@@ -260,34 +266,29 @@ class SmoothRows final : public SmoothSweep {
                                glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c]);
       };
       if (regular) {
+        const int n = count(inner0, res.x - 2);
 #pragma omp simd
-        for (int i = 1; i < res.x - 1; ++i) {
-          const int c = row + i;
-          const float v = k.smoothedValue(kAllLinks, open, open,
-                                          glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                                          glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
-                                          b[c]);
-          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        for (int j = 0; j < n; ++j) {
+          const int i = inner0 + 2 * j, c = row + i;
+          xw[i] = k.smoothedValue(kAllLinks, open, open,
+                                  glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
+                                  glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c]);
         }
-        for (int i : {0, res.x - 1}) out[i] = ((i + colour) & 1) == 0 ? general(i) : xr[row + i];
+        for (int i : {0, res.x - 1})
+          if (isMine(i)) xw[i] = general(i);
       } else {
+        const int n = count(first, res.x - 1);
 #pragma omp simd
-        for (int i = 0; i < res.x; ++i) {
-          const int c = row + i, f = frow + i;
-          const float v = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
-                                          glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
-                                          glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                                          glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
-                                          b[c]);
-          out[i] = ((i + colour) & 1) == 0 ? v : xr[c];
+        for (int j = 0; j < n; ++j) {
+          const int i = first + 2 * j, c = row + i, f = frow + i;
+          xw[i] = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
+                                  glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                                  glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
+                                  glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
+                                  b[c]);
         }
       }
     }
-    // A loop, not memcpy: a row is tens of floats, and the library call's start-up cost was 2.5 %
-    // of a one-thread 48^3 step.
-    float* __restrict dst = x + row;
-#pragma omp simd
-    for (int i = 0; i < res.x; ++i) dst[i] = out[i];
   }
 
   KernelSlots slots_;
