@@ -162,8 +162,23 @@ def probe_for_the_smoke():
     check(raises(lambda: drawer.set_probe({"shape": "mesh", "vertices": [(0, 0, 0)], "triangles": [(0, 1, 2)]}),
                  "triangles"), "triangles indexing missing vertices are refused")
     check(raises(lambda: drawer.set_probe_matrix(np.zeros((4, 4))), "matrix_world"), "a singular matrix is refused")
-    drawer.set_probe({"shape": "sphere", "radius": 0.1})
-    drawer.set_probe_matrix(np.eye(4))
+    rng = np.random.default_rng(7)
+    worst = max(abs(geometry.det3(m) - np.linalg.det(m[:3, :3])) / max(1.0, abs(np.linalg.det(m[:3, :3])))
+                for m in rng.normal(size=(50, 4, 4)))
+    check(worst < 1e-12 and geometry.det3([[0, 1, 0], [1, 0, 0], [0, 0, 2]]) == -2.0,
+          f"det3 is the 3 x 3 determinant (worst relative difference {worst:.1e})")
+    # The per-redraw and per-tick paths call no numpy.linalg (LAPACK wakes OpenBLAS's worker, which spins).
+    saved = np.linalg.det, np.linalg.inv
+
+    def no_lapack(*_args, **_kwargs):
+        raise AssertionError("numpy.linalg called")
+    np.linalg.det = np.linalg.inv = no_lapack
+    try:
+        drawer.set_probe({"shape": "sphere", "radius": 0.1})
+        drawer.set_probe_matrix(np.eye(4))
+        drawer.set_probe_matrix([[2, 0, 0, 0.1], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+    finally:
+        np.linalg.det, np.linalg.inv = saved
     drawer.set_probe(None)
 
 

@@ -176,7 +176,7 @@ class LiveDrawer:
     def set_probe_matrix(self, matrix_world):
         """The probe's matrix_world (4x4 rows, m; invertible) where the smoke's rays stop."""
         m = np.asarray(matrix_world, dtype=np.float64)
-        if m.shape != (4, 4) or not np.isfinite(m).all() or abs(np.linalg.det(m[:3, :3])) < 1e-12:
+        if m.shape != (4, 4) or not np.isfinite(m).all() or abs(geometry.det3(m)) < 1e-12:
             raise ValueError(f"matrix_world must be a finite invertible 4x4 matrix, got {m.tolist()!r}")
         if self._probe_matrix is None or not np.array_equal(m, self._probe_matrix):
             self._probe_matrix = m
@@ -236,7 +236,7 @@ class LiveDrawer:
         if m is None:
             return
         m = np.asarray([list(row) for row in m], dtype=np.float64)
-        if m.shape == (4, 4) and np.isfinite(m).all() and abs(np.linalg.det(m[:3, :3])) >= 1e-12:
+        if m.shape == (4, 4) and np.isfinite(m).all() and abs(geometry.det3(m)) >= 1e-12:
             self._drawn_pose = m
             self._probe_matrix = m
 
@@ -315,7 +315,7 @@ class LiveDrawer:
         if self._probe_dirty or self._probe_texture is None:
             self._probe_texture = live_draw_gpu.probe_texture(self._probe[1])
             self._probe_dirty = False
-        shader.uniform_float("probe_inv", Matrix(np.linalg.inv(m).tolist()))
+        shader.uniform_float("probe_inv", Matrix(m.tolist()).inverted())  # not numpy's: see geometry.det3
         shader.uniform_float("probe_params", (2.0, float(len(self._probe[1]) // 3), 0.0, 0.0))
         shader.uniform_float("probe_bound", self._probe[2])
         shader.uniform_sampler("probe_tris", self._probe_texture)

@@ -183,6 +183,15 @@ def bounding_sphere(points):
     return (*(float(c) for c in centre), radius * (1.0 + 1e-4) + 1e-6)
 
 
+def det3(matrix):
+    """The determinant of a matrix's upper-left 3 x 3 (rows), by cofactors. Not numpy.linalg.det:
+    a LAPACK call wakes OpenBLAS's worker thread, which then spins beside the drawing (with
+    numpy.linalg.inv of a 4 x 4 at a redraw's rate: a whole core)."""
+    m = matrix
+    return float(m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                 + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+
+
 def sphere_radius_world(radius_local, matrix):
     """A sphere probe's radius in the world: the engine's rule (the largest column scale)."""
     return radius_local * max(math.sqrt(sum(matrix[r][c] ** 2 for r in range(3))) for c in range(3))
