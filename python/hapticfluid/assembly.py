@@ -66,9 +66,11 @@ def grid(domain_size: Sequence[float], resolution: int) -> Grid:
 # when both want the cores (CFS weights 1024 : 110 at niceness 0 : 10), and it steps at most
 # VIEWPORT_FIRST_STEP_RATE_HZ times a second (HapticSessionSettings.min_sim_dt, its inverse): a
 # nicer thread still runs in every gap the drawing's threads leave, and each step beyond what the
-# user follows took those gaps from the drawing. Window pace test, 2 cores, 32^3, the CPU backend:
-# uncapped 76-85 % of the no-session redraws at 26-34 steps/s; capped at 30, 83 % and 84 % at 21
-# steps/s, latency p50 42-43 ms (at 25: 81 % at 18.7). Measured by blender_tests/window_test_live_pace.py.
+# user follows took those gaps from the drawing. Window pace test, 2 cores, 32^3, the CPU backend
+# (docs/BENCHMARKS.md, 2026-12-07): uncapped the simulation kept 0.23-0.25 cores at 34-35 steps/s
+# (p50 19-23 ms) and the viewport 72.6 % and 78.5 % of its no-session redraws; capped at 30, 0.14-0.16
+# cores at 19.7-21.1 steps/s (p50 41-43 ms) and 73-85 % over 7 runs: the runs' spread is larger than
+# the cap's effect, the cores it gives back are not. Measured by blender_tests/window_test_live_pace.py.
 VIEWPORT_FIRST_NICENESS = 10
 VIEWPORT_FIRST_STEP_RATE_HZ = 30.0
 

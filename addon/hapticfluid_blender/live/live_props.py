@@ -50,7 +50,7 @@ CPU_SHARE_ITEMS = (
                      "follow), Equal with a Falcon (what the hand feels needs the simulation's rate)"),
     ("VIEWPORT", "Viewport First", "The simulation runs at a lower priority and at most 30 steps a second: the "
                                    "viewport keeps its pace, the simulation steps in what the drawing leaves "
-                                   "(2 cores, 32^3: about 80% of the redraws without a session, 20-30 steps/s)"),
+                                   "(2 cores, 32^3: about 80% of the redraws without a session, 20 steps/s)"),
     ("EQUAL", "Equal", "The simulation and the drawing share the cores equally (2 cores, 32^3: about 60% of the "
                        "redraws without a session, 80-90 steps/s)"),
 )
