@@ -43,14 +43,14 @@ vec3 velocityHere(ivec3 idx) {
 }
 #else
 // Component B (on B-faces) at the point of A-face idx (A = FIELD_AT): the mean of the four
-// B-faces around it, two along A (clamped to the grid like the trilinear lookup) and two
-// along B. Equal to velocityAt() there.
+// B-faces around it, two along A (the cells either side of the face, clamped to the grid like
+// the trilinear lookup) and two along B. Equal to velocityAt() there.
 #define DEFINE_CROSS_MEAN(NAME, IMG, B)                                                    \
   float NAME(ivec3 idx) {                                                                  \
     ivec3 lo = idx;                                                                        \
-    lo[FIELD_AT] = max(idx[FIELD_AT] - 1, 0);                                              \
+    lo[FIELD_AT] = clampCellIndex(idx[FIELD_AT] - 1, FIELD_AT);                            \
     ivec3 hi = idx;                                                                        \
-    hi[FIELD_AT] = min(idx[FIELD_AT], u_res[FIELD_AT] - 1);                                \
+    hi[FIELD_AT] = clampCellIndex(idx[FIELD_AT], FIELD_AT);                                \
     ivec3 e = ivec3(0);                                                                    \
     e[B] = 1;                                                                              \
     return 0.25f * (imageLoad(IMG, lo).x + imageLoad(IMG, hi).x + imageLoad(IMG, lo + e).x + \
