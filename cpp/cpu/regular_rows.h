@@ -29,9 +29,10 @@ inline constexpr std::uint32_t kAllLinks = 0x3Fu;
 class RegularRows {
  public:
   // Row flags (1: wholly open inside), indexed y + z * res.y, of the grid `res` whose mask and
-  // face fractions ((res + 1) texels, RGBA32F planes) are bound in `mask` and `faces`.
+  // face fractions ((res + 1) texels, RGBA32F planes) are bound in `mask` and `faces`; derived
+  // with the x86-64-v3 build of the loop where `x86_v3` (Bindings::x86_v3).
   const std::uint8_t* flags(const ImageBinding& mask, const ImageBinding& faces, const glm::ivec3& res,
-                            ThreadPool& pool) {
+                            ThreadPool& pool, bool x86_v3) {
     for (Entry& e : entries_) {
       if (e.mask == mask.data && e.mask_version == mask.version && e.faces == faces.data &&
           e.faces_version == faces.version && e.res == res) {
@@ -50,17 +51,20 @@ class RegularRows {
     forRows(
         glm::ivec3(1, res.y, res.z), pool,
         [&](int y, int z) {
-          const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
-          // Every cell tested, no early exit, so that the loop vectorizes (most rows are open).
-          unsigned closed = res.x > 2 ? 0u : 1u;
-          for (int i = 1; i < res.x - 1; ++i) {
-            const int f = frow + i;
-            closed |= static_cast<unsigned>(m[row + i] != kAllLinks) | static_cast<unsigned>(fx[f] != 1.0f) |
-                      static_cast<unsigned>(fx[f + 1] != 1.0f) | static_cast<unsigned>(fy[f] != 1.0f) |
-                      static_cast<unsigned>(fy[f + sy] != 1.0f) | static_cast<unsigned>(fz[f] != 1.0f) |
-                      static_cast<unsigned>(fz[f + sz] != 1.0f);
-          }
-          out[y + z * res.y] = closed == 0 ? 1 : 0;
+          runBest(x86_v3, [&] {
+            const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
+            // Every cell tested, no early exit, so that the loops vectorize (most rows are open):
+            // the mask's bytes and the fractions' floats in loops of their own.
+            unsigned closed = res.x > 2 ? 0u : 1u;
+            for (int i = 1; i < res.x - 1; ++i) closed |= static_cast<unsigned>(m[row + i] != kAllLinks);
+            for (int i = 1; i < res.x - 1; ++i) {
+              const int f = frow + i;
+              closed |= static_cast<unsigned>(fx[f] != 1.0f) | static_cast<unsigned>(fx[f + 1] != 1.0f) |
+                        static_cast<unsigned>(fy[f] != 1.0f) | static_cast<unsigned>(fy[f + sy] != 1.0f) |
+                        static_cast<unsigned>(fz[f] != 1.0f) | static_cast<unsigned>(fz[f + sz] != 1.0f);
+            }
+            out[y + z * res.y] = closed == 0 ? 1 : 0;
+          });
         },
         [](int, int) {}, res.x);
     entries_.push_back(std::move(e));

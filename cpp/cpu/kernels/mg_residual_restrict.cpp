@@ -48,7 +48,7 @@ class ResidualRestrictRows final : public CpuKernel {
     checkBound(kernel_.u_mask, fine, stage, "mask");
     checkBound(kernel_.u_faces, fine + 1, stage, "faces");
     checkBound(kernel_.u_coarse_b, coarse, stage, "coarse b");
-    const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, fine, pool);
+    const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, fine, pool, bindings.x86_v3);
     forRows(
         glm::ivec3(1, coarse.y, coarse.z), pool,
         [&](int y, int z) { runBest(bindings.x86_v3, [&] { row(y, z, coarse, fine, open); }); }, [](int, int) {},

@@ -157,7 +157,7 @@ class SmoothRows final : public SmoothSweep {
         throw Error("mg_smooth: the coarse x is not bound at the next level's size");
       }
     }
-    regular_ = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, res, pool);
+    regular_ = bindings.regular_rows->flags(kernel_.u_mask, kernel_.u_faces, res, pool, bindings.x86_v3);
   }
 
   void rows(int z, int y0, int y1, bool x86_v3) const override {

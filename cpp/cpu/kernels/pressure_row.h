@@ -97,7 +97,7 @@ class PressureRowRunner final : public CpuKernel {
   void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
     const glm::ivec3 res = kernel_.u_res;
     Rows::check(kernel_, res);
-    const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_nbmask, kernel_.u_face_open, res, pool);
+    const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_nbmask, kernel_.u_face_open, res, pool, bindings.x86_v3);
     forEachRow(
         glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
         [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res, open[y + z * res.y] != 0); }, res.x);
