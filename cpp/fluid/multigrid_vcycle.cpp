@@ -75,16 +75,25 @@ void MultigridVCycle::bindSmoothInputs(const compute::Texture3D& mask, const com
   mask.bindImage(2, compute::Access::Read);
 }
 
+// PROLONG's input: the next coarser level's x (mg_smooth.comp's u_coarse_x).
+void MultigridVCycle::bindCoarseX(const compute::Texture3D& coarse_x) { coarse_x.bindImage(3, compute::Access::Read); }
+
+// A program of mg_smooth.comp (plain or PROLONG) set for one red-black sweep of `colour` on a
+// level of `res`; returns the sweep's invocations (one per cell of that colour).
+glm::ivec3 MultigridVCycle::setSweep(compute::ComputeProgram& program, const glm::ivec3& res, int colour, bool zero_guess) {
+  program.set("u_res", res);
+  program.set("u_colour", colour);
+  program.set("u_zero_guess", zero_guess ? 1 : 0);
+  return glm::ivec3((res.x + 1) / 2, res.y, res.z);
+}
+
 // One red-black sweep of `colour` with mg_smooth.comp's program (plain or PROLONG): its images
-// (bindSmoothInputs) and uniforms; PROLONG's coarse x is bound by the caller.
+// (bindSmoothInputs) and uniforms; PROLONG's coarse x is bound by the caller (bindCoarseX).
 void MultigridVCycle::sweep(compute::ComputeProgram& program, const glm::ivec3& res, const compute::Texture3D& mask,
                             const compute::Texture3D& faces, compute::Texture3D& x, const compute::Texture3D& b, int colour,
                             bool zero_guess) {
   bindSmoothInputs(mask, faces, x, compute::Access::ReadWrite, b);
-  program.set("u_res", res);
-  program.set("u_colour", colour);
-  program.set("u_zero_guess", zero_guess ? 1 : 0);
-  program.dispatch(glm::ivec3((res.x + 1) / 2, res.y, res.z));
+  program.dispatch(setSweep(program, res, colour, zero_guess));
 }
 
 // The residual's inputs, shared by mg_residual and mg_residual_restrict: faces, x at 1, b at 2,
@@ -132,26 +141,20 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const compute::Text
 }
 
 // A red-black pair: `first`'s sweep of `colour` from its zero guess or not (PROLONG's coarse x bound
-// by the caller), then `second`'s of the other colour: the two sweeps' result, which a device may
-// compute in one pass (ComputeProgram::dispatchThen; the CPU does, a plane apart).
+// by the caller, bindCoarseX), then `second`'s of the other colour: the two sweeps' result, which
+// a device may compute in one pass (ComputeProgram::dispatchThen; the CPU does, a plane apart).
 void MultigridVCycle::sweepPair(compute::ComputeProgram& first, compute::ComputeProgram& second, const glm::ivec3& res,
                                 const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
                                 const compute::Texture3D& b, int colour, bool zero_guess) {
   bindSmoothInputs(mask, faces, x, compute::Access::ReadWrite, b);
-  first.set("u_res", res);
-  first.set("u_colour", colour);
-  first.set("u_zero_guess", zero_guess ? 1 : 0);
-  second.set("u_res", res);
-  second.set("u_colour", 1 - colour);
-  second.set("u_zero_guess", 0);
-  const glm::ivec3 invocations((res.x + 1) / 2, res.y, res.z);
-  first.dispatchThen(invocations, second, invocations);
+  const glm::ivec3 invocations = setSweep(first, res, colour, zero_guess);
+  first.dispatchThen(invocations, second, setSweep(second, res, 1 - colour, false));
 }
 
 void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
                                       compute::Texture3D& x, const compute::Texture3D& b, const compute::Texture3D& coarse_x,
                                       int colour) {
-  coarse_x.bindImage(3, compute::Access::Read);
+  bindCoarseX(coarse_x);
   sweep(smooth_prolong_, res, mask, faces, x, b, colour, false);
 }
 
@@ -213,7 +216,7 @@ void MultigridVCycle::apply(const compute::Texture3D& fine_mask, const compute::
     // Black then red. The coarse correction is folded into the first sweep (smoothProlonged's
     // prolongAdd then smooth, in one pass).
     for (int s = 0; s < kSmoothSweeps; ++s) {
-      if (s == 0) v[l + 1].x->bindImage(3, compute::Access::Read);
+      if (s == 0) bindCoarseX(*v[l + 1].x);
       sweepPair(s == 0 ? smooth_prolong_ : smooth_second_, smooth_, level(l), *v[l].mask, *v[l].faces, *v[l].x,
                 *v[l].b, 1, false);
     }

@@ -66,10 +66,10 @@ class MultigridVCycle {
                         const glm::ivec3& coarse_res, compute::Texture3D& coarse_b, float scale);
   void prolongAdd(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, compute::Texture3D& fine_x,
                   const compute::Texture3D& coarse_x);
-  // The fused stages apply() uses. smoothProlonged: prolongAdd(coarse_x) then a sweep of `colour`,
-  // in one pass (mg_smooth.comp with PROLONG; valid as the first sweep after the correction, whose
-  // next sweep rewrites the other colour). residualRestrict: residual() then restrictResidual()
-  // without storing the fine residual (mg_residual_restrict.comp).
+  // The fused stages. smoothProlonged: prolongAdd(coarse_x) then a sweep of `colour`, in one pass
+  // (mg_smooth.comp with PROLONG; valid as the first sweep after the correction, whose next sweep
+  // rewrites the other colour; apply() runs it as the first of a sweep pair). residualRestrict:
+  // residual() then restrictResidual() without storing the fine residual (mg_residual_restrict.comp).
   void smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
                        compute::Texture3D& x, const compute::Texture3D& b, const compute::Texture3D& coarse_x, int colour);
   void residualRestrict(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces,
@@ -86,6 +86,8 @@ class MultigridVCycle {
   compute::Texture3D& faces(int level) { return coarse_[static_cast<std::size_t>(level - 1)].faces; }
 
  private:
+  static void bindCoarseX(const compute::Texture3D& coarse_x);
+  static glm::ivec3 setSweep(compute::ComputeProgram& program, const glm::ivec3& res, int colour, bool zero_guess);
   void sweepPair(compute::ComputeProgram& first, compute::ComputeProgram& second, const glm::ivec3& res,
                  const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
                  const compute::Texture3D& b, int colour, bool zero_guess);
