@@ -3,16 +3,19 @@
 // next finer one: a coarse face's open fraction is the sum of the open fractions of the (up to
 // four) fine faces it is made of, over four. With piecewise-constant transfer this is the
 // Galerkin coarse operator up to the level's fixed scale (mg_restrict.comp), so the coarse levels
-// see the cut cells' partly open faces. Dispatched over (coarse resolution + 1).
+// see the cut cells' partly open faces. Dispatched over a box of the coarse face texels
+// (coarse resolution + 1) that starts at u_origin: all of them, or those a moved obstacle can change
+// (MultigridVCycle::buildMasks).
 LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
 IMAGE_RO(rgba32f, 1, u_fine_faces);
 IMAGE_WO(rgba32f, 0, u_coarse_faces);
 
 UNIFORM(ivec3, u_fine_size);  // fine cells per axis
+UNIFORM(ivec3, u_origin);     // first face texel of the box dispatched
 
 void main() {
-  ivec3 idx = ivec3(gl_GlobalInvocationID);
+  ivec3 idx = ivec3(gl_GlobalInvocationID) + u_origin;
   if (any(greaterThan(idx, u_res))) return;
   vec4 w = vec4(1.0f);
   UNROLL for (int a = 0; a < 3; ++a) {

@@ -3,16 +3,19 @@
 // from the next finer one. A coarse cell is fluid if any of its fine children is; it is linked
 // to its coarse neighbour across side d if a fluid child on that side is linked across it (so
 // walls, solids and the open top carry down exactly, and regions the fine grid keeps apart stay
-// apart); it sees the open top if a fluid child does. Dispatched over the coarse grid.
+// apart); it sees the open top if a fluid child does. Dispatched over a box of the coarse grid
+// that starts at u_origin: all of it, or the cells a moved obstacle can change
+// (MultigridVCycle::buildMasks).
 LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
 UIMAGE_RO(r8ui, 1, u_fine_mask);
 UIMAGE_WO(r8ui, 0, u_coarse_mask);
 
 UNIFORM(ivec3, u_fine_size);  // fine cells per axis
+UNIFORM(ivec3, u_origin);     // first coarse cell of the box dispatched
 
 void main() {
-  ivec3 c = ivec3(gl_GlobalInvocationID);
+  ivec3 c = ivec3(gl_GlobalInvocationID) + u_origin;
   if (!inGrid(c)) return;
   bool fluid = false;
   uint mask = 0u;

@@ -227,6 +227,12 @@ void FluidSolver::computeDivergence(float dt_s, const FluidParams& p) {
   divergence_.dispatch(grid_.res);
 }
 
+void FluidSolver::obstacleChanged(const CellBox& cells) {
+  for (PressureSolver* s : {jacobi_.get(), multigrid_.get()}) {
+    if (s) s->obstacleChanged(cells);
+  }
+}
+
 SolveStats FluidSolver::solvePressure(const FluidParams& p) {
   if (p.pressure_solver == PressureSolverKind::Multigrid) {
     if (!multigrid_) multigrid_ = std::make_unique<PressureMultigrid>(grid_);

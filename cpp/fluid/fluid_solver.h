@@ -34,6 +34,9 @@ class FluidSolver {
   // Closed box only: shifts the rhs so its mean over fluid cells is 0, the compatibility
   // condition of the pure-Neumann problem (sum in `slot`). Call after computeDivergence().
   void removeRhsMean(compute::GroupReducer& reducer, std::size_t slot);
+  // The obstacle stages (StepPipeline) changed the nbmask and face_open of at most these cells
+  // (and their faces): every pressure solver hears it before its next solve.
+  void obstacleChanged(const CellBox& cells);
   // Runs the solver p.pressure_solver names (made on first use).
   SolveStats solvePressure(const FluidParams& p);
   // First level of ||r||^2, ||rhs||^2 into the reducer's partials, summed into `slot`. This

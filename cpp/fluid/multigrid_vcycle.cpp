@@ -47,22 +47,33 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
   for (std::size_t l = 1; l < res_.size(); ++l) coarse_.emplace_back(res_[l]);
 }
 
+CellBox MultigridVCycle::coarseCells(const CellBox& fine, const glm::ivec3& coarse_res) {
+  if (isEmpty(fine)) return fine;
+  const glm::ivec3 first = glm::min(fine.origin / 2, coarse_res);
+  const glm::ivec3 end = glm::min((fine.origin + fine.extent + 1) / 2, coarse_res);
+  return {first, glm::max(end - first, glm::ivec3(0))};
+}
+
 void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask,
-                                  const glm::ivec3& coarse_res, compute::Texture3D& coarse_mask) {
+                                  const glm::ivec3& coarse_res, compute::Texture3D& coarse_mask, const CellBox& cells) {
+  if (isEmpty(cells)) return;
   fine_mask.bindImage(1, compute::Access::Read);
   coarse_mask.bindImage(0, compute::Access::Write);
   coarsen_.set("u_res", coarse_res);
   coarsen_.set("u_fine_size", fine_res);
-  coarsen_.dispatch(coarse_res);
+  coarsen_.set("u_origin", cells.origin);
+  coarsen_.dispatch(cells.extent);
 }
 
 void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const compute::Texture3D& fine_faces,
-                                   const glm::ivec3& coarse_res, compute::Texture3D& coarse_faces) {
+                                   const glm::ivec3& coarse_res, compute::Texture3D& coarse_faces, const CellBox& faces) {
+  if (isEmpty(faces)) return;
   fine_faces.bindImage(1, compute::Access::Read);
   coarse_faces.bindImage(0, compute::Access::Write);
   coarsen_faces_.set("u_res", coarse_res);
   coarsen_faces_.set("u_fine_size", fine_res);
-  coarsen_faces_.dispatch(coarse_res + 1);
+  coarsen_faces_.set("u_origin", faces.origin);
+  coarsen_faces_.dispatch(faces.extent);
 }
 
 // A level's images as mg_smooth and mg_coarsest bind them: faces, x at 0 (`x_access`), b at 1,
@@ -178,12 +189,18 @@ void MultigridVCycle::solveCoarsest(const glm::ivec3& res, const compute::Textur
   coarsest_.dispatch(glm::ivec3(kCoarsestCells));
 }
 
-void MultigridVCycle::buildMasks(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces) {
+void MultigridVCycle::buildMasks(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces,
+                                 const CellBox& changed) {
+  // A coarse cell reads its fine children's masks, a coarse face texel the fine face texels of
+  // its children's faces on that side (faceBox of the children): coarseCells of the changed cells
+  // and faceBox of those hold every cell and face texel that can change, on each level in turn.
   const compute::Texture3D* finer = &fine_mask;
   const compute::Texture3D* finer_faces = &fine_faces;
-  for (std::size_t l = 1; l < res_.size(); ++l) {
-    coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask);
-    coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces);
+  CellBox cells = changed;
+  for (std::size_t l = 1; l < res_.size() && !isEmpty(cells); ++l) {
+    cells = coarseCells(cells, res_[l]);
+    coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask, cells);
+    coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces, faceBox(cells, res_[l]));
     finer = &coarse_[l - 1].mask;
     finer_faces = &coarse_[l - 1].faces;
   }

@@ -20,6 +20,7 @@
 
 #include "compute/compute_program.h"
 #include "compute/texture3d.h"
+#include "fluid/cell_box.h"
 
 namespace hf::fluid {
 
@@ -46,18 +47,27 @@ class MultigridVCycle {
   int levels() const { return static_cast<int>(res_.size()); }
   const glm::ivec3& resolution(int level) const { return res_[static_cast<std::size_t>(level)]; }
 
-  // Rebuilds every coarse mask and face-fraction image from the fine ones (once per step: the
-  // solid moves). `fine_faces`: the fine level's face fractions (shaders/common.glsl).
-  void buildMasks(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces);
+  // Brings every coarse mask and face-fraction image up to date with the fine ones (once per
+  // step: the solid moves), rebuilding on each level only the cells and faces made of the fine
+  // level's `changed` cells and their faces (the coarse levels keep the rest from the last call):
+  // wholeGrid(resolution(0)) on the first call and whenever what changed is not known.
+  // `fine_faces`: the fine level's face fractions (shaders/common.glsl).
+  void buildMasks(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces, const CellBox& changed);
   // z = M r from z = 0. Call buildMasks first.
   void apply(const compute::Texture3D& fine_mask, const compute::Texture3D& fine_faces, const compute::Texture3D& r,
              compute::Texture3D& z);
 
+  // The coarse cells made of a box of fine cells (children 2c and 2c + 1 of coarse cell c), on a
+  // coarse level of `coarse_res` cells.
+  static CellBox coarseCells(const CellBox& fine, const glm::ivec3& coarse_res);
+
   // The stages, public for tests. `res` is the resolution of the level the textures have.
+  // coarsenMask rebuilds the coarse cells of `cells`, coarsenFaces the coarse face texels of
+  // `faces` (of coarse_res + 1 per axis).
   void coarsenMask(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, const glm::ivec3& coarse_res,
-                   compute::Texture3D& coarse_mask);
+                   compute::Texture3D& coarse_mask, const CellBox& cells);
   void coarsenFaces(const glm::ivec3& fine_res, const compute::Texture3D& fine_faces, const glm::ivec3& coarse_res,
-                    compute::Texture3D& coarse_faces);
+                    compute::Texture3D& coarse_faces, const CellBox& faces);
   void smooth(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
               const compute::Texture3D& b, int colour, bool zero_guess);
   void residual(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, const compute::Texture3D& x,

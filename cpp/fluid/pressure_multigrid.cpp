@@ -38,7 +38,8 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
       direction_("pcg_direction.comp", compute::cellGroupDefines()),
       shift_("pressure_shift.comp", compute::cellGroupDefines()),
       predict_("pcg_predict.comp", rowGroupDefines()),
-      reducer_(2 * rowCount(grid.res), kSlots) {  // pcg_init writes two partials per row
+      reducer_(2 * rowCount(grid.res), kSlots),  // pcg_init writes two partials per row
+      stale_(wholeGrid(grid.res)) {
   for (compute::ComputeProgram* p : {&init_, &apply_, &dot_, &update_, &direction_, &shift_, &predict_}) p->set("u_res", grid.res);
 }
 
@@ -85,7 +86,8 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const std::size_t groups = rowCount(grid_.res);
   const float tolerance = params.pressure_tolerance;
   const bool closed = !params.open_top;
-  vcycle_.buildMasks(f.nbmask, f.face_open);
+  vcycle_.buildMasks(f.nbmask, f.face_open, stale_);
+  stale_ = CellBox{};
   startResidual(f, closed, true);
   predict(f, tolerance > 0.0f);
 

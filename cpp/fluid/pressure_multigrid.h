@@ -26,6 +26,7 @@ class PressureMultigrid : public PressureSolver {
   explicit PressureMultigrid(const Grid& grid);
   const char* name() const override { return "multigrid"; }
   SolveStats solve(FluidFields& fields, const FluidParams& params) override;
+  void obstacleChanged(const CellBox& cells) override { stale_ = unionBox(stale_, cells); }
 
  private:
   // r = -rhs - A p, its sums into the init slot (and with `predictor_sums` b.r, Ap.Ap, b.Ap into
@@ -47,6 +48,7 @@ class PressureMultigrid : public PressureSolver {
   compute::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
   compute::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, predict_;
   compute::GroupReducer reducer_;
+  CellBox stale_;  // the fine cells changed since the coarse levels were last built (all at first)
 };
 
 }  // namespace hf::fluid

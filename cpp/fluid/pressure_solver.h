@@ -3,6 +3,7 @@
 // The interface every pressure solver shares (PressureJacobi, PressureMultigrid): solve
 // sum_nb (p_nb - p) = rhs over the fluid cells into fields.pressure.cur(), warm-started from
 // the previous step's pressure.
+#include "fluid/cell_box.h"
 #include "fluid/fluid_fields.h"
 #include "fluid/fluid_params.h"
 
@@ -23,6 +24,10 @@ class PressureSolver {
   virtual ~PressureSolver() = default;
   virtual const char* name() const = 0;
   virtual SolveStats solve(FluidFields& fields, const FluidParams& params) = 0;
+  // Whoever writes the fields' nbmask or face_open says which cells it may have changed (their
+  // faces: faceBox) before the next solve: a solver may keep what it derives from them
+  // (PressureMultigrid's coarse levels). A new solver derives everything on its first solve.
+  virtual void obstacleChanged(const CellBox& cells) { (void)cells; }
 };
 
 }  // namespace hf::fluid

@@ -124,6 +124,7 @@ obstacle::CellBox StepPipeline::changedRegion(const Footprint& now) const {
 
 void StepPipeline::classify(Pass& pass) {
   auto& f = solver_.fields();
+  solver_.obstacleChanged(pass.region);  // before the writes: a stage that throws half-way is covered
   pass.cut_cells = pass.body && pass.body->writeFaceFractions(f.face_open, pass.region);
   if (!pass.cut_cells) classifier_.binaryFractions(f.solid, f.face_open, pass.region);
   classifier_.classify(f.solid, f.face_open, f.cell_class, f.nbmask, pass.in.params.open_top, pass.region);

@@ -208,7 +208,7 @@ TEST_F(Multigrid, CoarseMaskRestrictionAndProlongationMatchCpuReferences) {
     cx.upload(coarse_values.data(), coarse_values.size() * sizeof(float));
     compute::Texture3D ff(t.fine.n + 1, compute::TexelFormat::RGBA32F, "fine face fractions");
     ff.upload(fine_faces.data(), fine_faces.size() * sizeof(float));
-    v.buildMasks(fm, ff);
+    v.buildMasks(fm, ff, wholeGrid(t.fine.n));
     got_mask = downloadMask(v.mask(1));
     got_faces = download4(v.faces(1));
     v.restrictResidual(t.fine.n, fm, fr, t.coarse.n, cb, 0.5f);
@@ -269,6 +269,59 @@ TEST_F(Multigrid, CoarseMaskRestrictionAndProlongationMatchCpuReferences) {
       }
 }
 
+// buildMasks over a box of changed fine cells leaves every coarse level as a rebuild of all of it
+// would: a fine grid of odd sizes (four levels) gets new masks and face fractions in a box (its
+// cells, and their faces: faceBox), near a corner, at the far walls, a single cell, and none.
+TEST_F(Multigrid, CoarseLevelsRebuiltInAChangedBoxMatchAWholeRebuild) {
+  const glm::ivec3 n(21, 18, 13);
+  const glm::ivec3 fn = n + 1;
+  const std::size_t cells = static_cast<std::size_t>(n.x) * n.y * n.z;
+  const std::size_t faces = static_cast<std::size_t>(fn.x) * fn.y * fn.z;
+  std::vector<std::uint8_t> mask(cells);
+  std::vector<float> frac(faces * 4);
+  std::uint32_t seed = 12345u;
+  auto next = [&seed] { return seed = seed * 1664525u + 1013904223u; };
+  auto fill = [&](const CellBox& box) {
+    for (int k = box.origin.z; k < box.origin.z + box.extent.z; ++k)
+      for (int j = box.origin.y; j < box.origin.y + box.extent.y; ++j)
+        for (int i = box.origin.x; i < box.origin.x + box.extent.x; ++i)
+          mask[static_cast<std::size_t>(i + n.x * (j + n.y * k))] = static_cast<std::uint8_t>(next() >> 24);
+    const CellBox fb = faceBox(box, n);
+    for (int k = fb.origin.z; k < fb.origin.z + fb.extent.z; ++k)
+      for (int j = fb.origin.y; j < fb.origin.y + fb.extent.y; ++j)
+        for (int i = fb.origin.x; i < fb.origin.x + fb.extent.x; ++i)
+          for (int c = 0; c < 4; ++c) {
+            frac[4 * static_cast<std::size_t>(i + fn.x * (j + fn.y * k)) + c] = static_cast<float>(next() >> 8) / 16777216.0f;
+          }
+  };
+  fill(wholeGrid(n));
+  const CellBox changes[] = {{{3, 5, 2}, {4, 3, 5}},  {{0, 0, 0}, {2, 1, 3}}, {{17, 14, 9}, {4, 4, 4}},
+                             {{20, 17, 12}, {1, 1, 1}}, {{7, 8, 6}, {1, 1, 1}}, {{4, 4, 4}, {0, 3, 3}}};
+  onGl([&] {
+    MultigridVCycle kept(n);
+    ASSERT_EQ(kept.levels(), 4);
+    compute::Texture3D fm(n, compute::TexelFormat::R8UI, "fine mask");
+    compute::Texture3D ff(fn, compute::TexelFormat::RGBA32F, "fine face fractions");
+    fm.upload(mask.data(), mask.size());
+    ff.upload(frac.data(), frac.size() * sizeof(float));
+    kept.buildMasks(fm, ff, wholeGrid(n));
+    for (const CellBox& box : changes) {
+      fill(box);
+      fm.upload(mask.data(), mask.size());
+      ff.upload(frac.data(), frac.size() * sizeof(float));
+      kept.buildMasks(fm, ff, box);
+      MultigridVCycle whole(n);
+      whole.buildMasks(fm, ff, wholeGrid(n));
+      for (int l = 1; l < kept.levels(); ++l) {
+        EXPECT_EQ(downloadMask(kept.mask(l)), downloadMask(whole.mask(l)))
+            << "level " << l << " after a change at " << box.origin.x << " " << box.origin.y << " " << box.origin.z;
+        EXPECT_EQ(download4(kept.faces(l)), download4(whole.faces(l)))
+            << "level " << l << " after a change at " << box.origin.x << " " << box.origin.y << " " << box.origin.z;
+      }
+    }
+  });
+}
+
 // One solve on a fresh FluidFields with the given mask and rhs; returns the stats and pressure.
 struct Solved {
   SolveStats stats;
@@ -283,6 +336,7 @@ Solved solveOnce(PressureSolver& solver, FluidFields& f, const std::vector<std::
   f.face_open.upload(open.data(), open.size() * sizeof(float));
   f.rhs.upload(rhs.data(), rhs.size() * sizeof(float));
   f.pressure.cur().clear();
+  solver.obstacleChanged(wholeGrid(f.nbmask.size()));
   Solved s;
   s.stats = solver.solve(f, params);
   s.pressure = download(f.pressure.cur());

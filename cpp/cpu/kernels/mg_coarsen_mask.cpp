@@ -2,7 +2,8 @@
 // shaders/mg_coarsen_mask.comp built as C++ (cpu/kernel.h).
 // Its accesses reach at most one cell or face from its invocation's (coarse-to-fine stages: the
 // children of its cell and their neighbours), so the interior of the dispatch runs unchecked
-// (InteriorRunner) and the shell around it bounds-tested.
+// (InteriorRunner) and the shell around it bounds-tested. A dispatch of a box from u_origin
+// (MultigridVCycle::buildMasks) lies in the grid, so its interior lies in the grid's.
 #include "cpu/kernels/kernel_list.h"
 
 #include "cpu/kernel_begin.h"
