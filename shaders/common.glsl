@@ -179,7 +179,8 @@ vec3 faceOffset(int axis) { return vec3(0.5f) - 0.5f * vec3(unitAxis(axis)); }
 
 ivec3 faceSize(int axis) { return u_res + unitAxis(axis); }
 
-// pcg_init and pcg_apply sum their row's cells in ROW_PARTS interleaved parts: cell i into part
+// The pressure's row stages (pcg_init, pcg_apply, pcg_dot, pcg_update, pcg_predict,
+// pressure_sum) sum their row's cells in ROW_PARTS interleaved parts: cell i into part
 // i % ROW_PARTS, each part in the row's order, then the parts in a fixed tree (rowPartsTotal). Both
 // backends add in this order; the CPU, which has the cells' terms in row buffers there, adds a
 // block of ROW_PARTS cells with one vector add where a sum in the row's order was a chain of

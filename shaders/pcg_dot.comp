@@ -9,13 +9,19 @@ IMAGE_RO(r32f, 2, u_b);
 UIMAGE_RO(r8ui, 3, u_nbmask);
 BUFFER_WO(Partials, vec4, 0, partials);
 
+// One cell's term of a.b: 0 from a solid cell.
+float dotTerm(uint m, float a, float b) { return (m & NB_SOLID) == 0u ? a * b : 0.0f; }
+
+// The row's cells, their terms summed by parts (common.glsl, ROW_PARTS; cpu/kernels/pcg_dot.cpp
+// sums the same way).
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
-  float acc = 0.0f;
+  vec4 parts[ROW_PARTS];
+  UNROLL for (int l = 0; l < ROW_PARTS; ++l) parts[l] = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    if ((imageLoad(u_nbmask, c).x & NB_SOLID) == 0u) acc += imageLoad(u_a, c).x * imageLoad(u_b, c).x;
+    parts[i % ROW_PARTS].x += dotTerm(imageLoad(u_nbmask, c).x, imageLoad(u_a, c).x, imageLoad(u_b, c).x);
   }
-  partials[row.x + u_res.y * row.y] = vec4(acc, 0.0f, 0.0f, 0.0f);
+  partials[row.x + u_res.y * row.y] = rowPartsTotal(parts);
 }

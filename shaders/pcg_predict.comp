@@ -23,26 +23,39 @@ BUFFER_RO(Results, vec4, 1, results);
 
 UNIFORM(uint, u_slot_ap);
 
+// The alpha of the warm start (0 where it is undefined).
+float predictorAlpha(vec4 ap) {
+  float alpha = ap.y > 0.0f ? ap.z / ap.y : 0.0f;
+  return isinf(alpha) || isnan(alpha) ? 0.0f : alpha;
+}
+
+// One cell's start: in a fluid cell p = alpha p and r = (1 - alpha) b + alpha r, or with alpha 0
+// p = 0 and r = b (chosen, not computed, so a huge old r cannot leave 0 * inf behind); a solid
+// cell keeps both. Its terms of the row's sums (r, 1, r r, b b), 0 from a solid cell.
+vec4 predictCell(uint m, float alpha, float b, INOUT(float) p, INOUT(float) r) {
+  bool fluid = (m & NB_SOLID) == 0u;
+  float r_new = alpha == 0.0f ? b : (1.0f - alpha) * b + alpha * r;
+  float p_new = alpha == 0.0f ? 0.0f : alpha * p;
+  p = fluid ? p_new : p;
+  r = fluid ? r_new : r;
+  return vec4(fluid ? r_new : 0.0f, fluid ? 1.0f : 0.0f, fluid ? r_new * r_new : 0.0f, fluid ? b * b : 0.0f);
+}
+
+// The row's cells, their terms summed by parts (common.glsl, ROW_PARTS; cpu/kernels/
+// pcg_predict.cpp sums the same way).
 void main() {
   ivec2 row = ivec2(gl_GlobalInvocationID);
   if (row.x >= u_res.y || row.y >= u_res.z) return;
-  vec4 ap = results[u_slot_ap];
-  float alpha = ap.y > 0.0f ? ap.z / ap.y : 0.0f;
-  if (isinf(alpha) || isnan(alpha)) alpha = 0.0f;
-  vec4 acc = vec4(0.0f);
+  float alpha = predictorAlpha(results[u_slot_ap]);
+  vec4 parts[ROW_PARTS];
+  UNROLL for (int l = 0; l < ROW_PARTS; ++l) parts[l] = vec4(0.0f);
   for (int i = 0; i < u_res.x; ++i) {
     ivec3 c = ivec3(i, row);
-    if ((imageLoad(u_nbmask, c).x & NB_SOLID) != 0u) continue;
-    float b = -imageLoad(u_rhs, c).x;
-    float r = b;
-    if (alpha == 0.0f) {  // p = 0: written, not scaled, so a huge old r cannot leave 0 * inf behind
-      imageStore(u_pressure, c, vec4(0.0f));
-    } else {
-      r = (1.0f - alpha) * b + alpha * imageLoad(u_r, c).x;
-      imageStore(u_pressure, c, vec4(alpha * imageLoad(u_pressure, c).x));
-    }
+    float p = imageLoad(u_pressure, c).x;
+    float r = imageLoad(u_r, c).x;
+    parts[i % ROW_PARTS] += predictCell(imageLoad(u_nbmask, c).x, alpha, -imageLoad(u_rhs, c).x, p, r);
+    imageStore(u_pressure, c, vec4(p));
     imageStore(u_r, c, vec4(r));
-    acc += vec4(r, 1.0f, r * r, b * b);
   }
-  partials[row.x + u_res.y * row.y] = acc;
+  partials[row.x + u_res.y * row.y] = rowPartsTotal(parts);
 }

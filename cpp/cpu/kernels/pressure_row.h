@@ -37,6 +37,22 @@ __attribute__((always_inline)) inline void addRowParts(const float* __restrict t
   for (int l = 0; i0 + l < n; ++l) parts[l] += t[i0 + l];
 }
 
+// The first cell of row (y, z) in a texture of a grid of `res` cells.
+inline int rowStart(const glm::ivec3& res, int y, int z) { return res.x * (y + res.y * z); }
+
+// A row's total as the row stages sum it (common.glsl: ROW_PARTS parts, then rowPartsTotal):
+// component c from the row's n terms at terms[c] (addRowParts); the components after C are 0.
+template <class K, int C>
+__attribute__((always_inline)) inline glm::vec4 rowPartsOf(K& k, const float* const (&terms)[C], int n) {
+  static_assert(C >= 1 && C <= 4);
+  constexpr int kParts = K::ROW_PARTS;
+  float sums[4][kParts] = {};
+  for (int c = 0; c < C; ++c) addRowParts(terms[c], n, sums[c]);
+  glm::vec4 parts[kParts];
+  for (int l = 0; l < kParts; ++l) parts[l] = glm::vec4(sums[0][l], sums[1][l], sums[2][l], sums[3][l]);
+  return k.rowPartsTotal(parts);
+}
+
 class PressureRow {
  public:
   // Row (y, z) of a grid of `res` cells: its mask, face fractions (res + 1 texels) and values x.
@@ -101,6 +117,28 @@ class PressureRowRunner final : public CpuKernel {
     forEachRow(
         glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
         [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res, open[y + z * res.y] != 0); }, res.x);
+  }
+
+ private:
+  KernelSlots slots_;
+  K kernel_{&slots_};
+};
+
+// The runner of a row stage whose cells are independent (pcg_dot, pcg_update, pcg_predict,
+// pressure_sum: one invocation per row of the grid u_res, no neighbours): Rows::check(kernel,
+// res) tests the bindings (checkBound), then Rows::row(k, y, z, res) runs for every row on a
+// per-thread copy k of the unchecked build K, on every thread (the serial threshold counts the
+// row's cells) with the best instruction set.
+template <class K, class Rows>
+class CellRowRunner final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3&, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 res = kernel_.u_res;
+    Rows::check(kernel_, res);
+    forEachRow(
+        glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
+        [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res); }, res.x);
   }
 
  private:

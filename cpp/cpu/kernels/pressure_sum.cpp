@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/pressure_sum.comp built as C++ (cpu/kernel.h).
-// A row stage: every access is in range by the shader's own construction (a loop over its row
-// of the grid that reads neighbours only across linked faces), so it runs unchecked, its rows
-// over every thread (RowLoopRunner).
+// shaders/pressure_sum.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage: one
+// invocation per row of cells, run by pressure_row.h's CellRowRunner). The shader's sumTerms gives
+// every cell's terms (the value and the fluid count) and its terms of the row's sums, vectorized over the row (a cell reads only
+// itself); the terms are summed by parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums
+// them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
+
+#include <vector>
+
+#include "cpu/kernels/pressure_row.h"
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -24,9 +29,39 @@ struct PressureSumUnchecked : KernelBase {
 #include "cpu/kernel_end.h"
 
 namespace hf::cpu::kernels {
+namespace {
 
-void addPressureSum(KernelRegistry& r) {
-  r.add<RowLoopRunner<PressureSumUnchecked>>("pressure_sum.comp", {});
-}
+using K = PressureSumUnchecked;
+
+struct SumRows {
+  static void check(const K& kernel, const glm::ivec3& res) {
+    constexpr const char* stage = "pressure_sum";
+    checkBound(kernel.u_pressure, res, stage, "field");
+    checkBound(kernel.u_nbmask, res, stage, "nbmask");
+  }
+
+  // (always_inline: flattened into each instruction set's build by runBest.)
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res) {
+    const int n = res.x;
+    const int at = rowStart(res, y, z);
+    const std::uint8_t* __restrict m = static_cast<const std::uint8_t*>(k.u_nbmask.data) + at;
+    thread_local std::vector<float> buffer;
+    buffer.resize(static_cast<std::size_t>(2 * n));
+    float* __restrict t = buffer.data();
+    const float* __restrict v = static_cast<const float*>(k.u_pressure.data) + at;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) {
+      const glm::vec4 w = k.sumTerms(m[i], v[i]);
+      t[i] = w.x;
+      t[n + i] = w.y;
+    }
+    const float* const terms[2] = {t, t + n};
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf(k, terms, n);
+  }
+};
+
+}  // namespace
+
+void addPressureSum(KernelRegistry& r) { r.add<CellRowRunner<K, SumRows>>("pressure_sum.comp", {}); }
 
 }  // namespace hf::cpu::kernels
