@@ -80,7 +80,7 @@ bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan
 // then contiguous along a row (cpu/kernel.h, InteriorSimdRowRunner).
 #ifdef HF_CLAMP_FREE
 ivec3 clampCell(ivec3 c) { return c; }
-int clampCellIndex(int i, int axis) { return i; }
+int clampCellIndex(int i, int /*axis*/) { return i; }
 #else
 ivec3 clampCell(ivec3 c) { return clamp(c, ivec3(0), u_res - 1); }
 // Cell index i on one axis clamped into the grid (clampCell for one component).

@@ -140,7 +140,7 @@ class AdvectRows final : public CpuKernel {
     float* __restrict out2 = nullptr;
     if constexpr (kPair) out2 = static_cast<float*>(k.u_dst2.data) + k.u_dst2.index(glm::ivec3(0, y, z));
     int x = 0;
-    if constexpr (kBlocks)
+    if constexpr (kBlocks) {
       if constexpr (kInteriorX) {
         KI ki(interior_);
         for (; x + kLanes <= width; x += kLanes) {
@@ -153,6 +153,7 @@ class AdvectRows final : public CpuKernel {
       } else {
         for (; x + kLanes <= width; x += kLanes) block(k, k, x, y, z, out, out2);
       }
+    }
 #pragma omp simd
     for (int xt = x; xt < width; ++xt) {
       const glm::vec2 v = k.advectedValues(glm::ivec3(xt, y, z));
