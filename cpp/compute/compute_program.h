@@ -7,6 +7,8 @@
 // StorageBuffer::bind) before dispatch().
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -38,10 +40,14 @@ class ComputeProgram {
   // stage and to read-backs.
   void dispatch(const glm::ivec3& invocations) { impl_->dispatch(invocations); }
 
-  // dispatch(invocations), then next.dispatch(next_invocations), the images and buffers bound as
-  // they are now: the same result, which a device may compute in one pass (ProgramImpl::dispatchThen).
-  void dispatchThen(const glm::ivec3& invocations, ComputeProgram& next, const glm::ivec3& next_invocations) {
-    impl_->dispatchThen(invocations, *next.impl_, next_invocations);
+  // Each (program, invocations) of `series` dispatched in turn, the images and buffers bound as
+  // they are now: the same result, which a device may compute in one pass
+  // (ProgramImpl::dispatchSeries).
+  static void dispatchSeries(const std::vector<std::pair<ComputeProgram*, glm::ivec3>>& series) {
+    std::vector<ProgramImpl::SeriesDispatch> d;
+    d.reserve(series.size());
+    for (const auto& [program, invocations] : series) d.push_back({program->impl_.get(), invocations});
+    if (!d.empty()) d.front().program->dispatchSeries(d);
   }
 
  private:

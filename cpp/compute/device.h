@@ -85,12 +85,17 @@ class ProgramImpl {
   // Runs the program over `invocations`; what it wrote is visible to the next stage and to
   // read-backs when it returns (GL: the memory barrier its writes need).
   virtual void dispatch(const glm::ivec3& invocations) = 0;
-  // dispatch(invocations), then `next` over `next_invocations` with the images and buffers bound
-  // now: the result of the two dispatches in that order. A device may run both in one pass where
-  // it keeps that result (the CPU: two colours of a red-black sweep a plane apart).
-  virtual void dispatchThen(const glm::ivec3& invocations, ProgramImpl& next, const glm::ivec3& next_invocations) {
-    dispatch(invocations);
-    next.dispatch(next_invocations);
+  // One dispatch of a series (dispatchSeries).
+  struct SeriesDispatch {
+    ProgramImpl* program;
+    glm::ivec3 invocations;
+  };
+  // Called on the first entry's program: each entry's program over its invocations in turn, with
+  // the images and buffers bound now: the result of those dispatches in that order. A device may
+  // run them in one pass where it keeps that result (the CPU: red-black sweeps of one level, each
+  // a plane behind the one before).
+  virtual void dispatchSeries(const std::vector<SeriesDispatch>& series) {
+    for (const SeriesDispatch& d : series) d.program->dispatch(d.invocations);
   }
 };
 

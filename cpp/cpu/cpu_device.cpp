@@ -217,22 +217,24 @@ class CpuProgram final : public compute::ProgramImpl {
     countDispatch(invocations);
   }
 
-  void dispatchThen(const glm::ivec3& invocations, compute::ProgramImpl& next_impl,
-                    const glm::ivec3& next_invocations) override {
-    auto* next = dynamic_cast<CpuProgram*>(&next_impl);
-    if (next == nullptr) {
-      compute::ProgramImpl::dispatchThen(invocations, next_impl, next_invocations);
+  void dispatchSeries(const std::vector<SeriesDispatch>& series) override {
+    std::vector<CpuProgram*> programs;
+    std::vector<CpuKernel*> kernels;
+    for (const SeriesDispatch& d : series) {
+      auto* p = dynamic_cast<CpuProgram*>(d.program);
+      if (p == nullptr) {
+        compute::ProgramImpl::dispatchSeries(series);
+        return;
+      }
+      programs.push_back(p);
+      kernels.push_back(p->kernel_.get());
+    }
+    for (CpuProgram* p : programs) p->bindSlots();
+    if (series.size() > 1 && kernel_->runSeries(kernels, bindings_, pool_)) {
+      for (std::size_t i = 0; i < series.size(); ++i) programs[i]->countDispatch(series[i].invocations);
       return;
     }
-    bindSlots();
-    next->bindSlots();
-    if (kernel_->runThen(invocations, *next->kernel_, next_invocations, bindings_, pool_)) {
-      countDispatch(invocations);
-      countDispatch(next_invocations);
-      return;
-    }
-    dispatch(invocations);
-    next->dispatch(next_invocations);
+    for (std::size_t i = 0; i < series.size(); ++i) programs[i]->dispatch(series[i].invocations);
   }
 
  private:

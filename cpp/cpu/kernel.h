@@ -51,10 +51,10 @@ class CpuKernel {
   // shape its #defines give (GROUP_SUM kernels need it).
   virtual void run(const glm::ivec3& invocations, const glm::ivec3& local_size, const Bindings& bindings,
                    ThreadPool& pool) = 0;
-  // run(invocations), then next's run(next_invocations), in one pass where the kernel knows how
-  // (ProgramImpl::dispatchThen): returns false, having run nothing, where it does not.
-  virtual bool runThen(const glm::ivec3& /*invocations*/, CpuKernel& /*next*/, const glm::ivec3& /*next_invocations*/,
-                       const Bindings& /*bindings*/, ThreadPool& /*pool*/) {
+  // The kernels of a series of dispatches (ProgramImpl::dispatchSeries; series[0] is this one), each
+  // with its own slots bound, run in one pass where the kernel knows how: returns false, having run
+  // nothing, where it does not.
+  virtual bool runSeries(const std::vector<CpuKernel*>& /*series*/, const Bindings& /*bindings*/, ThreadPool& /*pool*/) {
     return false;
   }
 };

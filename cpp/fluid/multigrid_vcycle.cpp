@@ -3,7 +3,9 @@
 
 
 #include <algorithm>
+#include <memory>
 #include <string>
+#include <utility>
 
 #include "fluid/fluid_fields.h"
 #include "compute/workgroup.h"
@@ -36,7 +38,6 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
       coarsen_("mg_coarsen_mask.comp", compute::cellGroupDefines()),
       coarsen_faces_("mg_coarsen_faces.comp", compute::cellGroupDefines()),
       smooth_("mg_smooth.comp", compute::cellGroupDefines()),
-      smooth_second_("mg_smooth.comp", compute::cellGroupDefines()),
       residual_("mg_residual.comp", compute::cellGroupDefines()),
       restrict_("mg_restrict.comp", compute::cellGroupDefines()),
       prolong_("mg_prolong.comp", compute::cellGroupDefines()),
@@ -45,6 +46,8 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
       residual_restrict_("mg_residual_restrict.comp", compute::cellGroupDefines()) {
   coarse_.reserve(res_.size());
   for (std::size_t l = 1; l < res_.size(); ++l) coarse_.emplace_back(res_[l]);
+  sweeps_.reserve(2 * kSmoothSweeps);
+  for (int s = 0; s < 2 * kSmoothSweeps; ++s) sweeps_.push_back(std::make_unique<compute::ComputeProgram>("mg_smooth.comp", compute::cellGroupDefines()));
 }
 
 CellBox MultigridVCycle::coarseCells(const CellBox& fine, const glm::ivec3& coarse_res) {
@@ -151,15 +154,21 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const compute::Text
   prolong_.dispatch(fine_res);
 }
 
-// A red-black pair: `first`'s sweep of `colour` from its zero guess or not (PROLONG's coarse x bound
-// by the caller, bindCoarseX), then `second`'s of the other colour: the two sweeps' result, which
-// a device may compute in one pass (ComputeProgram::dispatchThen; the CPU does, a plane apart).
-void MultigridVCycle::sweepPair(compute::ComputeProgram& first, compute::ComputeProgram& second, const glm::ivec3& res,
-                                const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
-                                const compute::Texture3D& b, int colour, bool zero_guess) {
+// The 2 kSmoothSweeps sweeps on one side of a coarse correction, colours alternating from
+// `colour`: `first`'s from its zero guess or not (PROLONG's coarse x bound by the caller,
+// bindCoarseX), then sweeps_[1 ..]'s: the sweeps' result, which a device may compute in one pass
+// (ComputeProgram::dispatchSeries; the CPU does, each sweep a plane behind the one before).
+void MultigridVCycle::sweepSeries(compute::ComputeProgram& first, const glm::ivec3& res, const compute::Texture3D& mask,
+                                  const compute::Texture3D& faces, compute::Texture3D& x, const compute::Texture3D& b,
+                                  int colour, bool zero_guess) {
   bindSmoothInputs(mask, faces, x, compute::Access::ReadWrite, b);
-  const glm::ivec3 invocations = setSweep(first, res, colour, zero_guess);
-  first.dispatchThen(invocations, second, setSweep(second, res, 1 - colour, false));
+  std::vector<std::pair<compute::ComputeProgram*, glm::ivec3>> series;
+  series.emplace_back(&first, setSweep(first, res, colour, zero_guess));
+  for (int s = 1; s < 2 * kSmoothSweeps; ++s) {
+    compute::ComputeProgram& sweep = *sweeps_[static_cast<std::size_t>(s)];
+    series.emplace_back(&sweep, setSweep(sweep, res, (colour + s) % 2, false));
+  }
+  compute::ComputeProgram::dispatchSeries(series);
 }
 
 void MultigridVCycle::smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
@@ -221,22 +230,17 @@ void MultigridVCycle::apply(const compute::Texture3D& fine_mask, const compute::
   const int last = levels() - 1;
   auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
 
-  for (int l = 0; l < last; ++l) {
-    for (int s = 0; s < kSmoothSweeps; ++s) {  // red then black
-      sweepPair(smooth_, smooth_second_, level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, s == 0);
-    }
+  for (int l = 0; l < last; ++l) {  // red, black, red, black
+    sweepSeries(*sweeps_[0], level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, true);
     residualRestrict(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, level(l + 1),
                      coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
   }
   solveCoarsest(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b);
   for (int l = last - 1; l >= 0; --l) {
-    // Black then red. The coarse correction is folded into the first sweep (smoothProlonged's
-    // prolongAdd then smooth, in one pass).
-    for (int s = 0; s < kSmoothSweeps; ++s) {
-      if (s == 0) bindCoarseX(*v[l + 1].x);
-      sweepPair(s == 0 ? smooth_prolong_ : smooth_second_, smooth_, level(l), *v[l].mask, *v[l].faces, *v[l].x,
-                *v[l].b, 1, false);
-    }
+    // Black, red, black, red. The coarse correction is folded into the first sweep
+    // (smoothProlonged's prolongAdd then smooth, in one pass).
+    bindCoarseX(*v[l + 1].x);
+    sweepSeries(smooth_prolong_, level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);
   }
 }
 

@@ -16,6 +16,7 @@
 // correction and black then red after it, and the coarsest level is solved by symmetric
 // red-black sweeps (one dispatch, mg_coarsest.comp), so M is symmetric positive definite as CG
 // needs.
+#include <memory>
 #include <vector>
 
 #include "compute/compute_program.h"
@@ -78,7 +79,7 @@ class MultigridVCycle {
                   const compute::Texture3D& coarse_x);
   // The fused stages. smoothProlonged: prolongAdd(coarse_x) then a sweep of `colour`, in one pass
   // (mg_smooth.comp with PROLONG; valid as the first sweep after the correction, whose next sweep
-  // rewrites the other colour; apply() runs it as the first of a sweep pair). residualRestrict:
+  // rewrites the other colour; apply() runs it as the first of a sweep series). residualRestrict:
   // residual() then restrictResidual() without storing the fine residual (mg_residual_restrict.comp).
   void smoothProlonged(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
                        compute::Texture3D& x, const compute::Texture3D& b, const compute::Texture3D& coarse_x, int colour);
@@ -98,9 +99,9 @@ class MultigridVCycle {
  private:
   static void bindCoarseX(const compute::Texture3D& coarse_x);
   static glm::ivec3 setSweep(compute::ComputeProgram& program, const glm::ivec3& res, int colour, bool zero_guess);
-  void sweepPair(compute::ComputeProgram& first, compute::ComputeProgram& second, const glm::ivec3& res,
-                 const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
-                 const compute::Texture3D& b, int colour, bool zero_guess);
+  void sweepSeries(compute::ComputeProgram& first, const glm::ivec3& res, const compute::Texture3D& mask,
+                   const compute::Texture3D& faces, compute::Texture3D& x, const compute::Texture3D& b, int colour,
+                   bool zero_guess);
   void sweep(compute::ComputeProgram& program, const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
              compute::Texture3D& x, const compute::Texture3D& b, int colour, bool zero_guess);
   static void bindSmoothInputs(const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
@@ -118,13 +119,15 @@ class MultigridVCycle {
   compute::ComputeProgram coarsen_;
   compute::ComputeProgram coarsen_faces_;
   compute::ComputeProgram smooth_;
-  compute::ComputeProgram smooth_second_;  // the other colour of a sweepPair (its own uniforms)
   compute::ComputeProgram residual_;
   compute::ComputeProgram restrict_;
   compute::ComputeProgram prolong_;
   compute::ComputeProgram coarsest_;
   compute::ComputeProgram smooth_prolong_;
   compute::ComputeProgram residual_restrict_;
+  // mg_smooth for each sweep of a sweepSeries (each keeps its own uniforms; the first of the
+  // smoothing after a correction is smooth_prolong_ instead).
+  std::vector<std::unique_ptr<compute::ComputeProgram>> sweeps_;
 };
 
 }  // namespace hf::fluid

@@ -7,7 +7,7 @@
 // mg_prolong + two sweeps. The same arithmetic in each: equal to float rounding (measured: equal
 // to the bit on llvmpipe; the bound allows a compiler's different contraction). And a sweep over
 // rows that are wholly open inside against the cell formula on the host. And a red-black pair of
-// sweeps in one pass (dispatchThen: on the CPU a plane apart, in slabs of planes on several threads)
+// sweeps in one pass (dispatchSeries: on the CPU a plane apart, in slabs of planes on several threads)
 // against the two dispatches, to the bit.
 #include <GL/gl.h>
 #include <gtest/gtest.h>
@@ -15,6 +15,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "compute/compute_program.h"
@@ -268,12 +272,12 @@ TEST_F(MultigridFused, SweepsOverOpenRowsEqualTheCellFormula) {
   EXPECT_GT(*std::max_element(host.begin(), host.end()), 0.1f);
 }
 
-// Two sweeps of a red-black pair through dispatchThen (the CPU runs them in one pass, the second
-// a plane behind the first, in slabs of planes on several threads) against the two dispatches:
-// the same bits, on 1, 2 and 4 threads (4 slabs of a grid big enough to be cut), for the
-// pre-smoothing pair (red from the zero guess, then black) and the post-smoothing one (black
-// with the coarse correction folded in, then red), with a solid block, an open top and cut faces.
-TEST(MultigridSweepPairs, InOnePassEqualTheTwoSweepsToTheBit) {
+// Series of red-black sweeps through dispatchSeries (the CPU runs them in one pass, each a plane
+// behind the one before, in slabs of planes on several threads) against the separate dispatches:
+// the same bits, on 1, 2 and 4 threads (4 slabs of a grid big enough to be cut), for two and
+// four sweeps, before a correction (red from the zero guess first) and after it (black with the
+// coarse correction folded in first), with a solid block, an open top and cut faces.
+TEST(MultigridSweepSeries, InOnePassEqualTheSweepsToTheBit) {
   const glm::ivec3 n(37, 29, 67);  // 72k cells, 67 planes
   static_assert(37LL * 29 * 67 >= cpu::kSerialInvocations, "a grid the CPU cuts into slabs");
   const glm::ivec3 coarse = (n + 1) / 2;
@@ -281,49 +285,55 @@ TEST(MultigridSweepPairs, InOnePassEqualTheTwoSweepsToTheBit) {
   const std::vector<float> x0 = values(count(n), 11, 23, 0.25f, -2.0f);
   const std::vector<float> cx = values(count(coarse), 5, 19, 0.1f, -0.7f);
   const glm::ivec3 invocations((n.x + 1) / 2, n.y, n.z);
-  std::vector<float> reference[2];
+  std::map<std::pair<int, int>, std::vector<float>> reference;  // (sweeps, side) -> one thread's
   for (int threads : {1, 2, 4}) {
     cpu::CpuWorker worker(threads);
     worker.call([&] {
       compute::Defines prolong = compute::cellGroupDefines();
       prolong.emplace_back("PROLONG", "1");
       compute::ComputeProgram plain("mg_smooth.comp", compute::cellGroupDefines());
-      compute::ComputeProgram second("mg_smooth.comp", compute::cellGroupDefines());
       compute::ComputeProgram with_prolong("mg_smooth.comp", prolong);
+      std::vector<std::unique_ptr<compute::ComputeProgram>> rest;
+      for (int i = 0; i < 3; ++i) rest.push_back(std::make_unique<compute::ComputeProgram>("mg_smooth.comp", compute::cellGroupDefines()));
       Level l(n, m);
       compute::Texture3D coarse_x(coarse, compute::TexelFormat::R32F, "coarse x");
       coarse_x.upload(cx.data(), cx.size() * sizeof(float));
-      for (int pair = 0; pair < 2; ++pair) {  // 0: red (zero guess) then black; 1: black (PROLONG) then red
-        compute::ComputeProgram& first = pair == 0 ? plain : with_prolong;
-        const int colour = pair == 0 ? 0 : 1;
-        std::vector<float> result[2];
-        for (int fused = 0; fused < 2; ++fused) {
-          l.setX(x0);
-          l.faces.bindImage(kFaceOpenUnit, compute::Access::Read);
-          l.x.bindImage(0, compute::Access::ReadWrite);
-          l.b.bindImage(1, compute::Access::Read);
-          l.mask.bindImage(2, compute::Access::Read);
-          coarse_x.bindImage(3, compute::Access::Read);
-          for (compute::ComputeProgram* p : {&first, &second}) p->set("u_res", n);
-          first.set("u_colour", colour);
-          first.set("u_zero_guess", pair == 0 ? 1 : 0);
-          second.set("u_colour", 1 - colour);
-          second.set("u_zero_guess", 0);
-          if (fused) {
-            first.dispatchThen(invocations, second, invocations);
-          } else {
-            first.dispatch(invocations);
-            second.dispatch(invocations);
+      for (int sweeps : {2, 4}) {
+        for (int side = 0; side < 2; ++side) {  // 0: red (zero guess) first; 1: black (PROLONG) first
+          std::vector<std::pair<compute::ComputeProgram*, glm::ivec3>> series;
+          series.emplace_back(side == 0 ? &plain : &with_prolong, invocations);
+          for (int i = 1; i < sweeps; ++i) series.emplace_back(rest[static_cast<std::size_t>(i - 1)].get(), invocations);
+          std::vector<float> result[2];
+          for (int fused = 0; fused < 2; ++fused) {
+            l.setX(x0);
+            l.faces.bindImage(kFaceOpenUnit, compute::Access::Read);
+            l.x.bindImage(0, compute::Access::ReadWrite);
+            l.b.bindImage(1, compute::Access::Read);
+            l.mask.bindImage(2, compute::Access::Read);
+            coarse_x.bindImage(3, compute::Access::Read);
+            for (std::size_t i = 0; i < series.size(); ++i) {
+              compute::ComputeProgram& p = *series[i].first;
+              p.set("u_res", n);
+              p.set("u_colour", (side + static_cast<int>(i)) % 2);
+              p.set("u_zero_guess", side == 0 && i == 0 ? 1 : 0);
+            }
+            if (fused) {
+              compute::ComputeProgram::dispatchSeries(series);
+            } else {
+              for (const auto& [p, inv] : series) p->dispatch(inv);
+            }
+            result[fused] = download(l.x);
           }
-          result[fused] = download(l.x);
-        }
-        EXPECT_TRUE(result[0] == result[1]) << "pair " << pair << ", " << threads << " threads: relative difference "
-                                            << compare(result[0], result[1]).rel;
-        EXPECT_FALSE(result[0] == x0) << "pair " << pair << ": the sweeps changed nothing";
-        if (threads == 1) {
-          reference[pair] = result[1];
-        } else {
-          EXPECT_TRUE(reference[pair] == result[1]) << "pair " << pair << ": " << threads << " threads against one";
+          const std::string what = std::to_string(sweeps) + " sweeps, side " + std::to_string(side) + ", " +
+                                   std::to_string(threads) + " threads";
+          EXPECT_TRUE(result[0] == result[1]) << what << ": relative difference " << compare(result[0], result[1]).rel;
+          EXPECT_FALSE(result[0] == x0) << what << ": the sweeps changed nothing";
+          auto& ref = reference[{sweeps, side}];
+          if (threads == 1) {
+            ref = result[1];
+          } else {
+            EXPECT_TRUE(ref == result[1]) << what << " against one thread";
+          }
         }
       }
     });

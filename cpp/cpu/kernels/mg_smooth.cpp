@@ -8,8 +8,8 @@
 // rows away from the walls and the probe) calls smoothedValue with that mask and those fractions
 // as constants (cpu/regular_rows.h), so the mask's bit tests fold away and neither mask nor faces
 // is read for them. With w = 1 the shader's sums are the same bits (1 * x is x; n adds six 1s).
-// A red-black pair of sweeps dispatched with dispatchThen (MultigridVCycle::sweepPair) runs in one
-// pass over the level, the second colour a plane behind the first (SmoothSweep::runThen).
+// The sweeps of one level dispatched as a series (MultigridVCycle::sweepSeries: red, black, red,
+// black) run in one pass over the level, each a plane behind the one before (SmoothSweep::runSeries).
 #include "cpu/kernels/kernel_list.h"
 
 #include <array>
@@ -72,56 +72,66 @@ class SmoothSweep : public CpuKernel {
     forRows(n, pool, [&](int y, int z) { rows(z, y, y + 1, bindings.x86_v3); }, [](int, int) {});
   }
 
-  // Both sweeps of a red-black pair in one pass over the level (MultigridVCycle's dispatchThen),
-  // where `next` is the other colour's sweep of the same level: the second sweep's plane z - 1
-  // right after the first sweep's plane z, so the second reads the planes the first just wrote
-  // from the cache instead of a second pass over memory. Each cell's update reads the same values
-  // as in two passes (the first colour's cells read the second's before it runs: planes z - 1 .. z
-  // + 1 of the second colour are unchanged until after plane z of the first; the second's plane z -
-  // 1 reads the first's planes z - 2 .. z, all done), so the result has the same bits. On several
-  // threads the grid is cut into slabs of planes, one a thread; a slab's first and last planes of
-  // the second sweep read the neighbouring slab's first sweep, so they run after every slab is
-  // done (a second, short parallel pass).
-  bool runThen(const glm::ivec3&, CpuKernel& next_kernel, const glm::ivec3&, const Bindings& bindings,
-               ThreadPool& pool) override {
-    auto* next = dynamic_cast<SmoothSweep*>(&next_kernel);
-    if (next == nullptr || !sameLevel(*next) || next->colour() == colour()) return false;
-    prepare(bindings, pool);
-    next->prepare(bindings, pool);
+  // A series of sweeps of one level, their colours alternating (MultigridVCycle's
+  // dispatchSeries: the smoothing before or after a coarse correction), in one pass over the
+  // level: sweep j's plane z - j right after sweep j - 1's plane z - j + 1, so each sweep reads the
+  // planes the sweep before just wrote from the cache instead of another pass over memory. Each
+  // cell's update reads the same values as in separate passes (sweep j's plane p reads the other
+  // colour's planes p - 1 .. p + 1, which sweep j - 1 has written, since it runs a plane ahead,
+  // and sweep j + 1 has not, since it runs a plane behind), so the result has the same bits. On
+  // several threads the grid is cut into slabs of planes, one a thread; sweep j's planes within j
+  // of an edge between slabs read (through sweep j - 1's) the other slab's planes, so they run
+  // after the slabs, sweep by sweep (short parallel passes over the edges' planes).
+  bool runSeries(const std::vector<CpuKernel*>& series, const Bindings& bindings, ThreadPool& pool) override {
+    std::vector<SmoothSweep*> sweeps;
+    for (CpuKernel* k : series) {
+      auto* sweep = dynamic_cast<SmoothSweep*>(k);
+      if (sweep == nullptr || !sameLevel(*sweep) || sweep->colour() != (colour() + static_cast<int>(sweeps.size())) % 2) {
+        return false;
+      }
+      sweeps.push_back(sweep);
+    }
+    for (SmoothSweep* sweep : sweeps) sweep->prepare(bindings, pool);
+    const int m = static_cast<int>(sweeps.size());
     const glm::ivec3 n = res();
     const bool v3 = bindings.x86_v3;
     const long long cells = static_cast<long long>(n.x) * n.y * n.z;
-    const int slabs = (cells >= kSlabbedCells && n.z >= 4 * pool.threads()) ? pool.threads() : 1;
+    const int slabs = (cells >= kSlabbedCells && n.z >= 4 * m * pool.threads()) ? pool.threads() : 1;
     auto slabStart = [&](int slab) { return static_cast<int>(static_cast<long long>(n.z) * slab / slabs); };
-    // The second sweep's planes at a slab's edge that read another slab's first sweep.
-    auto deferred = [&](int plane, int z0, int z1) { return (plane == z0 && z0 > 0) || (plane == z1 - 1 && z1 < n.z); };
+    // Sweep j's planes of slab [z0, z1) that read another slab's planes: within j of an inner edge.
+    auto deferred = [&](int j, int plane, int z0, int z1) {
+      return (z0 > 0 && plane < z0 + j) || (z1 < n.z && plane >= z1 - j);
+    };
     pool.parallelFor(slabs, [&](int s0, int s1) {
       for (int slab = s0; slab < s1; ++slab) {
         const int z0 = slabStart(slab), z1 = slabStart(slab + 1);
-        for (int z = z0; z <= z1; ++z) {
-          if (z < z1) rows(z, 0, n.y, v3);
-          if (z - 1 >= z0 && !deferred(z - 1, z0, z1)) next->rows(z - 1, 0, n.y, v3);
+        for (int t = z0; t < z1 + m - 1; ++t) {
+          for (int j = 0; j < m; ++j) {
+            const int plane = t - j;
+            if (plane >= z0 && plane < z1 && !deferred(j, plane, z0, z1)) sweeps[static_cast<std::size_t>(j)]->rows(plane, 0, n.y, v3);
+          }
         }
       }
     });
-    if (slabs > 1) {
+    for (int j = 1; j < m && slabs > 1; ++j) {
       std::vector<int> planes;
       for (int slab = 0; slab < slabs; ++slab) {
         const int z0 = slabStart(slab), z1 = slabStart(slab + 1);
-        for (int z : {z0, z1 - 1}) {
-          if (deferred(z, z0, z1) && (planes.empty() || planes.back() != z)) planes.push_back(z);
+        for (int plane = z0; plane < z1; ++plane) {
+          if (deferred(j, plane, z0, z1)) planes.push_back(plane);
         }
       }
+      const SmoothSweep* sweep = sweeps[static_cast<std::size_t>(j)];
       const int count = static_cast<int>(planes.size()) * n.y;
       pool.parallelFor(count, [&](int begin, int end) {
-        for (int i = begin; i < end; ++i) next->rows(planes[static_cast<std::size_t>(i / n.y)], i % n.y, i % n.y + 1, v3);
+        for (int i = begin; i < end; ++i) sweep->rows(planes[static_cast<std::size_t>(i / n.y)], i % n.y, i % n.y + 1, v3);
       });
     }
     return true;
   }
 
  protected:
-  // Below this many cells a level's fused pair runs on one thread, as any other small dispatch
+  // Below this many cells a level's series runs on one thread, as any other small dispatch
   // (kSerialInvocations: the slabs' hand-over and the idle workers' spinning cost more).
   static constexpr long long kSlabbedCells = kSerialInvocations;
 
