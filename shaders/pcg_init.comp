@@ -4,8 +4,9 @@
 // fraction (cut cells), plus w p at the open
 // top, so A is positive (semi)definite and A p = -rhs is the pressure equation
 // sum_nb (p_nb - p) = rhs). Per row, (sum of r, fluid cells, r.r, b.b) into partials[] (x / y
-// is the mean a closed box removes with pressure_shift.comp), and (b.r, Ap.Ap, b.Ap, 0) into
-// partials[ny nz + row] for the predictor (pcg_predict.comp). 0 in solid cells.
+// is the mean a closed box removes with pressure_shift.comp), and where u_predictor_sums is not 0
+// (the solve's start, not the check of its end) (b.r, Ap.Ap, b.Ap, 0) into partials[ny nz + row]
+// for the predictor (pcg_predict.comp). 0 in solid cells.
 // One invocation per row of cells along x (j, k), summing into partials[j + ny k]: llvmpipe
 // runs workgroup barriers slowly, and a row loop needs none (see PressureMultigrid).
 LOCAL_SIZE(ROW_X, ROW_Y, 1);
@@ -16,6 +17,8 @@ UIMAGE_RO(r8ui, 3, u_nbmask);
 IMAGE_RO(rgba32f, FACE_OPEN_UNIT, u_face_open);
 IMAGE_WO(r32f, 0, u_r);
 BUFFER_WO(Partials, vec4, 0, partials);
+
+UNIFORM(int, u_predictor_sums);  // 1: the predictor's sums too
 
 // One cell's starting residual r = b - A p with b = -rhs (0 in a solid cell); b and A p go out
 // for the sums (startSums, startApSums).
@@ -57,9 +60,9 @@ void main() {
     float ap;
     float r = startResidual(m, w_lo, w_hi, imageLoad(u_pressure, c).x, p_lo, p_hi, imageLoad(u_rhs, c).x, b, ap);
     parts[i % ROW_PARTS] += startSums(m, r, b);
-    parts_ap[i % ROW_PARTS] += startApSums(m, r, b, ap);
+    if (u_predictor_sums != 0) parts_ap[i % ROW_PARTS] += startApSums(m, r, b, ap);
     imageStore(u_r, c, vec4(r));
   }
   partials[row.x + u_res.y * row.y] = rowPartsTotal(parts);
-  partials[u_res.y * u_res.z + row.x + u_res.y * row.y] = rowPartsTotal(parts_ap);
+  if (u_predictor_sums != 0) partials[u_res.y * u_res.z + row.x + u_res.y * row.y] = rowPartsTotal(parts_ap);
 }

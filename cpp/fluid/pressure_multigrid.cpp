@@ -69,17 +69,17 @@ void PressureMultigrid::removeResidualMean(FluidFields& f, std::size_t slot) {
   shift_.dispatch(grid_.res);
 }
 
-void PressureMultigrid::startResidual(FluidFields& f, bool closed, bool predictor_sums) {
+void PressureMultigrid::startResidual(FluidFields& f, bool predictor_sums) {
   f.pressure.cur().bindImage(1, compute::Access::Read);
   f.rhs.bindImage(2, compute::Access::Read);
   f.nbmask.bindImage(3, compute::Access::Read);
   f.face_open.bindImage(kFaceOpenUnit, compute::Access::Read);
   r_.bindImage(0, compute::Access::Write);
   reducer_.bindPartials(0);
+  init_.set("u_predictor_sums", predictor_sums ? 1 : 0);
   init_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), kInitSlot);
   if (predictor_sums) reducer_.reduce(rowCount(grid_.res), kApSlot, rowCount(grid_.res));
-  if (closed) removeResidualMean(f, kInitSlot);
 }
 
 SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
@@ -88,7 +88,8 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const bool closed = !params.open_top;
   vcycle_.buildMasks(f.nbmask, f.face_open, stale_);
   stale_ = CellBox{};
-  startResidual(f, closed, true);
+  startResidual(f, true);
+  if (closed) removeResidualMean(f, kInitSlot);
   predict(f, tolerance > 0.0f);
 
   SolveStats stats;
@@ -134,9 +135,10 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
       if (stats.relative_residual <= tolerance) {
         // In float the updated residual drifts from the true one: confirm with rhs - A p, and
         // if that is still too large go on from it (CG restarted from the true residual).
-        startResidual(f, closed, false);
+        startResidual(f, false);
         stats.relative_residual = relativeResidual(reducer_.readResults()[kInitSlot].z, bb);
         if (stats.relative_residual <= tolerance) break;
+        if (closed) removeResidualMean(f, kInitSlot);  // only r that goes on needs it
         restart = true;
       }
     }

@@ -30,8 +30,9 @@ class PressureMultigrid : public PressureSolver {
 
  private:
   // r = -rhs - A p, its sums into the init slot (and with `predictor_sums` b.r, Ap.Ap, b.Ap into
-  // the predictor's); in a closed box r's mean is then removed.
-  void startResidual(FluidFields& f, bool closed, bool predictor_sums);
+  // the predictor's). In a closed box the caller removes r's mean where r is used further (not
+  // when it only confirms the end of the solve).
+  void startResidual(FluidFields& f, bool predictor_sums);
   // After startResidual(..., true): p = alpha p and r = b - alpha A p with the alpha that
   // minimises ||r|| (pcg_predict.comp, decided on the GPU): never worse than p = 0 or than p.
   // With `sums` the new r's (sum r, fluid cells, r.r, b.b) replace the init slot's.

@@ -73,27 +73,25 @@ struct InitRows {
 #pragma omp simd
     for (int i = 0; i < res.x; ++i) {
       const glm::vec4 s = k.startSums(p.mask(i), r[i], bs[i]);
-      const glm::vec4 a = k.startApSums(p.mask(i), r[i], bs[i], aps[i]);
       terms[i] = s.x;
       terms[res.x + i] = s.y;
       terms[2 * res.x + i] = s.z;
       terms[3 * res.x + i] = s.w;
+    }
+    const std::size_t at = static_cast<std::size_t>(y + res.y * z);
+    const float* const start_terms[4] = {terms, terms + res.x, terms + 2 * res.x, terms + 3 * res.x};
+    k.partials[at] = rowPartsOf(k, start_terms, res.x);
+    if (k.u_predictor_sums == 0) return;
+#pragma omp simd
+    for (int i = 0; i < res.x; ++i) {
+      const glm::vec4 a = k.startApSums(p.mask(i), r[i], bs[i], aps[i]);
       terms[4 * res.x + i] = a.x;
       terms[5 * res.x + i] = a.y;
       terms[6 * res.x + i] = a.z;
     }
-    constexpr int kParts = K::ROW_PARTS;
-    float sums[7][kParts] = {};
-    for (int c = 0; c < 7; ++c) addRowParts(terms + c * res.x, res.x, sums[c]);
-    glm::vec4 parts[kParts], parts_ap[kParts];
-    for (int l = 0; l < kParts; ++l) {
-      parts[l] = glm::vec4(sums[0][l], sums[1][l], sums[2][l], sums[3][l]);
-      parts_ap[l] = glm::vec4(sums[4][l], sums[5][l], sums[6][l], 0.0f);
-    }
     const std::size_t rows = static_cast<std::size_t>(res.y) * static_cast<std::size_t>(res.z);
-    const std::size_t at = static_cast<std::size_t>(y + res.y * z);
-    k.partials[at] = k.rowPartsTotal(parts);
-    k.partials[rows + at] = k.rowPartsTotal(parts_ap);
+    const float* const ap_terms[3] = {terms + 4 * res.x, terms + 5 * res.x, terms + 6 * res.x};
+    k.partials[rows + at] = rowPartsOf(k, ap_terms, res.x);
   }
 };
 
