@@ -20,6 +20,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -252,6 +253,28 @@ class InteriorRunner final : public CpuKernel {
 // do work (the dispatch box clipped to the stage's grid), and Body()(k, x, y, z) computes and
 // stores one, called under `omp simd` on a per-thread copy of the unchecked build KU. The kernel
 // file says why the box's accesses are in range.
+// A stage dispatched once per axis (uniform u_axis 0, 1 or 2) may have its row loops compiled
+// once per axis: with Body::kPerAxis true, the runner sets the per-thread kernel copy's u_axis to
+// the constant it holds before the loop, so the shader's component(v, u_axis), unitAxis(u_axis)
+// and the like fold away (the copy is a local: the compiler forwards the constant) and a face
+// image's one channel is loaded instead of four. One source: the shader still reads u_axis.
+template <class Body, class = void>
+struct PerAxis : std::false_type {};
+template <class Body>
+struct PerAxis<Body, std::void_t<decltype(Body::kPerAxis)>> : std::bool_constant<Body::kPerAxis> {};
+
+// loop() with the u_axis of every kernel copy in `ks` (builds of one stage: the same uniform)
+// set to the constant it holds.
+template <class Loop, class K, class... More>
+__attribute__((always_inline)) inline void withAxisFolded(const Loop& loop, K& k, More&... more) {
+  switch (k.u_axis) {
+    case 0: k.u_axis = 0, ((more.u_axis = 0), ...); loop(); return;
+    case 1: k.u_axis = 1, ((more.u_axis = 1), ...); loop(); return;
+    case 2: k.u_axis = 2, ((more.u_axis = 2), ...); loop(); return;
+    default: loop(); return;
+  }
+}
+
 template <class KU, class Body>
 class SimdRowRunner final : public CpuKernel {
  public:
@@ -261,8 +284,15 @@ class SimdRowRunner final : public CpuKernel {
     if (box.x <= 0 || box.y <= 0 || box.z <= 0) return;
     forEachRow(box, pool, bindings.x86_v3, kernel_, [](KU& k, int y, int z, int x0, int x1) {
       const Body body;
-      HF_OMP_SIMD
-      for (int x = x0; x < x1; ++x) body(k, x, y, z);
+      auto loop = [&] {
+        HF_OMP_SIMD
+        for (int x = x0; x < x1; ++x) body(k, x, y, z);
+      };
+      if constexpr (PerAxis<Body>::value) {
+        withAxisFolded(loop, k);
+      } else {
+        loop();
+      }
     });
   }
 
@@ -289,16 +319,23 @@ class InteriorSimdRowRunner final : public CpuKernel {
         [&](int y, int z) {
           runBest(bindings.x86_v3, [&] {
             KU k(clamped_);
+            KI ki(free_);
             const Body body;
             const bool inner_row = y >= 1 && y <= res.y - 2 && z >= 1 && z <= res.z - 2;
             const int lo = inner_row ? std::min(1, box.x) : box.x;
             const int hi = inner_row ? std::max(lo, std::min(box.x, res.x - 1)) : box.x;
-            for (int x = 0; x < lo; ++x) body(k, x, y, z);
-            KI ki(free_);
-            HF_OMP_SIMD
-            for (int x = lo; x < hi; ++x) body(ki, x, y, z);
-            HF_OMP_SIMD
-            for (int x = hi; x < box.x; ++x) body(k, x, y, z);
+            auto loops = [&] {
+              for (int x = 0; x < lo; ++x) body(k, x, y, z);
+              HF_OMP_SIMD
+              for (int x = lo; x < hi; ++x) body(ki, x, y, z);
+              HF_OMP_SIMD
+              for (int x = hi; x < box.x; ++x) body(k, x, y, z);
+            };
+            if constexpr (PerAxis<Body>::value) {
+              withAxisFolded(loops, k, ki);
+            } else {
+              loops();
+            }
           });
         },
         [&](int x0, int x1) {

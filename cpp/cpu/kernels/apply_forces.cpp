@@ -35,6 +35,7 @@ namespace hf::cpu::kernels {
 namespace {
 
 struct ApplyForcesRow {
+  static constexpr bool kPerAxis = true;  // one loop per axis (cpu/kernel.h, PerAxis)
   static glm::ivec3 box(ApplyForces& k, const glm::ivec3& n) { return glm::min(n, k.faceSize(k.u_axis)); }
   template <class K>
   void operator()(K& k, int x, int y, int z) const {

@@ -26,6 +26,7 @@ namespace hf::cpu::kernels {
 namespace {
 
 struct ProjectRow {
+  static constexpr bool kPerAxis = true;  // one loop per axis (cpu/kernel.h, PerAxis)
   static glm::ivec3 box(Project& k, const glm::ivec3& n) { return glm::min(n, k.faceSize(k.u_axis)); }
   void operator()(Project& k, int x, int y, int z) const {
     const glm::ivec3 c(x, y, z);
