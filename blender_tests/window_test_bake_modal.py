@@ -51,8 +51,7 @@ def step():
             check(s.status.startswith("frame "), f"the modal timer copies progress into the props: '{s.status}'")
             win = bpy.context.window_manager.windows[0]
             win.event_simulate(type="ESC", value="PRESS")
-            state["phase"] = "cancelling"
-            pacer.release()  # Resume, later, bakes at its own pace
+            state["phase"] = "cancelling"  # still paced: released, the bake could end before the Esc is read
         elif not s.is_baking:
             fail(f"the bake ended before Esc could be sent: {s.status}")
     elif phase == "cancelling":
@@ -67,6 +66,7 @@ def step():
             check(not any(n.endswith(".tmp") for n in os.listdir(os.path.join(CACHE, "data"))),
                   "no temporary file is left")
             state["cancelled_at"] = len(done)
+            pacer.release()  # Resume bakes at its own pace
             check(invoke(bpy.ops.hapticfluid.bake_resume) == {"RUNNING_MODAL"}, "Resume runs modal")
             state["phase"] = "resuming"
     elif phase == "resuming":
