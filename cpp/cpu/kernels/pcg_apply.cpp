@@ -6,8 +6,6 @@
 // summed by parts (addRowParts, common.glsl's ROW_PARTS) as the shader sums them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
 
-#include <vector>
-
 #include "cpu/kernels/pressure_row.h"
 
 #include "cpu/kernel_begin.h"
@@ -45,9 +43,7 @@ struct ApplyRows {
   // (always_inline: flattened into each instruction set's build by runBest.)
   // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
   __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
-    thread_local std::vector<float> parts;
-    parts.resize(static_cast<std::size_t>(res.x));
-    float* __restrict part = parts.data();
+    float* __restrict part = termRows<1>(res.x);
     const PressureRow s(k.u_nbmask, k.u_face_open, k.u_s, res, y, z);
     float* __restrict q = static_cast<float*>(k.u_q.data) + s.cell(0);
     if (open) {
@@ -71,11 +67,7 @@ struct ApplyRows {
         part[i] = v.y;
       }
     }
-    float sums[K::ROW_PARTS] = {};
-    addRowParts(part, res.x, sums);
-    glm::vec4 totals[K::ROW_PARTS];
-    for (int l = 0; l < K::ROW_PARTS; ++l) totals[l] = glm::vec4(sums[l], 0.0f, 0.0f, 0.0f);
-    k.partials[static_cast<std::size_t>(y + res.y * z)] = k.rowPartsTotal(totals);
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf<1>(k, part, res.x);
   }
 };
 

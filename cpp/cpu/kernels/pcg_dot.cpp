@@ -1,12 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_dot.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage: one
 // invocation per row of cells, run by pressure_row.h's CellRowRunner). The shader's dotTerm gives
-// every cell's term of a.b (its only one) and its terms of the row's sums, vectorized over the row (a cell reads only
-// itself); the terms are summed by parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums
-// them: the GPU's bits.
+// every cell's term of a.b, vectorized over the row (a cell reads only itself), summed by
+// parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
-
-#include <vector>
 
 #include "cpu/kernels/pressure_row.h"
 
@@ -46,15 +43,12 @@ struct DotRows {
     const int n = res.x;
     const int at = rowStart(res, y, z);
     const std::uint8_t* __restrict m = static_cast<const std::uint8_t*>(k.u_nbmask.data) + at;
-    thread_local std::vector<float> buffer;
-    buffer.resize(static_cast<std::size_t>(1 * n));
-    float* __restrict t = buffer.data();
+    float* __restrict t = termRows<1>(n);
     const float* __restrict a = static_cast<const float*>(k.u_a.data) + at;
     const float* __restrict b = static_cast<const float*>(k.u_b.data) + at;
 #pragma omp simd
     for (int i = 0; i < n; ++i) t[i] = k.dotTerm(m[i], a[i], b[i]);
-    const float* const terms[1] = {t};
-    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf(k, terms, n);
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf<1>(k, t, n);
   }
 };
 

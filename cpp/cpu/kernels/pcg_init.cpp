@@ -7,7 +7,6 @@
 // them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
 
-#include <vector>
 
 #include "cpu/kernels/pressure_row.h"
 
@@ -47,9 +46,7 @@ struct InitRows {
   // (always_inline: flattened into each instruction set's build by runBest.)
   // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
   __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
-    thread_local std::vector<float> buffer;
-    buffer.resize(static_cast<std::size_t>(9 * res.x));
-    float* __restrict bs = buffer.data();
+    float* __restrict bs = termRows<9>(res.x);
     float* __restrict aps = bs + res.x;
     float* __restrict terms = aps + res.x;  // 7 rows: startSums' x y z w, startApSums' x y z
     const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
@@ -79,8 +76,7 @@ struct InitRows {
       terms[3 * res.x + i] = s.w;
     }
     const std::size_t at = static_cast<std::size_t>(y + res.y * z);
-    const float* const start_terms[4] = {terms, terms + res.x, terms + 2 * res.x, terms + 3 * res.x};
-    k.partials[at] = rowPartsOf(k, start_terms, res.x);
+    k.partials[at] = rowPartsOf<4>(k, terms, res.x);
     if (k.u_predictor_sums == 0) return;
 #pragma omp simd
     for (int i = 0; i < res.x; ++i) {
@@ -90,8 +86,7 @@ struct InitRows {
       terms[6 * res.x + i] = a.z;
     }
     const std::size_t rows = static_cast<std::size_t>(res.y) * static_cast<std::size_t>(res.z);
-    const float* const ap_terms[3] = {terms + 4 * res.x, terms + 5 * res.x, terms + 6 * res.x};
-    k.partials[rows + at] = rowPartsOf(k, ap_terms, res.x);
+    k.partials[rows + at] = rowPartsOf<3>(k, terms + 4 * res.x, res.x);
   }
 };
 

@@ -1,12 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pcg_predict.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage: one
 // invocation per row of cells, run by pressure_row.h's CellRowRunner). The shader's predictCell gives
-// every cell's starting p and r and its terms of the row's sums, vectorized over the row (a cell reads only
-// itself); the terms are summed by parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums
-// them: the GPU's bits.
+// every cell's starting p and r and its terms of the row's sums, vectorized over the row (a cell reads only itself), summed by
+// parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
-
-#include <vector>
 
 #include "cpu/kernels/pressure_row.h"
 
@@ -47,9 +44,7 @@ struct PredictRows {
     const int n = res.x;
     const int at = rowStart(res, y, z);
     const std::uint8_t* __restrict m = static_cast<const std::uint8_t*>(k.u_nbmask.data) + at;
-    thread_local std::vector<float> buffer;
-    buffer.resize(static_cast<std::size_t>(4 * n));
-    float* __restrict t = buffer.data();
+    float* __restrict t = termRows<4>(n);
     float* __restrict p = static_cast<float*>(k.u_pressure.data) + at;
     float* __restrict r = static_cast<float*>(k.u_r.data) + at;
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + at;
@@ -65,8 +60,7 @@ struct PredictRows {
       t[2 * n + i] = v.z;
       t[3 * n + i] = v.w;
     }
-    const float* const terms[4] = {t, t + n, t + 2 * n, t + 3 * n};
-    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf(k, terms, n);
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf<4>(k, t, n);
   }
 };
 

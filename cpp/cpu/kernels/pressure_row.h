@@ -8,6 +8,7 @@
 // the cell has no link there, and operatorAt reads only linked neighbours' values.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -41,16 +42,25 @@ __attribute__((always_inline)) inline void addRowParts(const float* __restrict t
 inline int rowStart(const glm::ivec3& res, int y, int z) { return res.x * (y + res.y * z); }
 
 // A row's total as the row stages sum it (common.glsl: ROW_PARTS parts, then rowPartsTotal):
-// component c from the row's n terms at terms[c] (addRowParts); the components after C are 0.
-template <class K, int C>
-__attribute__((always_inline)) inline glm::vec4 rowPartsOf(K& k, const float* const (&terms)[C], int n) {
+// component c from the row's n terms at rows + c n (addRowParts); the components after C are 0.
+template <int C, class K>
+__attribute__((always_inline)) inline glm::vec4 rowPartsOf(K& k, const float* rows, int n) {
   static_assert(C >= 1 && C <= 4);
   constexpr int kParts = K::ROW_PARTS;
   float sums[4][kParts] = {};
-  for (int c = 0; c < C; ++c) addRowParts(terms[c], n, sums[c]);
+  for (int c = 0; c < C; ++c) addRowParts(rows + c * n, n, sums[c]);
   glm::vec4 parts[kParts];
   for (int l = 0; l < kParts; ++l) parts[l] = glm::vec4(sums[0][l], sums[1][l], sums[2][l], sums[3][l]);
   return k.rowPartsTotal(parts);
+}
+
+// C rows of n terms each, for a row loop to write its cells' terms into (component c at + c n)
+// before rowPartsOf sums them: one buffer a thread, reused row after row.
+template <int C>
+inline float* termRows(int n) {
+  thread_local std::vector<float> buffer;
+  buffer.resize(static_cast<std::size_t>(C) * static_cast<std::size_t>(n));
+  return buffer.data();
 }
 
 class PressureRow {

@@ -1,12 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shaders/pressure_sum.comp built as C++ (cpu/kernel.h), with a row loop of its own (a row stage: one
 // invocation per row of cells, run by pressure_row.h's CellRowRunner). The shader's sumTerms gives
-// every cell's terms (the value and the fluid count) and its terms of the row's sums, vectorized over the row (a cell reads only
-// itself); the terms are summed by parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums
-// them: the GPU's bits.
+// every cell's terms (the value and the fluid count), vectorized over the row (a cell reads only itself), summed by
+// parts (rowPartsOf, common.glsl's ROW_PARTS) as the shader sums them: the GPU's bits.
 #include "cpu/kernels/kernel_list.h"
-
-#include <vector>
 
 #include "cpu/kernels/pressure_row.h"
 
@@ -45,9 +42,7 @@ struct SumRows {
     const int n = res.x;
     const int at = rowStart(res, y, z);
     const std::uint8_t* __restrict m = static_cast<const std::uint8_t*>(k.u_nbmask.data) + at;
-    thread_local std::vector<float> buffer;
-    buffer.resize(static_cast<std::size_t>(2 * n));
-    float* __restrict t = buffer.data();
+    float* __restrict t = termRows<2>(n);
     const float* __restrict v = static_cast<const float*>(k.u_pressure.data) + at;
 #pragma omp simd
     for (int i = 0; i < n; ++i) {
@@ -55,8 +50,7 @@ struct SumRows {
       t[i] = w.x;
       t[n + i] = w.y;
     }
-    const float* const terms[2] = {t, t + n};
-    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf(k, terms, n);
+    k.partials[static_cast<std::size_t>(y + res.y * z)] = rowPartsOf<2>(k, t, n);
   }
 };
 
