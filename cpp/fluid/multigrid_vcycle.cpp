@@ -37,7 +37,6 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
     : res_(levelResolutions(fine_res)),
       coarsen_("mg_coarsen_mask.comp", compute::cellGroupDefines()),
       coarsen_faces_("mg_coarsen_faces.comp", compute::cellGroupDefines()),
-      smooth_("mg_smooth.comp", compute::cellGroupDefines()),
       residual_("mg_residual.comp", compute::cellGroupDefines()),
       restrict_("mg_restrict.comp", compute::cellGroupDefines()),
       prolong_("mg_prolong.comp", compute::cellGroupDefines()),
@@ -122,7 +121,7 @@ void MultigridVCycle::bindResidualInputs(const compute::Texture3D& mask, const c
 
 void MultigridVCycle::smooth(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,
                              compute::Texture3D& x, const compute::Texture3D& b, int colour, bool zero_guess) {
-  sweep(smooth_, res, mask, faces, x, b, colour, zero_guess);
+  sweep(*sweeps_[0], res, mask, faces, x, b, colour, zero_guess);
 }
 
 void MultigridVCycle::residual(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces,

@@ -118,7 +118,6 @@ class MultigridVCycle {
   std::vector<Coarse> coarse_;  // levels 1 .. levels()-1
   compute::ComputeProgram coarsen_;
   compute::ComputeProgram coarsen_faces_;
-  compute::ComputeProgram smooth_;
   compute::ComputeProgram residual_;
   compute::ComputeProgram restrict_;
   compute::ComputeProgram prolong_;
@@ -126,7 +125,7 @@ class MultigridVCycle {
   compute::ComputeProgram smooth_prolong_;
   compute::ComputeProgram residual_restrict_;
   // mg_smooth for each sweep of a sweepSeries (each keeps its own uniforms; the first of the
-  // smoothing after a correction is smooth_prolong_ instead).
+  // smoothing after a correction is smooth_prolong_ instead); smooth() uses the first.
   std::vector<std::unique_ptr<compute::ComputeProgram>> sweeps_;
 };
 
