@@ -6,7 +6,11 @@
 // grid's 7000), and for them the row loops of the pressure stages (mg_smooth, mg_residual_restrict,
 // pcg_apply, pcg_init) call the shader's per-cell function with kAllLinks and unit fractions as
 // constants: the mask's bit tests fold away and neither mask nor faces is read, with the same bits
-// (1 * v is v; the sums add the same terms in the same order).
+// (1 * v is v; the sums add the same terms in the same order). A row's first and last cell are
+// flagged too where they are against a wall on x with their five other faces whole (most rows of a
+// closed box): those stages then take their masks and fractions as constants as well, so a
+// regular row reads no mask or fraction at all (the end cells' were cache lines of their own,
+// missed once a row: 4-7 % of the seed grid's pressure solve).
 //
 // One per CPU device (Bindings::regular_rows), used on its thread: the flags of a (mask, faces)
 // pair are derived on first use and kept while neither changes (ImageBinding::version), one set
@@ -25,10 +29,28 @@
 namespace hf::cpu {
 
 inline constexpr std::uint32_t kAllLinks = 0x3Fu;
+// A row's first and last cell against a wall on x (the cell's -x or +x neighbour outside the grid,
+// or solid): all links but that one. (The stages' per-cell functions read no unlinked face's
+// fraction nor neighbour's x, so unit fractions stand for the five linked faces.)
+inline constexpr std::uint32_t kWallLowLinks = kAllLinks & ~1u;
+inline constexpr std::uint32_t kWallHighLinks = kAllLinks & ~2u;
+
+// The bits of a row's flags.
+inline constexpr std::uint8_t kOpenInside = 1;  // cells 1 .. nx - 2: kAllLinks, unit fractions
+inline constexpr std::uint8_t kWallLow = 2;     // cell 0: kWallLowLinks, its linked faces' fractions 1
+inline constexpr std::uint8_t kWallHigh = 4;    // cell nx - 1: kWallHighLinks, likewise
+
+// The mask a row's end cell i (0 or nx - 1) takes as a constant, with unit fractions, where the
+// row's flags allow it (kWallLowLinks, kWallHighLinks); 0 where its mask and fractions are loaded.
+inline std::uint32_t wallLinks(std::uint8_t flags, int i, int nx) {
+  if (i == 0 && (flags & kWallLow) != 0) return kWallLowLinks;
+  if (i == nx - 1 && (flags & kWallHigh) != 0) return kWallHighLinks;
+  return 0u;
+}
 
 class RegularRows {
  public:
-  // Row flags (1: wholly open inside), indexed y + z * res.y, of the grid `res` whose mask and
+  // Row flags (kOpenInside, kWallLow, kWallHigh), indexed y + z * res.y, of the grid `res` whose mask and
   // face fractions ((res + 1) texels, RGBA32F planes) are bound in `mask` and `faces`; derived
   // with the x86-64-v3 build of the loop where `x86_v3` (Bindings::x86_v3).
   const std::uint8_t* flags(const ImageBinding& mask, const ImageBinding& faces, const glm::ivec3& res,
@@ -63,7 +85,14 @@ class RegularRows {
                         static_cast<unsigned>(fy[f] != 1.0f) | static_cast<unsigned>(fy[f + sy] != 1.0f) |
                         static_cast<unsigned>(fz[f] != 1.0f) | static_cast<unsigned>(fz[f + sz] != 1.0f);
             }
-            out[y + z * res.y] = closed == 0 ? 1 : 0;
+            // The end cells: each with its five linked faces' fractions.
+            const int l = row, lf = frow, h = row + res.x - 1, hf = frow + res.x - 1;
+            const bool low = m[l] == kWallLowLinks && fx[lf + 1] == 1.0f && fy[lf] == 1.0f && fy[lf + sy] == 1.0f &&
+                             fz[lf] == 1.0f && fz[lf + sz] == 1.0f;
+            const bool high = m[h] == kWallHighLinks && fx[hf] == 1.0f && fy[hf] == 1.0f && fy[hf + sy] == 1.0f &&
+                              fz[hf] == 1.0f && fz[hf + sz] == 1.0f;
+            out[y + z * res.y] = static_cast<std::uint8_t>((closed == 0 ? kOpenInside : 0) | (low ? kWallLow : 0) |
+                                                           (high ? kWallHigh : 0));
           });
         },
         [](int, int) {}, res.x);

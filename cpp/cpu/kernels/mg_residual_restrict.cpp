@@ -58,7 +58,7 @@ class ResidualRestrictRows final : public CpuKernel {
  private:
   // (always_inline: flattened into each instruction set's build by runBest.)
   // `open`: the fine rows' flags (cpu/regular_rows.h): an open row's inner cells take kAllLinks
-  // and unit fractions as constants.
+  // and unit fractions as constants, its end cells too where they are against a wall on x.
   __attribute__((always_inline)) void row(int y, int z, const glm::ivec3& coarse, const glm::ivec3& fine,
                                           const std::uint8_t* open) const {
     K k(kernel_);
@@ -72,14 +72,15 @@ class ResidualRestrictRows final : public CpuKernel {
       const PressureRow p(k.u_mask, k.u_faces, k.u_x, fine, fy, fz);
       float* __restrict r = buffer.data() + q * width;
       const int n = std::min(fine.x, width);  // fine cells past 2 coarse.x have no parent
-      if (open[fy + fz * fine.y] != 0 && n == fine.x) {
+      if ((open[fy + fz * fine.y] & kOpenInside) != 0 && n == fine.x) {
         const glm::vec3 unit(1.0f);
 #pragma omp simd
         for (int i = 1; i < n - 1; ++i) {
           r[i] = k.residualAt(kAllLinks, unit, unit, p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
         }
         for (int i : {0, n - 1}) {
-          r[i] = k.residualAt(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
+          const PressureRow::Links e = p.endLinks(i, open[fy + fz * fine.y], n);
+          r[i] = k.residualAt(e.mask, e.lo, e.hi, p.x(i), p.xLo(i), p.xHi(i), b[p.cell(i)]);
         }
       } else {
 #pragma omp simd

@@ -7,7 +7,8 @@
 // A row whose inner cells (1 .. nx - 2) are all fluid with six links and six wholly open faces (most
 // rows away from the walls and the probe) calls smoothedValue with that mask and those fractions
 // as constants (cpu/regular_rows.h), so the mask's bit tests fold away and neither mask nor faces
-// is read for them. With w = 1 the shader's sums are the same bits (1 * x is x; n adds six 1s).
+// is read for them (nor for its end cells where they are against a wall on x). With w = 1 the
+// shader's sums are the same bits (1 * x is x; n adds six 1s).
 // The sweeps of one level dispatched as a series (MultigridVCycle::sweepSeries: red, black, red,
 // black) run in one pass over the level, each a plane behind the one before (SmoothSweep::runSeries).
 #include "cpu/kernels/kernel_list.h"
@@ -174,7 +175,7 @@ class SmoothRows final : public SmoothSweep {
     const glm::ivec3 res = kernel_.u_res;
     runBest(x86_v3, [&] {
       K k(kernel_);  // one copy for the rows (a coarse level's rows are a few cells)
-      for (int y = y0; y < y1; ++y) row(k, y, z, res, coarse_, regular_[y + z * res.y] != 0);
+      for (int y = y0; y < y1; ++y) row(k, y, z, res, coarse_, regular_[y + z * res.y]);
     });
   }
 
@@ -194,7 +195,7 @@ class SmoothRows final : public SmoothSweep {
   // those cells waited on the stores, 27 % of a one-thread 48^3 step against 20 %.)
   // (always_inline: flattened into each instruction set's build by runBest.)
   __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, const glm::ivec3& coarse,
-                                                 bool regular) {
+                                                 std::uint8_t shape) {
     float* x = texels<float>(k.u_x);
     const float* __restrict b = texels<float>(k.u_b);
     const std::uint8_t* __restrict mask = texels<std::uint8_t>(k.u_mask);
@@ -210,8 +211,11 @@ class SmoothRows final : public SmoothSweep {
     float* __restrict xw = x + row;  // written: this colour's cells of the row only
     // Cells i = from, from + 2, ... up to `to` (inclusive) of this colour: their count.
     auto count = [](int from, int to) { return from <= to ? (to - from) / 2 + 1 : 0; };
-    // A regular row: its inner cells with the mask and fractions as constants, its end cells as any.
+    // A regular row: its inner cells with the mask and fractions as constants, its end cells too
+    // where they are against a wall on x (wallLinks: so a regular row reads neither, whose cache
+    // lines no other cell reads), else as any.
     const glm::vec3 open(1.0f);
+    const bool regular = (shape & kOpenInside) != 0;
     const int inner0 = first == 0 ? 2 : 1;  // the first inner cell (1 .. res.x - 2) of this colour
     auto isMine = [&](int i) { return ((i - first) & 1) == 0; };
     if constexpr (!kProlong) {
@@ -229,8 +233,14 @@ class SmoothRows final : public SmoothSweep {
           xw[i] = k.smoothedValue(kAllLinks, open, open, glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
                                   glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c]);
         }
-        for (int i : {0, res.x - 1})
-          if (isMine(i)) xw[i] = general(i);
+        for (int i : {0, res.x - 1}) {
+          if (!isMine(i)) continue;
+          const std::uint32_t links = wallLinks(shape, i, res.x);
+          const int c = row + i;
+          xw[i] = links != 0u ? k.smoothedValue(links, open, open, glm::vec3(xr[c - 1], xr[c - sy], xr[c - sz]),
+                                                glm::vec3(xr[c + 1], xr[c + sy], xr[c + sz]), b[c])
+                              : general(i);
+        }
       } else {
         const int n = count(first, res.x - 1);
 #pragma omp simd
@@ -284,8 +294,15 @@ class SmoothRows final : public SmoothSweep {
                                   glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
                                   glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c]);
         }
-        for (int i : {0, res.x - 1})
-          if (isMine(i)) xw[i] = general(i);
+        for (int i : {0, res.x - 1}) {
+          if (!isMine(i)) continue;
+          const std::uint32_t links = wallLinks(shape, i, res.x);
+          const int c = row + i;
+          xw[i] = links != 0u ? k.smoothedValue(links, open, open,
+                                                glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
+                                                glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c])
+                              : general(i);
+        }
       } else {
         const int n = count(first, res.x - 1);
 #pragma omp simd

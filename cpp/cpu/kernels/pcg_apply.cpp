@@ -41,12 +41,13 @@ struct ApplyRows {
   }
 
   // (always_inline: flattened into each instruction set's build by runBest.)
-  // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
-  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
+  // An open row's inner cells take kAllLinks and unit fractions as constants, its end cells too
+  // where they are against a wall on x (cpu/regular_rows.h).
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, std::uint8_t flags) {
     float* __restrict part = termRows<1>(res.x);
     const PressureRow s(k.u_nbmask, k.u_face_open, k.u_s, res, y, z);
     float* __restrict q = static_cast<float*>(k.u_q.data) + s.cell(0);
-    if (open) {
+    if ((flags & kOpenInside) != 0) {
       const glm::vec3 unit(1.0f);
 #pragma omp simd
       for (int i = 1; i < res.x - 1; ++i) {
@@ -55,7 +56,8 @@ struct ApplyRows {
         part[i] = v.y;
       }
       for (int i : {0, res.x - 1}) {
-        const glm::vec2 v = k.appliedValues(s.mask(i), s.facesLo(i), s.facesHi(i), s.x(i), s.xLo(i), s.xHi(i));
+        const PressureRow::Links e = s.endLinks(i, flags, res.x);
+        const glm::vec2 v = k.appliedValues(e.mask, e.lo, e.hi, s.x(i), s.xLo(i), s.xHi(i));
         q[i] = v.x;
         part[i] = v.y;
       }

@@ -44,22 +44,24 @@ struct InitRows {
   }
 
   // (always_inline: flattened into each instruction set's build by runBest.)
-  // An open row's inner cells take kAllLinks and unit fractions as constants (cpu/regular_rows.h).
-  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, bool open) {
+  // An open row's inner cells take kAllLinks and unit fractions as constants, its end cells too
+  // where they are against a wall on x (cpu/regular_rows.h).
+  __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, std::uint8_t flags) {
     float* __restrict bs = termRows<9>(res.x);
     float* __restrict aps = bs + res.x;
     float* __restrict terms = aps + res.x;  // 7 rows: startSums' x y z w, startApSums' x y z
     const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + p.cell(0);
     float* __restrict r = static_cast<float*>(k.u_r.data) + p.cell(0);
-    if (open) {
+    if ((flags & kOpenInside) != 0) {
       const glm::vec3 unit(1.0f);
 #pragma omp simd
       for (int i = 1; i < res.x - 1; ++i) {
         r[i] = k.startResidual(kAllLinks, unit, unit, p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
       }
       for (int i : {0, res.x - 1}) {
-        r[i] = k.startResidual(p.mask(i), p.facesLo(i), p.facesHi(i), p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
+        const PressureRow::Links e = p.endLinks(i, flags, res.x);
+        r[i] = k.startResidual(e.mask, e.lo, e.hi, p.x(i), p.xLo(i), p.xHi(i), rhs[i], bs[i], aps[i]);
       }
     } else {
 #pragma omp simd

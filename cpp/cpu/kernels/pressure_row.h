@@ -92,6 +92,17 @@ class PressureRow {
     const int f = face_ + i;
     return glm::vec3(fx_[f + 1], fy_[f + fsy_], fz_[f + fsz_]);
   }
+  // End cell i's mask and fractions: constants where the row's `flags` (RegularRows) allow them
+  // (wallLinks), else loaded.
+  struct Links {
+    std::uint32_t mask;
+    glm::vec3 lo, hi;
+  };
+  Links endLinks(int i, std::uint8_t flags, int nx) const {
+    const std::uint32_t wall = wallLinks(flags, i, nx);
+    if (wall != 0u) return {wall, glm::vec3(1.0f), glm::vec3(1.0f)};
+    return {mask(i), facesLo(i), facesHi(i)};
+  }
   glm::vec3 xLo(int i) const {
     const int c = cell_ + i;
     return glm::vec3(x_[c - 1], x_[c - sy_], x_[c - sz_]);
@@ -112,10 +123,10 @@ class PressureRow {
 
 // The runner of a row stage with a row loop of its own over PressureRow (pcg_apply, pcg_init: one
 // invocation per row of the grid u_res): Rows::check(kernel, res) tests the bindings
-// (checkBound), then Rows::row(k, y, z, res, open) runs for every row on a per-thread copy k of
+// (checkBound), then Rows::row(k, y, z, res, flags) runs for every row on a per-thread copy k of
 // the unchecked build K, on every thread (the serial threshold counts the row's cells, as
-// RowLoopRunner's) with the best instruction set; `open`: the row is wholly open inside
-// (cpu/regular_rows.h, of the kernel's u_nbmask and u_face_open).
+// RowLoopRunner's) with the best instruction set; `flags`: the row's (cpu/regular_rows.h, of the
+// kernel's u_nbmask and u_face_open).
 template <class K, class Rows>
 class PressureRowRunner final : public CpuKernel {
  public:
@@ -126,7 +137,7 @@ class PressureRowRunner final : public CpuKernel {
     const std::uint8_t* open = bindings.regular_rows->flags(kernel_.u_nbmask, kernel_.u_face_open, res, pool, bindings.x86_v3);
     forEachRow(
         glm::ivec3(1, res.y, res.z), pool, bindings.x86_v3, kernel_,
-        [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res, open[y + z * res.y] != 0); }, res.x);
+        [&](K& k, int y, int z, int, int) { Rows::row(k, y, z, res, open[y + z * res.y]); }, res.x);
   }
 
  private:
