@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "common/host_memory.h"
 #include "common/thread_priority.h"
+#include "cpu/float_mode.h"
 #include "cpu/kernel.h"
 #include "cpu/regular_rows.h"
 #include "cpu/thread_pool.h"
@@ -212,12 +213,14 @@ class CpuProgram final : public compute::ProgramImpl {
   void setMat4(const char* name, const glm::mat4& v) override { set(name, KernelSlots::UniformType::Mat4, &v, sizeof v); }
 
   void dispatch(const glm::ivec3& invocations) override {
+    FlushDenormals flush;  // cpu/float_mode.h
     bindSlots();
     kernel_->run(invocations, local_size_, bindings_, pool_);
     countDispatch(invocations);
   }
 
   void dispatchSeries(const std::vector<SeriesDispatch>& series) override {
+    FlushDenormals flush;  // cpu/float_mode.h
     std::vector<CpuProgram*> programs;
     std::vector<CpuKernel*> kernels;
     for (const SeriesDispatch& d : series) {
@@ -381,6 +384,7 @@ std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> n
 #if defined(__linux__)
   nameCurrentThread("hf-cpu");  // the pool's threads inherit the name and the niceness
 #endif
+  flushDenormalsOnThisThread();  // the device's thread runs its kernels so (cpu/float_mode.h)
   if (x86_v3 && *x86_v3 && !cpuHasX86V3()) throw InvalidArgument("this CPU cannot run the x86-64-v3 (AVX2) kernels");
   auto device = std::make_unique<CpuDevice>(n, x86_v3.value_or(cpuHasX86V3()));
   if (!refused.empty()) device->mutableInfo().warning = "thread priority: " + refused;

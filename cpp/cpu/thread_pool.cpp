@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "cpu/thread_pool.h"
 
+#include "cpu/float_mode.h"
+
 #include <exception>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -92,6 +94,7 @@ void ThreadPool::run(int n, Call call, void* ctx) {
 }
 
 void ThreadPool::work(int) {
+  flushDenormalsOnThisThread();  // as the dispatching thread runs its chunks (cpu/float_mode.h)
   std::uint64_t seen = 0;
   for (;;) {
     std::uint64_t now = generationOf(job_.load(std::memory_order_acquire));
