@@ -213,7 +213,9 @@ def the_drawer_gets_what_it_draws():
     check(all(abs(origin[i] - probe.matrix_world.translation[i]) < 1e-6 for i in range(3)) and len(force) == 3
           and max_force == scene.hapticfluid_live.max_force, "the force arrow at the probe, scaled by Max Force")
     # The arrow is the force the hand feels (device N after the gain) in world axes, the same
-    # newtons as Max Force: its length is the commanded force's, its axes the world's.
+    # newtons as Max Force: its length is the commanded force's, its axes the world's. (A tick a
+    # stats period after the last writes the figures from the latest it draws.)
+    time.sleep(live_session.STATS_PERIOD_S)
     controller.tick()
     _o, drawn, _m = c["set_force"][-1]
     latest = controller.session.latest()
@@ -229,6 +231,29 @@ def the_drawer_gets_what_it_draws():
     scene.hapticfluid_live.density_scale = 5.0
     controller.tick()
     check(c["set_display"][-1] == (5.0, False), "a display change during the session reaches the drawer")
+    controller.stop()
+
+
+def the_panel_figures_are_written_once_a_period():
+    """The panel's figures are written at the first tick and then at most every STATS_PERIOD_S:
+    each write of an add-on's property redraws every region of the window (it redrew the whole
+    window at every tick, 40 times a second, and cost the viewport 2-3 % of its pace)."""
+    scene, _domain, _probe = new_scene()
+    scene.hapticfluid_live.device = "SIMULATED_FALCON"
+    clock = [100.0]
+    controller = live_session.LiveController(scene, clock=lambda: clock[0])
+    controller.wait_started()
+    live = scene.hapticfluid_live
+    controller.tick()
+    check(live.device_state.startswith(controller.engine.device.info().name), f"the first tick writes them: {live.device_state!r}")
+    live.device_state = "not written since"
+    clock[0] += 0.5 * live_session.STATS_PERIOD_S
+    controller.tick()
+    check(live.device_state == "not written since", f"not again within the period: {live.device_state!r}")
+    clock[0] += 0.5 * live_session.STATS_PERIOD_S
+    controller.tick()
+    check(live.device_state.startswith(controller.engine.device.info().name),
+          f"again once the period is over: {live.device_state!r}")
     controller.stop()
 
 
@@ -587,6 +612,7 @@ def main():
     the_feel_choice_reaches_the_session()
     simulated_hand_sweeps_the_probe()
     the_drawer_gets_what_it_draws()
+    the_panel_figures_are_written_once_a_period()
     mouse_moves_the_probe_and_record_keys_it()
     record_keys_the_path_at_the_record_rate()
     mouse_turns_a_mesh_probe_and_record_keys_the_rotation()

@@ -217,7 +217,9 @@ class LiveDrawer:
         for window in bpy.context.window_manager.windows:
             for area in window.screen.areas:
                 if area.type == 'VIEW_3D':
-                    area.tag_redraw()
+                    for region in area.regions:
+                        if region.type == 'WINDOW':
+                            region.tag_redraw()
 
     def _diagonal(self):
         if self._lo is None:

@@ -132,11 +132,16 @@ def stop_all(reason=None, disabling=False):
 
 
 def _redraw_views():
+    """Tags the 3D views' main regions (the smoke, arrow and probe): a whole area's tag redraws its
+    header, toolbars and sidebar too, each pass on a software renderer. The sidebar's figures come
+    with their own writes (live_session.STATS_PERIOD_S)."""
     wm = bpy.context.window_manager
     for window in wm.windows if wm else ():
         for area in window.screen.areas:
-            if area.type in ("VIEW_3D", "PROPERTIES") or area.ui_type == "VIEW_3D":
-                area.tag_redraw()
+            if area.type == "VIEW_3D":
+                for region in area.regions:
+                    if region.type == "WINDOW":
+                        region.tag_redraw()
 
 
 @bpy.app.handlers.persistent

@@ -33,6 +33,7 @@ log = logging.getLogger(__name__)
 HOST_MODES = ("MOUSE", "TIMELINE")     # the object's transform drives the probe
 DEVICE_MODES = ("FALCON", "SIMULATED_FALCON")  # the device drives the object
 SNAPSHOT_INTERVAL_S = 1.0 / 60.0       # newest fields for the viewport at most this often (wall s)
+STATS_PERIOD_S = 0.25                  # the panel's live figures at most this often (s of the controller's clock)
 # Falcon modes keep the device's poses of every haptic period this long (s) for Record: each tick
 # takes them, so Record keys the hand's path between ticks however rarely Blender ticks.
 TRACE_SECONDS = 5.0
@@ -313,6 +314,7 @@ class LiveController:
         self.last_sequence = 0
         self.ticks = 0
         self._display = None
+        self._stats_written = None  # clock() at the panel's figures' last update (_update_stats)
         self.last_take = None     # (A, B, looped) of the last take keyed: its frames
         self._guiding = False     # the engine has a played pose (Feel Playback)
         self._played_clock = None  # (clock, frame) at the last played pose: the playback's pace
@@ -564,21 +566,34 @@ class LiveController:
         return tuple(float(c) for c in latest["commanded_force_world"])
 
     def _update_stats(self, latest):
+        """The panel's live figures, at most every STATS_PERIOD_S (the first tick at once), each
+        written only where it changed: writing an add-on's property tags its scene for the
+        depsgraph and redraws every region of the window (Blender's update of an ID property), so
+        40 writes a second of a dozen figures redrew the whole window, not just the viewport."""
+        now = self.clock()
+        if self._stats_written is not None and now - self._stats_written < STATS_PERIOD_S:
+            return
+        self._stats_written = now
         s = self.session.stats()
+        figures = {
+            "sim_rate_hz": s["sim_rate_hz"],
+            "haptic_rate_hz": s["haptic_rate_hz"],
+            "jitter_p99_ms": s["jitter_p99_ms"],
+            "latency_p50_ms": s["latency_p50_ms"],
+            "latency_p99_ms": s["latency_p99_ms"],
+            "force_n": float(sum(c * c for c in latest["sim_force"]) ** 0.5),
+            "device_force_n": float(sum(c * c for c in latest["commanded_force"]) ** 0.5),
+            "realtime": bool(s["realtime"]),
+            "force_gain_used": s.get("force_gain", 0.0),
+            "force_gain_reason": s.get("force_gain_reason", ""),
+            "device_state": (f"{self.engine.device.info().name}: {'homed' if latest['homed'] else 'not homed'}, "
+                             f"buttons {latest['buttons']:#x}"),
+            "scheduling": s["scheduling"],
+        }
         live = self.live
-        live.sim_rate_hz = s["sim_rate_hz"]
-        live.haptic_rate_hz = s["haptic_rate_hz"]
-        live.jitter_p99_ms = s["jitter_p99_ms"]
-        live.latency_p50_ms = s["latency_p50_ms"]
-        live.latency_p99_ms = s["latency_p99_ms"]
-        live.force_n = float(sum(c * c for c in latest["sim_force"]) ** 0.5)
-        live.device_force_n = float(sum(c * c for c in latest["commanded_force"]) ** 0.5)
-        live.realtime = bool(s["realtime"])
-        live.force_gain_used = s.get("force_gain", 0.0)
-        live.force_gain_reason = s.get("force_gain_reason", "")
-        live.device_state = (f"{self.engine.device.info().name}: {'homed' if latest['homed'] else 'not homed'}, "
-                             f"buttons {latest['buttons']:#x}")
-        live.scheduling = s["scheduling"]
+        for name, value in figures.items():
+            if getattr(live, name) != value:
+                setattr(live, name, value)
 
     # -- recording ------------------------------------------------------------------------
     def start_recording(self):
