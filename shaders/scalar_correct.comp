@@ -30,14 +30,11 @@ vec2 fractions(float target, vec4 s) {
   return vec2(up ? f_up : 0.0f, down ? f_down : 0.0f);  // deficit's sign makes them exclusive
 }
 
-// Cell c's corrected (smoke, heat). Branch-free (every neighbour loaded, the linked ones taken),
-// so the CPU's row loop (cpu/kernels/scalar_correct.cpp) vectorizes it.
-vec2 correctedValues(ivec3 c) {
-  vec2 v = vec2(imageLoad(u_density, c).x, imageLoad(u_temperature, c).x);
-  uint nb = imageLoad(u_nbmask, c).x;
-  vec4 before = results[0];
-  vec2 fd = fractions((before.x - before.z) * u_decay, results[1]);
-  vec2 ft = fractions((before.y - before.w) * u_decay2, results[2]);
+// Cell c's corrected (smoke, heat) from its values v, its mask nb and the fractions fd (smoke's)
+// and ft (heat's) of its rise and fall rooms to apply. Branch-free (every neighbour loaded, the
+// linked ones taken), so the CPU's row loop (cpu/kernels/scalar_correct.cpp) vectorizes it, and
+// runs it with nb a constant on rows wholly linked.
+vec2 correctedFrom(ivec3 c, vec2 v, uint nb, vec2 fd, vec2 ft) {
   vec2 hi = v;
   vec2 lo = v;
   UNROLL for (int n = 0; n < 6; ++n) {
@@ -49,6 +46,20 @@ vec2 correctedValues(ivec3 c) {
   }
   vec2 corrected = v + vec2(fd.x, ft.x) * (hi - v) - vec2(fd.y, ft.y) * (v - lo);
   return (nb & NB_SOLID) != 0u ? v : corrected;
+}
+
+// The fractions of smoke's (xy) and heat's (zw) rooms to apply this step: the same for every cell.
+vec4 stepFractions() {
+  vec4 before = results[0];
+  return vec4(fractions((before.x - before.z) * u_decay, results[1]),
+              fractions((before.y - before.w) * u_decay2, results[2]));
+}
+
+// Cell c's corrected (smoke, heat).
+vec2 correctedValues(ivec3 c) {
+  vec4 f = stepFractions();
+  return correctedFrom(c, vec2(imageLoad(u_density, c).x, imageLoad(u_temperature, c).x),
+                       imageLoad(u_nbmask, c).x, vec2(f.x, f.y), vec2(f.z, f.w));
 }
 
 void main() {

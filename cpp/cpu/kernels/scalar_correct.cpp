@@ -1,9 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// shaders/scalar_correct.comp built as C++ (cpu/kernel.h), run by a row loop (SimdRowRunner) over the
-// shader's branch-free correctedValues, which GCC vectorizes. It reads its cell and the six around it; past the grid's edge those land in the textures'
-// guard bands (cpu/cpu_device.cpp) and are not taken (no link there), so the loop runs the
-// unchecked build.
+// shaders/scalar_correct.comp built as C++ (cpu/kernel.h), with a row loop of its own over the
+// shader's branch-free correctedFrom, which GCC vectorizes: the step's fractions (stepFractions)
+// once a dispatch, and a row's inner cells, where all are linked to their six neighbours (most
+// rows), with the mask kAllLinks as a constant, so the bit tests and the selects fold away (the
+// same max and min of the same values: the same bits). It reads its cell and the six around it;
+// past the grid's edge those land in the textures' guard bands (cpu/cpu_device.cpp) and are not
+// taken (no link there), so the loop runs the unchecked build.
 #include "cpu/kernels/kernel_list.h"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "cpu/regular_rows.h"  // kAllLinks
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -26,18 +34,64 @@ struct ScalarCorrect : KernelBase {
 namespace hf::cpu::kernels {
 namespace {
 
-struct ScalarCorrectRow {
-  static glm::ivec3 box(ScalarCorrect& k, const glm::ivec3& n) { return glm::min(n, k.u_res); }
-  void operator()(ScalarCorrect& k, int x, int y, int z) const {
-    const glm::ivec3 c(x, y, z);
-    const glm::vec2 v = k.correctedValues(c);
-    glsl::imageStore(k.u_density_out, c, glm::vec4(v.x));
-    glsl::imageStore(k.u_temperature_out, c, glm::vec4(v.y));
+using K = ScalarCorrect;
+
+class CorrectRows final : public CpuKernel {
+ public:
+  KernelSlots& slots() override { return slots_; }
+  void run(const glm::ivec3& n, const glm::ivec3&, const Bindings& bindings, ThreadPool& pool) override {
+    const glm::ivec3 box = glm::min(n, kernel_.u_res);
+    if (box.x <= 0 || box.y <= 0 || box.z <= 0) return;
+    const glm::vec4 f = kernel_.stepFractions();
+    const glm::vec2 fd(f.x, f.y), ft(f.z, f.w);
+    const int nx = kernel_.u_res.x;
+    forEachRow(box, pool, bindings.x86_v3, kernel_,
+               [&](K& k, int y, int z, int x0, int x1) { row(k, y, z, x0, x1, nx, fd, ft); });
   }
+
+ private:
+  // Cells x0 .. x1 - 1 of row (y, z). (always_inline: flattened into each instruction set's build
+  // by runBest.)
+  __attribute__((always_inline)) static void row(K& k, int y, int z, int x0, int x1, int nx, glm::vec2 fd,
+                                                 glm::vec2 ft) {
+    const int at = k.u_density.index(glm::ivec3(0, y, z));
+    const float* __restrict d = static_cast<const float*>(k.u_density.data) + at;
+    const float* __restrict t = static_cast<const float*>(k.u_temperature.data) + k.u_temperature.index(glm::ivec3(0, y, z));
+    const std::uint8_t* __restrict nb = static_cast<const std::uint8_t*>(k.u_nbmask.data) + k.u_nbmask.index(glm::ivec3(0, y, z));
+    float* __restrict d_out = static_cast<float*>(k.u_density_out.data) + k.u_density_out.index(glm::ivec3(0, y, z));
+    float* __restrict t_out = static_cast<float*>(k.u_temperature_out.data) + k.u_temperature_out.index(glm::ivec3(0, y, z));
+    auto loaded = [&](int b, int e) {
+#pragma omp simd
+      for (int i = b; i < e; ++i) {
+        const glm::vec2 v = k.correctedFrom(glm::ivec3(i, y, z), glm::vec2(d[i], t[i]), nb[i], fd, ft);
+        d_out[i] = v.x;
+        t_out[i] = v.y;
+      }
+    };
+    // The inner cells (not the row's first and last, which a wall may cut off) all linked?
+    const int lo = std::max(x0, 1), hi = std::min(x1, nx - 1);
+    unsigned other = lo < hi ? 0u : 1u;
+    for (int i = lo; i < hi; ++i) other |= static_cast<unsigned>(nb[i] != kAllLinks);
+    if (other != 0u) {
+      loaded(x0, x1);
+      return;
+    }
+    loaded(x0, lo);
+#pragma omp simd
+    for (int i = lo; i < hi; ++i) {
+      const glm::vec2 v = k.correctedFrom(glm::ivec3(i, y, z), glm::vec2(d[i], t[i]), kAllLinks, fd, ft);
+      d_out[i] = v.x;
+      t_out[i] = v.y;
+    }
+    loaded(hi, x1);
+  }
+
+  KernelSlots slots_;
+  K kernel_{&slots_};
 };
 
 }  // namespace
 
-void addScalarCorrect(KernelRegistry& r) { r.add<SimdRowRunner<ScalarCorrect, ScalarCorrectRow>>("scalar_correct.comp", {}); }
+void addScalarCorrect(KernelRegistry& r) { r.add<CorrectRows>("scalar_correct.comp", {}); }
 
 }  // namespace hf::cpu::kernels
