@@ -212,6 +212,9 @@ class LiveDrawer:
     # ---- drawing (main thread, inside Blender's draw loop)
 
     def _redraw(self):
+        """Tags the 3D views' main regions, where the smoke, arrow and label are drawn (at every
+        tick through set_force): a whole area's tag would redraw its header, toolbars and sidebar
+        too, each pass on a software renderer. The sidebar's figures bring their own redraws."""
         if self._handles is None:
             return
         for window in bpy.context.window_manager.windows:

@@ -113,8 +113,6 @@ def tick(run):
     state = run.controller.tick()
     if state == "stopped":
         run.end(keep_drawing=True)
-    else:
-        _redraw_views()
     return state
 
 
@@ -129,19 +127,6 @@ def stop_all(reason=None, disabling=False):
     reports = [run.end(reason, disabling=disabling) for run in list(_RUNNING)]
     clear_kept_drawings()
     return reports
-
-
-def _redraw_views():
-    """Tags the 3D views' main regions (the smoke, arrow and probe): a whole area's tag redraws its
-    header, toolbars and sidebar too, each pass on a software renderer. The sidebar's figures come
-    with their own writes (live_session.STATS_PERIOD_S)."""
-    wm = bpy.context.window_manager
-    for window in wm.windows if wm else ():
-        for area in window.screen.areas:
-            if area.type == "VIEW_3D":
-                for region in area.regions:
-                    if region.type == "WINDOW":
-                        region.tag_redraw()
 
 
 @bpy.app.handlers.persistent
