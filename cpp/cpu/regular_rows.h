@@ -35,6 +35,14 @@ inline constexpr std::uint32_t kAllLinks = 0x3Fu;
 inline constexpr std::uint32_t kWallLowLinks = kAllLinks & ~1u;
 inline constexpr std::uint32_t kWallHighLinks = kAllLinks & ~2u;
 
+// Whether cells begin .. end - 1 of a row of masks all have kAllLinks (true for none). Every cell
+// is tested, no early exit, so that the loop vectorizes.
+inline bool allLinked(const std::uint8_t* mask, int begin, int end) {
+  unsigned other = 0u;
+  for (int i = begin; i < end; ++i) other |= static_cast<unsigned>(mask[i] != kAllLinks);
+  return other == 0u;
+}
+
 // The bits of a row's flags.
 inline constexpr std::uint8_t kOpenInside = 1;  // cells 1 .. nx - 2: kAllLinks, unit fractions
 inline constexpr std::uint8_t kWallLow = 2;     // cell 0: kWallLowLinks, its linked faces' fractions 1
@@ -77,8 +85,7 @@ class RegularRows {
             const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
             // Every cell tested, no early exit, so that the loops vectorize (most rows are open):
             // the mask's bytes and the fractions' floats in loops of their own.
-            unsigned closed = res.x > 2 ? 0u : 1u;
-            for (int i = 1; i < res.x - 1; ++i) closed |= static_cast<unsigned>(m[row + i] != kAllLinks);
+            unsigned closed = res.x > 2 && allLinked(m + row, 1, res.x - 1) ? 0u : 1u;
             for (int i = 1; i < res.x - 1; ++i) {
               const int f = frow + i;
               closed |= static_cast<unsigned>(fx[f] != 1.0f) | static_cast<unsigned>(fx[f + 1] != 1.0f) |

@@ -10,8 +10,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
 
-#include "cpu/regular_rows.h"  // kAllLinks
+#include "cpu/regular_rows.h"  // kAllLinks, allLinked
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -54,36 +55,39 @@ class CorrectRows final : public CpuKernel {
   // by runBest.)
   __attribute__((always_inline)) static void row(K& k, int y, int z, int x0, int x1, int nx, glm::vec2 fd,
                                                  glm::vec2 ft) {
-    const int at = k.u_density.index(glm::ivec3(0, y, z));
-    const float* __restrict d = static_cast<const float*>(k.u_density.data) + at;
-    const float* __restrict t = static_cast<const float*>(k.u_temperature.data) + k.u_temperature.index(glm::ivec3(0, y, z));
-    const std::uint8_t* __restrict nb = static_cast<const std::uint8_t*>(k.u_nbmask.data) + k.u_nbmask.index(glm::ivec3(0, y, z));
-    float* __restrict d_out = static_cast<float*>(k.u_density_out.data) + k.u_density_out.index(glm::ivec3(0, y, z));
-    float* __restrict t_out = static_cast<float*>(k.u_temperature_out.data) + k.u_temperature_out.index(glm::ivec3(0, y, z));
-    auto loaded = [&](int b, int e) {
-#pragma omp simd
-      for (int i = b; i < e; ++i) {
-        const glm::vec2 v = k.correctedFrom(glm::ivec3(i, y, z), glm::vec2(d[i], t[i]), nb[i], fd, ft);
-        d_out[i] = v.x;
-        t_out[i] = v.y;
-      }
+    const glm::ivec3 first(0, y, z);
+    const float* d = static_cast<const float*>(k.u_density.data) + k.u_density.index(first);
+    const float* t = static_cast<const float*>(k.u_temperature.data) + k.u_temperature.index(first);
+    const std::uint8_t* nb = static_cast<const std::uint8_t*>(k.u_nbmask.data) + k.u_nbmask.index(first);
+    float* d_out = static_cast<float*>(k.u_density_out.data) + k.u_density_out.index(first);
+    float* t_out = static_cast<float*>(k.u_temperature_out.data) + k.u_temperature_out.index(first);
+    auto run = [&](auto linked, int b, int e) {
+      cells<decltype(linked)::value>(k, y, z, b, e, d, t, nb, d_out, t_out, fd, ft);
     };
     // The inner cells (not the row's first and last, which a wall may cut off) all linked?
     const int lo = std::max(x0, 1), hi = std::min(x1, nx - 1);
-    unsigned other = lo < hi ? 0u : 1u;
-    for (int i = lo; i < hi; ++i) other |= static_cast<unsigned>(nb[i] != kAllLinks);
-    if (other != 0u) {
-      loaded(x0, x1);
+    if (lo >= hi || !allLinked(nb, lo, hi)) {
+      run(std::false_type(), x0, x1);
       return;
     }
-    loaded(x0, lo);
+    run(std::false_type(), x0, lo);
+    run(std::true_type(), lo, hi);
+    run(std::false_type(), hi, x1);
+  }
+
+  // Cells b .. e - 1 of row (y, z): the mask kAllLinks as a constant where kLinked, else loaded.
+  template <bool kLinked>
+  __attribute__((always_inline)) static void cells(K& k, int y, int z, int b, int e, const float* __restrict d,
+                                                   const float* __restrict t, const std::uint8_t* __restrict nb,
+                                                   float* __restrict d_out, float* __restrict t_out, glm::vec2 fd,
+                                                   glm::vec2 ft) {
 #pragma omp simd
-    for (int i = lo; i < hi; ++i) {
-      const glm::vec2 v = k.correctedFrom(glm::ivec3(i, y, z), glm::vec2(d[i], t[i]), kAllLinks, fd, ft);
+    for (int i = b; i < e; ++i) {
+      const std::uint32_t mask = kLinked ? kAllLinks : nb[i];
+      const glm::vec2 v = k.correctedFrom(glm::ivec3(i, y, z), glm::vec2(d[i], t[i]), mask, fd, ft);
       d_out[i] = v.x;
       t_out[i] = v.y;
     }
-    loaded(hi, x1);
   }
 
   KernelSlots slots_;

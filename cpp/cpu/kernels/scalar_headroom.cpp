@@ -10,11 +10,12 @@
 #include "cpu/kernels/kernel_list.h"
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "common/error.h"
 #include "cpu/kernels/pressure_row.h"  // checkBound
-#include "cpu/regular_rows.h"         // kAllLinks
+#include "cpu/regular_rows.h"         // kAllLinks, allLinked
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -71,33 +72,17 @@ class HeadroomRows final : public CpuKernel {
     const float* __restrict d = static_cast<const float*>(k.u_density.data) + at;
     const float* __restrict t = static_cast<const float*>(k.u_temperature.data) + at;
     const std::uint8_t* __restrict nb = static_cast<const std::uint8_t*>(k.u_nbmask.data) + at;
-    auto loaded = [&](int b, int e) {
-#pragma omp simd
-      for (int i = b; i < e; ++i) {
-        const glm::vec4 room = k.headroomAt(glm::ivec3(i, y, z), nb[i], d[i], t[i]);
-        rise_d[i] = room.x;
-        fall_d[i] = room.y;
-        rise_t[i] = room.z;
-        fall_t[i] = room.w;
-      }
+    auto run = [&](auto linked, int b, int e) {
+      cells<decltype(linked)::value>(k, y, z, b, e, d, t, nb, rise_d, fall_d, rise_t, fall_t);
     };
     // The inner cells all linked (most rows): the mask kAllLinks as a constant, so the selects
     // fold away (the same max and min of the same values: the same bits).
-    unsigned other = res.x > 2 ? 0u : 1u;
-    for (int i = 1; i < res.x - 1; ++i) other |= static_cast<unsigned>(nb[i] != kAllLinks);
-    if (other != 0u) {
-      loaded(0, res.x);
+    if (res.x > 2 && allLinked(nb, 1, res.x - 1)) {
+      run(std::false_type(), 0, 1);
+      run(std::true_type(), 1, res.x - 1);
+      run(std::false_type(), res.x - 1, res.x);
     } else {
-      loaded(0, 1);
-#pragma omp simd
-      for (int i = 1; i < res.x - 1; ++i) {
-        const glm::vec4 room = k.headroomAt(glm::ivec3(i, y, z), kAllLinks, d[i], t[i]);
-        rise_d[i] = room.x;
-        fall_d[i] = room.y;
-        rise_t[i] = room.z;
-        fall_t[i] = room.w;
-      }
-      loaded(res.x - 1, res.x);
+      run(std::false_type(), 0, res.x);
     }
     glm::vec4 d_acc(0.0f), t_acc(0.0f);
     for (int i = 0; i < res.x; ++i) {
@@ -107,6 +92,24 @@ class HeadroomRows final : public CpuKernel {
     const std::size_t slot = static_cast<std::size_t>(y + res.y * z);
     k.partials[slot] = d_acc;
     k.partials[rows + slot] = t_acc;
+  }
+
+  // Cells b .. e - 1 of row (y, z) into the row buffers: the mask kAllLinks as a constant where
+  // kLinked, else loaded.
+  template <bool kLinked>
+  __attribute__((always_inline)) static void cells(K& k, int y, int z, int b, int e, const float* __restrict d,
+                                                   const float* __restrict t, const std::uint8_t* __restrict nb,
+                                                   float* __restrict rise_d, float* __restrict fall_d,
+                                                   float* __restrict rise_t, float* __restrict fall_t) {
+#pragma omp simd
+    for (int i = b; i < e; ++i) {
+      const std::uint32_t mask = kLinked ? kAllLinks : nb[i];
+      const glm::vec4 room = k.headroomAt(glm::ivec3(i, y, z), mask, d[i], t[i]);
+      rise_d[i] = room.x;
+      fall_d[i] = room.y;
+      rise_t[i] = room.z;
+      fall_t[i] = room.w;
+    }
   }
 
   KernelSlots slots_;
