@@ -384,7 +384,6 @@ std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> n
 #if defined(__linux__)
   nameCurrentThread("hf-cpu");  // the pool's threads inherit the name and the niceness
 #endif
-  flushDenormalsOnThisThread();  // the device's thread runs its kernels so (cpu/float_mode.h)
   if (x86_v3 && *x86_v3 && !cpuHasX86V3()) throw InvalidArgument("this CPU cannot run the x86-64-v3 (AVX2) kernels");
   auto device = std::make_unique<CpuDevice>(n, x86_v3.value_or(cpuHasX86V3()));
   if (!refused.empty()) device->mutableInfo().warning = "thread priority: " + refused;

@@ -23,8 +23,8 @@ inline constexpr int kMaxThreads = 256;
 int resolveThreads(int requested);
 
 // Makes the device on the calling thread, which becomes its thread; `niceness` as for the GL
-// device (the pool's threads are started after it is applied, so they share it). The thread then
-// flushes denormal floats to zero (cpu/float_mode.h), as the pool's threads do. `x86_v3`:
+// device (the pool's threads are started after it is applied, so they share it). Its kernels
+// run with denormal floats flushed to zero (cpu/float_mode.h). `x86_v3`:
 // run the x86-64-v3 build of the loops (cpu/kernel.h); none: when the CPU has it.
 std::unique_ptr<compute::Device> makeCpuDevice(int threads, std::optional<int> niceness,
                                                std::optional<bool> x86_v3 = std::nullopt);
