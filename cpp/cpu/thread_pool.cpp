@@ -3,6 +3,7 @@
 
 #include "cpu/float_mode.h"
 
+#include <chrono>
 #include <exception>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -15,7 +16,26 @@
 namespace hf::cpu {
 namespace {
 
-constexpr int kSpins = 4000;
+// How long a thread spins before it sleeps: a worker for the next dispatch, the calling thread for
+// the other threads' last chunks. Timed, not counted: a PAUSE takes 11 ns on one x86 core and
+// 40 on another, and the 4000 of before were 45 us on the Intel VM, shorter than most gaps
+// between a solve's parallel dispatches (its coarse levels run on the calling thread), so the
+// worker slept 15-25 times a seed-grid step and each wake-up (a futex in a VM) cost the
+// dispatch after it about 0.15 ms. 1 ms covers the gaps inside a step and still lets the workers
+// sleep between steps (the live session idles between its steps; at 32^3 no dispatch is parallel).
+constexpr std::chrono::microseconds kSpinTime{1000};
+constexpr int kPausesPerClockRead = 16;
+
+// Spins until done() (true) or kSpinTime has passed (false).
+template <class Done>
+bool spinUntil(Done done) {
+  const auto give_up = std::chrono::steady_clock::now() + kSpinTime;
+  for (int spin = 1;; ++spin) {
+    if (done()) return true;
+    if (spin % kPausesPerClockRead == 0 && std::chrono::steady_clock::now() >= give_up) return false;
+    HF_PAUSE();
+  }
+}
 
 constexpr std::uint64_t kFieldMask = (std::uint64_t{1} << 12) - 1;
 std::uint64_t generationOf(std::uint64_t job) { return job >> 24; }
@@ -82,13 +102,10 @@ void ThreadPool::run(int n, Call call, void* ctx) {
   }
   wake_.notify_all();
   claimAndRun(generation_);
-  for (int spin = 0; done_chunks_.load(std::memory_order_acquire) != chunks; ++spin) {
-    if (spin < kSpins) {
-      HF_PAUSE();
-      continue;
-    }
+  auto all_done = [&] { return done_chunks_.load(std::memory_order_acquire) == chunks; };
+  if (!spinUntil(all_done)) {
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return done_chunks_.load(std::memory_order_acquire) == chunks; });
+    done_.wait(lock, all_done);
   }
   if (failed_.load()) std::rethrow_exception(error_);
 }
@@ -97,11 +114,11 @@ void ThreadPool::work(int) {
   flushDenormalsOnThisThread();  // as the dispatching thread runs its chunks (cpu/float_mode.h)
   std::uint64_t seen = 0;
   for (;;) {
-    std::uint64_t now = generationOf(job_.load(std::memory_order_acquire));
-    for (int spin = 0; now == seen && spin < kSpins && !stopping_.load(std::memory_order_relaxed); ++spin) {
-      HF_PAUSE();
+    std::uint64_t now = seen;
+    spinUntil([&] {
       now = generationOf(job_.load(std::memory_order_acquire));
-    }
+      return now != seen || stopping_.load(std::memory_order_relaxed);
+    });
     if (now == seen) {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] {

@@ -2,8 +2,10 @@
 // The CPU backend's thread pool (cpu/thread_pool.h): every index of a dispatch runs exactly once,
 // in contiguous chunks, whichever threads claim them; an exception reaches the caller after the
 // other chunks are done; and back-to-back dispatches (a step's hundreds) never mix, also when a
-// worker is kept off its core for a while.
+// worker is kept off its core for a while; and workers that have nothing to do go to sleep.
 #include <gtest/gtest.h>
+
+#include <time.h>
 
 #include <atomic>
 #include <chrono>
@@ -32,6 +34,25 @@ TEST(CpuThreadPool, EveryIndexRunsOnceInContiguousChunks) {
       EXPECT_LE(chunks.load(), n);
     }
   }
+}
+
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Workers spin a short while for the next dispatch, then sleep: an idle pool costs no CPU. (A
+// worker that never slept would use the whole 400 ms; 100 ms leaves room for a loaded machine.)
+TEST(CpuThreadPool, AnIdlePoolSleeps) {
+  ThreadPool pool(4);
+  std::atomic<int> sum{0};
+  pool.parallelFor(64, [&](int begin, int end) { sum.fetch_add(end - begin); });
+  ASSERT_EQ(sum.load(), 64);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // past every worker's spin
+  const double before = processCpuSeconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  EXPECT_LT(processCpuSeconds() - before, 0.1);
 }
 
 TEST(CpuThreadPool, ManyDispatchesInARowStaySeparate) {
