@@ -15,8 +15,10 @@
 // One per CPU device (Bindings::regular_rows), used on its thread: the flags of a (mask, faces)
 // pair are derived on first use and kept while neither changes (ImageBinding::version), one set
 // per multigrid level, shared by the stages that read the same level.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -41,6 +43,23 @@ inline bool allLinked(const std::uint8_t* mask, int begin, int end) {
   unsigned other = 0u;
   for (int i = begin; i < end; ++i) other |= static_cast<unsigned>(mask[i] != kAllLinks);
   return other == 0u;
+}
+
+// Runs run(linked, b, e) over cells x0 .. x1 - 1 of a row of nx cells with masks `mask`, in order:
+// where the inner cells (1 .. nx - 2) of that range all have kAllLinks, over them with `linked` a
+// std::true_type and over the rest (the row's ends, which a wall may cut off) with a
+// std::false_type; else over the whole range with a std::false_type. For the row loops that run
+// a wholly linked run of cells with the mask a constant (scalar_correct, scalar_headroom).
+template <class Run>
+inline void byLinkedInside(const std::uint8_t* mask, int x0, int x1, int nx, Run&& run) {
+  const int lo = std::max(x0, 1), hi = std::min(x1, nx - 1);
+  if (lo >= hi || !allLinked(mask, lo, hi)) {
+    run(std::false_type(), x0, x1);
+    return;
+  }
+  run(std::false_type(), x0, lo);
+  run(std::true_type(), lo, hi);
+  run(std::false_type(), hi, x1);
 }
 
 // The bits of a row's flags.

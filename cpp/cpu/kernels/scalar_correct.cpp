@@ -8,11 +8,9 @@
 // taken (no link there), so the loop runs the unchecked build.
 #include "cpu/kernels/kernel_list.h"
 
-#include <algorithm>
 #include <cstdint>
-#include <type_traits>
 
-#include "cpu/regular_rows.h"  // kAllLinks, allLinked
+#include "cpu/regular_rows.h"  // kAllLinks, byLinkedInside
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -61,18 +59,9 @@ class CorrectRows final : public CpuKernel {
     const std::uint8_t* nb = static_cast<const std::uint8_t*>(k.u_nbmask.data) + k.u_nbmask.index(first);
     float* d_out = static_cast<float*>(k.u_density_out.data) + k.u_density_out.index(first);
     float* t_out = static_cast<float*>(k.u_temperature_out.data) + k.u_temperature_out.index(first);
-    auto run = [&](auto linked, int b, int e) {
+    byLinkedInside(nb, x0, x1, nx, [&](auto linked, int b, int e) {
       cells<decltype(linked)::value>(k, y, z, b, e, d, t, nb, d_out, t_out, fd, ft);
-    };
-    // The inner cells (not the row's first and last, which a wall may cut off) all linked?
-    const int lo = std::max(x0, 1), hi = std::min(x1, nx - 1);
-    if (lo >= hi || !allLinked(nb, lo, hi)) {
-      run(std::false_type(), x0, x1);
-      return;
-    }
-    run(std::false_type(), x0, lo);
-    run(std::true_type(), lo, hi);
-    run(std::false_type(), hi, x1);
+    });
   }
 
   // Cells b .. e - 1 of row (y, z): the mask kAllLinks as a constant where kLinked, else loaded.

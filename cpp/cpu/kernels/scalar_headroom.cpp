@@ -10,12 +10,11 @@
 #include "cpu/kernels/kernel_list.h"
 
 #include <cstdint>
-#include <type_traits>
 #include <vector>
 
 #include "common/error.h"
 #include "cpu/kernels/pressure_row.h"  // checkBound
-#include "cpu/regular_rows.h"         // kAllLinks, allLinked
+#include "cpu/regular_rows.h"         // kAllLinks, byLinkedInside
 
 #include "cpu/kernel_begin.h"
 namespace hf::cpu::kernels {
@@ -72,18 +71,11 @@ class HeadroomRows final : public CpuKernel {
     const float* __restrict d = static_cast<const float*>(k.u_density.data) + at;
     const float* __restrict t = static_cast<const float*>(k.u_temperature.data) + at;
     const std::uint8_t* __restrict nb = static_cast<const std::uint8_t*>(k.u_nbmask.data) + at;
-    auto run = [&](auto linked, int b, int e) {
-      cells<decltype(linked)::value>(k, y, z, b, e, d, t, nb, rise_d, fall_d, rise_t, fall_t);
-    };
     // The inner cells all linked (most rows): the mask kAllLinks as a constant, so the selects
     // fold away (the same max and min of the same values: the same bits).
-    if (res.x > 2 && allLinked(nb, 1, res.x - 1)) {
-      run(std::false_type(), 0, 1);
-      run(std::true_type(), 1, res.x - 1);
-      run(std::false_type(), res.x - 1, res.x);
-    } else {
-      run(std::false_type(), 0, res.x);
-    }
+    byLinkedInside(nb, 0, res.x, res.x, [&](auto linked, int b, int e) {
+      cells<decltype(linked)::value>(k, y, z, b, e, d, t, nb, rise_d, fall_d, rise_t, fall_t);
+    });
     glm::vec4 d_acc(0.0f), t_acc(0.0f);
     for (int i = 0; i < res.x; ++i) {
       k.addHeadroom(d_acc, t_acc, d[i], t[i], glm::vec4(rise_d[i], fall_d[i], rise_t[i], fall_t[i]));
