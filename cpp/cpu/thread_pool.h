@@ -4,9 +4,10 @@
 // each dispatch's range, cut into a few contiguous chunks per thread that each thread claims one
 // after the other. A thread the OS has not run yet (the bake's writer or Blender's drawing has
 // the core) then delays nothing: the threads that run take its chunks, and the dispatch ends
-// when every chunk is done, not when every thread has come. Workers spin for up to a millisecond for the
-// next dispatch of a step (a step is hundreds of back-to-back dispatches, some apart by a coarse
-// level's work on the calling thread) and then sleep, so an idle simulation costs no CPU. Workers are started by the thread that makes the pool and inherit its niceness
+// when every chunk is done, not when every thread has come. Workers spin for up to a millisecond
+// for the next dispatch of a step (a step is hundreds of back-to-back dispatches, some apart by a
+// coarse level's work on the calling thread) and then sleep, so an idle simulation costs no CPU.
+// Workers are started by the thread that makes the pool and inherit its niceness
 // (common/thread_priority.h), so the simulation's CPU share applies to all of them.
 #include <atomic>
 #include <condition_variable>
