@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Stage "pcg_direction": the next search direction s = z + beta s, beta = (r.z)_new / (r.z)_old
-// from the reduction results (beta = 0 on the first iteration); per-texel update, 0 in solids.
+// from the reduction results; per-texel update, 0 in solids. (The first direction is z itself:
+// PressureMultigrid swaps the two textures instead of copying.)
 LOCAL_SIZE(WG_X, WG_Y, WG_Z);
 
 IMAGE_RW(r32f, 0, u_s);
@@ -10,15 +11,13 @@ BUFFER_RO(Results, vec4, 1, results);
 
 UNIFORM(uint, u_slot_new);  // results[u_slot_new].x = r.z of this iteration
 UNIFORM(uint, u_slot_old);  // results[u_slot_old].x = r.z of the previous one
-UNIFORM(int, u_first);      // 1: s = z
 
 // Cell c's new direction s = z + beta s (s = z on the first iteration), 0 in a solid cell.
 // Branch-free (both values loaded, then chosen), so the CPU's row loop vectorizes it.
 float newDirection(ivec3 c) {
   float old_rz = results[u_slot_old].x;
-  float beta = (u_first != 0 || old_rz <= 0.0f) ? 0.0f : results[u_slot_new].x / old_rz;
-  float s_old = imageLoad(u_s, c).x;
-  float s = u_first != 0 ? 0.0f : s_old;
+  float beta = old_rz <= 0.0f ? 0.0f : results[u_slot_new].x / old_rz;
+  float s = imageLoad(u_s, c).x;
   float z = imageLoad(u_z, c).x;
   return (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u ? 0.0f : z + beta * s;
 }

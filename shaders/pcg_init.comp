@@ -19,6 +19,7 @@ IMAGE_WO(r32f, 0, u_r);
 BUFFER_WO(Partials, vec4, 0, partials);
 
 UNIFORM(int, u_predictor_sums);  // 1: the predictor's sums too
+UNIFORM(int, u_store_r);         // 1: r is written to u_r; 0: only its sums (the end check)
 
 // One cell's starting residual r = b - A p with b = -rhs (0 in a solid cell); b and A p go out
 // for the sums (startSums, startApSums).
@@ -61,7 +62,7 @@ void main() {
     float r = startResidual(m, w_lo, w_hi, imageLoad(u_pressure, c).x, p_lo, p_hi, imageLoad(u_rhs, c).x, b, ap);
     parts[i % ROW_PARTS] += startSums(m, r, b);
     if (u_predictor_sums != 0) parts_ap[i % ROW_PARTS] += startApSums(m, r, b, ap);
-    imageStore(u_r, c, vec4(r));
+    if (u_store_r != 0) imageStore(u_r, c, vec4(r));
   }
   partials[row.x + u_res.y * row.y] = rowPartsTotal(parts);
   if (u_predictor_sums != 0) partials[u_res.y * u_res.z + row.x + u_res.y * row.y] = rowPartsTotal(parts_ap);

@@ -28,9 +28,9 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
     : grid_(grid),
       vcycle_(grid.res),
       r_(grid.res, compute::TexelFormat::R32F, "CG residual"),
-      z_(grid.res, compute::TexelFormat::R32F, "CG preconditioned residual"),
-      s_(grid.res, compute::TexelFormat::R32F, "CG direction"),
       q_(grid.res, compute::TexelFormat::R32F, "CG A direction"),
+      z_or_s_{compute::Texture3D(grid.res, compute::TexelFormat::R32F, "CG preconditioned residual or direction"),
+              compute::Texture3D(grid.res, compute::TexelFormat::R32F, "CG preconditioned residual or direction")},
       init_("pcg_init.comp", rowGroupDefines()),
       apply_("pcg_apply.comp", rowGroupDefines()),
       dot_("pcg_dot.comp", rowGroupDefines()),
@@ -44,20 +44,23 @@ PressureMultigrid::PressureMultigrid(const Grid& grid)
 }
 
 void PressureMultigrid::nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first) {
-  vcycle_.apply(f.nbmask, f.face_open, r_, z_);
+  vcycle_.apply(f.nbmask, f.face_open, r_, *z_);
   r_.bindImage(1, compute::Access::Read);
-  z_.bindImage(2, compute::Access::Read);
+  z_->bindImage(2, compute::Access::Read);
   f.nbmask.bindImage(3, compute::Access::Read);
   reducer_.bindPartials(0);
   dot_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), rz_slot);
-  s_.bindImage(0, compute::Access::ReadWrite);
-  z_.bindImage(1, compute::Access::Read);
+  if (first) {
+    std::swap(z_, s_);
+    return;
+  }
+  s_->bindImage(0, compute::Access::ReadWrite);
+  z_->bindImage(1, compute::Access::Read);
   f.nbmask.bindImage(2, compute::Access::Read);
   reducer_.bindResults(1);
   direction_.set("u_slot_new", static_cast<unsigned>(rz_slot));
   direction_.set("u_slot_old", static_cast<unsigned>(old_rz_slot));
-  direction_.set("u_first", first ? 1 : 0);
   direction_.dispatch(grid_.res);
 }
 
@@ -69,7 +72,7 @@ void PressureMultigrid::removeResidualMean(FluidFields& f, std::size_t slot) {
   shift_.dispatch(grid_.res);
 }
 
-void PressureMultigrid::startResidual(FluidFields& f, bool predictor_sums) {
+void PressureMultigrid::startResidual(FluidFields& f, bool predictor_sums, bool store) {
   f.pressure.cur().bindImage(1, compute::Access::Read);
   f.rhs.bindImage(2, compute::Access::Read);
   f.nbmask.bindImage(3, compute::Access::Read);
@@ -77,6 +80,7 @@ void PressureMultigrid::startResidual(FluidFields& f, bool predictor_sums) {
   r_.bindImage(0, compute::Access::Write);
   reducer_.bindPartials(0);
   init_.set("u_predictor_sums", predictor_sums ? 1 : 0);
+  init_.set("u_store_r", store ? 1 : 0);
   init_.dispatch(rowInvocations(grid_.res));
   reducer_.reduce(rowCount(grid_.res), kInitSlot);
   if (predictor_sums) reducer_.reduce(rowCount(grid_.res), kApSlot, rowCount(grid_.res));
@@ -88,9 +92,8 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const bool closed = !params.open_top;
   vcycle_.buildMasks(f.nbmask, f.face_open, stale_);
   stale_ = CellBox{};
-  startResidual(f, true);
-  if (closed) removeResidualMean(f, kInitSlot);
-  predict(f, tolerance > 0.0f);
+  startResidual(f, true, true);
+  predict(f, closed, tolerance > 0.0f);
 
   SolveStats stats;
   float bb = 0.0f;
@@ -108,7 +111,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   nextDirection(f, rz_new, rz_old, true);
   for (int k = 0; k < params.pressure_iterations; ++k) {
     // q = A s and s.q
-    s_.bindImage(1, compute::Access::Read);
+    s_->bindImage(1, compute::Access::Read);
     f.nbmask.bindImage(3, compute::Access::Read);
     f.face_open.bindImage(kFaceOpenUnit, compute::Access::Read);
     q_.bindImage(0, compute::Access::Write);
@@ -118,7 +121,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     // p += alpha s, r -= alpha q, and r.r
     f.pressure.cur().bindImage(0, compute::Access::ReadWrite);
     r_.bindImage(1, compute::Access::ReadWrite);
-    s_.bindImage(2, compute::Access::Read);
+    s_->bindImage(2, compute::Access::Read);
     q_.bindImage(3, compute::Access::Read);
     f.nbmask.bindImage(4, compute::Access::Read);
     reducer_.bindPartials(0);
@@ -133,11 +136,13 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
     if (tolerance > 0.0f) {
       stats.relative_residual = relativeResidual(reducer_.readResults()[kRrSlot].z, bb);
       if (stats.relative_residual <= tolerance) {
-        // In float the updated residual drifts from the true one: confirm with rhs - A p, and
-        // if that is still too large go on from it (CG restarted from the true residual).
-        startResidual(f, false);
+        // In float the updated residual drifts from the true one: confirm with rhs - A p (its
+        // sums only), and if that is still too large go on from it (CG restarted from the true
+        // residual, written then).
+        startResidual(f, false, false);
         stats.relative_residual = relativeResidual(reducer_.readResults()[kInitSlot].z, bb);
         if (stats.relative_residual <= tolerance) break;
+        startResidual(f, false, true);
         if (closed) removeResidualMean(f, kInitSlot);  // only r that goes on needs it
         restart = true;
       }
@@ -150,7 +155,7 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   return stats;
 }
 
-void PressureMultigrid::predict(FluidFields& f, bool sums) {
+void PressureMultigrid::predict(FluidFields& f, bool remove_mean, bool sums) {
   f.pressure.cur().bindImage(0, compute::Access::ReadWrite);
   r_.bindImage(1, compute::Access::ReadWrite);
   f.rhs.bindImage(2, compute::Access::Read);
@@ -158,6 +163,8 @@ void PressureMultigrid::predict(FluidFields& f, bool sums) {
   reducer_.bindPartials(0);
   reducer_.bindResults(1);
   predict_.set("u_slot_ap", static_cast<unsigned>(kApSlot));
+  predict_.set("u_remove_mean", remove_mean ? 1 : 0);
+  predict_.set("u_slot_mean", static_cast<unsigned>(kInitSlot));
   predict_.dispatch(rowInvocations(grid_.res));
   if (sums) reducer_.reduce(rowCount(grid_.res), kInitSlot);  // the new r's sums replace the warm start's
 }

@@ -30,23 +30,29 @@ class PressureMultigrid : public PressureSolver {
 
  private:
   // r = -rhs - A p, its sums into the init slot (and with `predictor_sums` b.r, Ap.Ap, b.Ap into
-  // the predictor's). In a closed box the caller removes r's mean where r is used further (not
-  // when it only confirms the end of the solve).
-  void startResidual(FluidFields& f, bool predictor_sums);
+  // the predictor's); r itself is written only with `store` (not when only its norm confirms the
+  // end of the solve). In a closed box the caller removes r's mean where r is used further.
+  void startResidual(FluidFields& f, bool predictor_sums, bool store);
   // After startResidual(..., true): p = alpha p and r = b - alpha A p with the alpha that
   // minimises ||r|| (pcg_predict.comp, decided on the GPU): never worse than p = 0 or than p.
-  // With `sums` the new r's (sum r, fluid cells, r.r, b.b) replace the init slot's.
-  void predict(FluidFields& f, bool sums);
+  // With `remove_mean` (a closed box) r's mean is removed first (removeResidualMean's, in the same
+  // pass). With `sums` the new r's (sum r, fluid cells, r.r, b.b) replace the init slot's.
+  void predict(FluidFields& f, bool remove_mean, bool sums);
   // r -= its mean over fluid cells (sum and count in results[slot].xy). In a closed box A is
   // singular (constants); a residual with a constant part, which float rounding leaves, would
   // make the V-cycle return a huge constant and CG's step sizes meaningless.
   void removeResidualMean(FluidFields& f, std::size_t slot);
-  // z = M r, r.z into results[rz_slot], then s = z + beta s (s = z when `first`).
+  // z = M r, r.z into results[rz_slot], then s = z + beta s, or when `first` s = z: z's texture
+  // becomes s's and s's the next z's (the V-cycle writes every cell of z before it reads one, and
+  // z is 0 in solid cells as s is), so the first direction costs no pass.
   void nextDirection(FluidFields& f, std::size_t rz_slot, std::size_t old_rz_slot, bool first);
 
   Grid grid_;
   MultigridVCycle vcycle_;
-  compute::Texture3D r_, z_, s_, q_;  // CG residual, preconditioned residual, direction, A s
+  compute::Texture3D r_, q_;  // CG residual, A s
+  compute::Texture3D z_or_s_[2];  // the preconditioned residual and the direction, in turn
+  compute::Texture3D* z_ = &z_or_s_[0];
+  compute::Texture3D* s_ = &z_or_s_[1];
   compute::ComputeProgram init_, apply_, dot_, update_, direction_, shift_, predict_;
   compute::GroupReducer reducer_;
   CellBox stale_;  // the fine cells changed since the coarse levels were last built (all at first)

@@ -47,12 +47,13 @@ struct InitRows {
   // An open row's inner cells take kAllLinks and unit fractions as constants, its end cells too
   // where they are against a wall on x (cpu/regular_rows.h).
   __attribute__((always_inline)) static void row(K& k, int y, int z, const glm::ivec3& res, std::uint8_t flags) {
-    float* __restrict bs = termRows<9>(res.x);
+    float* __restrict bs = termRows<10>(res.x);
     float* __restrict aps = bs + res.x;
     float* __restrict terms = aps + res.x;  // 7 rows: startSums' x y z w, startApSums' x y z
     const PressureRow p(k.u_nbmask, k.u_face_open, k.u_pressure, res, y, z);
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + p.cell(0);
-    float* __restrict r = static_cast<float*>(k.u_r.data) + p.cell(0);
+    // The row's r, or where it is not stored (u_store_r 0) the buffer's last row.
+    float* __restrict r = k.u_store_r != 0 ? static_cast<float*>(k.u_r.data) + p.cell(0) : terms + 7 * res.x;
     if ((flags & kOpenInside) != 0) {
       const glm::vec3 unit(1.0f);
 #pragma omp simd

@@ -49,10 +49,11 @@ struct PredictRows {
     float* __restrict r = static_cast<float*>(k.u_r.data) + at;
     const float* __restrict rhs = static_cast<const float*>(k.u_rhs.data) + at;
     const float alpha = k.predictorAlpha(k.results[k.u_slot_ap]);
+    const float mean = k.residualMean();
 #pragma omp simd
     for (int i = 0; i < n; ++i) {
       float pi = p[i], ri = r[i];
-      const glm::vec4 v = k.predictCell(m[i], alpha, -rhs[i], pi, ri);
+      const glm::vec4 v = k.predictCell(m[i], alpha, mean, -rhs[i], pi, ri);
       p[i] = pi;
       r[i] = ri;
       t[i] = v.x;
