@@ -45,8 +45,14 @@ MultigridVCycle::MultigridVCycle(const glm::ivec3& fine_res)
       residual_restrict_("mg_residual_restrict.comp", compute::cellGroupDefines()) {
   coarse_.reserve(res_.size());
   for (std::size_t l = 1; l < res_.size(); ++l) coarse_.emplace_back(res_[l]);
-  sweeps_.reserve(2 * kSmoothSweeps);
-  for (int s = 0; s < 2 * kSmoothSweeps; ++s) sweeps_.push_back(std::make_unique<compute::ComputeProgram>("mg_smooth.comp", compute::cellGroupDefines()));
+  const int sweeps = 2 * smoothSweeps(fine_res);
+  sweeps_.reserve(static_cast<std::size_t>(sweeps));
+  for (int s = 0; s < sweeps; ++s) sweeps_.push_back(std::make_unique<compute::ComputeProgram>("mg_smooth.comp", compute::cellGroupDefines()));
+}
+
+int MultigridVCycle::smoothSweeps(const glm::ivec3& fine) {
+  const long long cells = static_cast<long long>(fine.x) * fine.y * fine.z;
+  return cells >= kLargeGridCells ? kSmoothSweepsLarge : kSmoothSweeps;
 }
 
 CellBox MultigridVCycle::coarseCells(const CellBox& fine, const glm::ivec3& coarse_res) {
@@ -153,7 +159,7 @@ void MultigridVCycle::prolongAdd(const glm::ivec3& fine_res, const compute::Text
   prolong_.dispatch(fine_res);
 }
 
-// The 2 kSmoothSweeps sweeps on one side of a coarse correction, colours alternating from
+// The 2 smoothSweeps() sweeps on one side of a coarse correction, colours alternating from
 // `colour`: `first`'s from its zero guess or not (PROLONG's coarse x bound by the caller,
 // bindCoarseX), then sweeps_[1 ..]'s: the sweeps' result, which a device may compute in one pass
 // (ComputeProgram::dispatchSeries; the CPU does, each sweep a plane behind the one before).
@@ -163,9 +169,9 @@ void MultigridVCycle::sweepSeries(compute::ComputeProgram& first, const glm::ive
   bindSmoothInputs(mask, faces, x, compute::Access::ReadWrite, b);
   std::vector<std::pair<compute::ComputeProgram*, glm::ivec3>> series;
   series.emplace_back(&first, setSweep(first, res, colour, zero_guess));
-  for (int s = 1; s < 2 * kSmoothSweeps; ++s) {
-    compute::ComputeProgram& sweep = *sweeps_[static_cast<std::size_t>(s)];
-    series.emplace_back(&sweep, setSweep(sweep, res, (colour + s) % 2, false));
+  for (std::size_t s = 1; s < sweeps_.size(); ++s) {
+    compute::ComputeProgram& sweep = *sweeps_[s];
+    series.emplace_back(&sweep, setSweep(sweep, res, (colour + static_cast<int>(s)) % 2, false));
   }
   compute::ComputeProgram::dispatchSeries(series);
 }
@@ -229,14 +235,14 @@ void MultigridVCycle::apply(const compute::Texture3D& fine_mask, const compute::
   const int last = levels() - 1;
   auto level = [&](int l) { return res_[static_cast<std::size_t>(l)]; };
 
-  for (int l = 0; l < last; ++l) {  // red, black, red, black
+  for (int l = 0; l < last; ++l) {  // red, black, ... (smoothSweeps pairs)
     sweepSeries(*sweeps_[0], level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 0, true);
     residualRestrict(level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, level(l + 1),
                      coarse_[static_cast<std::size_t>(l)].b, kCoarseScale);
   }
   solveCoarsest(level(last), *v[last].mask, *v[last].faces, *v[last].x, *v[last].b);
   for (int l = last - 1; l >= 0; --l) {
-    // Black, red, black, red. The coarse correction is folded into the first sweep
+    // Black, red, ... (smoothSweeps pairs). The coarse correction is folded into the first sweep
     // (smoothProlonged's prolongAdd then smooth, in one pass).
     bindCoarseX(*v[l + 1].x);
     sweepSeries(smooth_prolong_, level(l), *v[l].mask, *v[l].faces, *v[l].x, *v[l].b, 1, false);

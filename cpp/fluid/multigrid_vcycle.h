@@ -31,7 +31,18 @@ class MultigridVCycle {
   // mg_coarsest solves the coarsest level in one workgroup of kCoarsestCells^3 invocations: GL
   // guarantees 1024 invocations per workgroup and 64 along z.
   static_assert(kCoarsestCells * kCoarsestCells * kCoarsestCells <= 1024 && kCoarsestCells <= 64);
-  static constexpr int kSmoothSweeps = 2;    // red-black sweeps before and after the correction
+  // Red-black sweeps before and after the correction, on every level (smoothSweeps): two, or
+  // three where the fine grid has at least kLargeGridCells cells. Three cost 1.5 times the
+  // smoothing and save CG iterations (to 1e-3: the seed grid 2.0 instead of 3, 48^3 with an open
+  // top 2.8 instead of 3.8, 32^3 2.8 instead of 3.4), each of which also costs about eight passes
+  // over the fine grid: on a grid that leaves the caches those passes go to memory and three
+  // sweeps win (the seed grid's pressure on one thread 33.9 -> 28.7 ms, llvmpipe's 246 -> 199),
+  // on a small one they do not (32^3 2.8 -> 3.2 ms). Three on one kind of level only, fine or
+  // coarse, kept 3 iterations on the seed grid. docs/BENCHMARKS.md, 2026-12-07.
+  static constexpr int kSmoothSweeps = 2;
+  static constexpr int kSmoothSweepsLarge = 3;
+  static constexpr long long kLargeGridCells = 65536;
+  static int smoothSweeps(const glm::ivec3& fine_res);
   static constexpr int kCoarsestSweeps = 12; // symmetric pairs of sweeps on the coarsest level
   // The coarse right-hand side is kCoarseScale * P^T r. The Galerkin operator P^T A P of
   // piecewise-constant P is 4 times the coarse 7-point stencil (four fine faces per coarse

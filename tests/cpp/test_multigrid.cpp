@@ -389,7 +389,9 @@ INSTANTIATE_TEST_SUITE_P(Grids, MultigridSolve,
                          ::testing::Values(SolveCase{"ClosedCube16", {16, 16, 16}, false},
                                            SolveCase{"OpenTopCube16", {16, 16, 16}, true},
                                            SolveCase{"ClosedOdd13x11x9", {13, 11, 9}, false},
-                                           SolveCase{"OpenTopOdd21x12x10", {21, 12, 10}, true}),
+                                           SolveCase{"OpenTopOdd21x12x10", {21, 12, 10}, true},
+                                           // At least MultigridVCycle::kLargeGridCells: three sweeps a side.
+                                           SolveCase{"ClosedLarge44x41x37", {44, 41, 37}, false}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // Fixed-count mode on a 24^3 open box: the mean convergence factor per CG iteration (one
