@@ -191,6 +191,11 @@ vec4 rowPartsTotal(vec4 p[ROW_PARTS]) {
   return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
 }
 
+// The mean over the fluid cells of a reduced (sum, fluid cells, ...) result (pressure_sum's,
+// pcg_init's), 0 with no fluid cell: what a closed box's mean removal takes away (pressure_shift,
+// and pcg_predict for the starting residual: the same bits either way).
+float meanOverFluid(vec4 sums) { return sums.y > 0.0f ? sums.x / sums.y : 0.0f; }
+
 #if defined(GROUP_SUM) && !defined(HF_CPU)  // C++: cpu/glsl.h sums a workgroup in order
 // First level of a parallel reduction: every invocation of a workgroup calls writeGroupSum with
 // its value; the workgroup's sum lands in partials[workgroup index] for reduce.comp.

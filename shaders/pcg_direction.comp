@@ -12,8 +12,8 @@ BUFFER_RO(Results, vec4, 1, results);
 UNIFORM(uint, u_slot_new);  // results[u_slot_new].x = r.z of this iteration
 UNIFORM(uint, u_slot_old);  // results[u_slot_old].x = r.z of the previous one
 
-// Cell c's new direction s = z + beta s (s = z on the first iteration), 0 in a solid cell.
-// Branch-free (both values loaded, then chosen), so the CPU's row loop vectorizes it.
+// Cell c's new direction s = z + beta s, 0 in a solid cell. Branch-free (the mask selects), so
+// the CPU's row loop vectorizes it.
 float newDirection(ivec3 c) {
   float old_rz = results[u_slot_old].x;
   float beta = old_rz <= 0.0f ? 0.0f : results[u_slot_new].x / old_rz;

@@ -33,10 +33,7 @@ float predictorAlpha(vec4 ap) {
 }
 
 // The mean taken from r first: pressure_shift.comp's (its pass folded in here), or 0.
-float residualMean() {
-  vec4 sum = results[u_slot_mean];
-  return u_remove_mean != 0 && sum.y > 0.0f ? sum.x / sum.y : 0.0f;
-}
+float residualMean() { return u_remove_mean != 0 ? meanOverFluid(results[u_slot_mean]) : 0.0f; }
 
 // One cell's start: in a fluid cell p = alpha p and r = (1 - alpha) b + alpha r, or with alpha 0
 // p = 0 and r = b (chosen, not computed, so a huge old r cannot leave 0 * inf behind); a solid

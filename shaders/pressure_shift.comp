@@ -12,10 +12,7 @@ BUFFER_RO(Results, vec4, 1, results);
 UNIFORM(uint, u_slot);
 
 // The mean the sum stage found over the fluid cells (results[u_slot]: sum, fluid cells).
-float fluidMean() {
-  vec4 sum = results[u_slot];
-  return sum.y > 0.0f ? sum.x / sum.y : 0.0f;
-}
+float fluidMean() { return meanOverFluid(results[u_slot]); }
 
 // Cell c's pressure with `mean` taken from it in a fluid cell (unchanged in a solid one).
 // Branch-free: the CPU's row loop (cpu/kernels/pressure_shift.cpp) vectorizes it.
