@@ -60,6 +60,12 @@ class TextureImpl {
   virtual void clear() = 0;
   virtual void download(void* dst, std::size_t bytes) const = 0;  // whole texture, x fastest
   virtual void upload(const void* src, std::size_t bytes) = 0;
+  // Texture3D::changedOnlyIn: what a device that derives data from a texture may use (the GPU
+  // derives nothing).
+  virtual void changedOnlyIn(const glm::ivec3& origin, const glm::ivec3& extent) {
+    (void)origin;
+    (void)extent;
+  }
 };
 
 class BufferImpl {

@@ -33,6 +33,11 @@ class Texture3D {
   // Copies the whole texture into dst (texels() * bytesPerTexel() bytes), x fastest.
   void download(void* dst, std::size_t bytes) const;
   void upload(const void* src, std::size_t bytes);
+  // The caller's word that since its last such call (or since the texture was made) the programs
+  // it dispatched wrote only texels in [origin, origin + extent) (an empty extent: none), so that a
+  // device may update what it derived from the texture there only (the CPU's regular rows,
+  // cpu/regular_rows.h). A clear or an upload in between voids the word: all is derived anew.
+  void changedOnlyIn(const glm::ivec3& origin, const glm::ivec3& extent) { impl_->changedOnlyIn(origin, extent); }
 
  private:
   std::unique_ptr<TextureImpl> impl_;

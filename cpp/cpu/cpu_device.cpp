@@ -75,6 +75,7 @@ class CpuTexture final : public compute::TextureImpl {
                (static_cast<std::size_t>(size.x) * size.y + size.x + 1) * compute::texelBytes(format), label),
         size_(size), format_(format) {
     renewVersion();
+    noted_version_ = version_;
   }
   ~CpuTexture() override {
     for (ImageBinding& b : bindings_.images) {
@@ -86,6 +87,7 @@ class CpuTexture final : public compute::TextureImpl {
     if (access != compute::Access::Read) renewVersion();
     ImageBinding& b = bindings_.images[unit];
     b.version = version_;
+    b.change = &note_;
     b.data = block_.data();
     b.size = size_;
     b.stride_y = size_.x;
@@ -96,6 +98,11 @@ class CpuTexture final : public compute::TextureImpl {
   void clear() override {
     std::memset(block_.data(), 0, block_.bytes());
     renewVersion();
+    noted_version_ = 0;  // written everywhere, whatever the next word says
+  }
+  void changedOnlyIn(const glm::ivec3& origin, const glm::ivec3& extent) override {
+    note_ = ChangeNote{noted_version_, version_, origin, extent};
+    noted_version_ = version_;
   }
   // The caller's layout is x fastest with a texel's channels together; a 4-channel texture keeps
   // them in planes (glsl.h), so those two are reordered.
@@ -114,6 +121,7 @@ class CpuTexture final : public compute::TextureImpl {
   }
   void upload(const void* src, std::size_t bytes) override {
     renewVersion();
+    noted_version_ = 0;  // written everywhere, whatever the next word says
     if (format_ == compute::TexelFormat::RGBA32F) {
       float* planes = reinterpret_cast<float*>(block_.data());
       const float* in = static_cast<const float*>(src);
@@ -155,6 +163,8 @@ class CpuTexture final : public compute::TextureImpl {
   glm::ivec3 size_;
   compute::TexelFormat format_;
   mutable std::uint64_t version_ = 0;
+  std::uint64_t noted_version_ = 0;  // the version at the last changedOnlyIn (0: a clear or upload since)
+  ChangeNote note_;
 };
 
 class CpuBuffer final : public compute::BufferImpl {

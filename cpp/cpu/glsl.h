@@ -32,6 +32,16 @@ namespace hf::cpu {
 enum class ImageFormat { R32F, RGBA32F, R8UI };
 
 // A bound image: the texels of a texture of the CPU backend, x fastest.
+// A texture's word on where its contents changed (compute::Texture3D::changedOnlyIn): from the
+// version `from` to the version `to` (ImageBinding::version) only texels in [origin, origin +
+// extent) were written. `from` is 0 (no version) where a clear or an upload came between.
+struct ChangeNote {
+  std::uint64_t from = 0;
+  std::uint64_t to = 0;
+  glm::ivec3 origin{0};
+  glm::ivec3 extent{0};
+};
+
 struct ImageBinding {
   void* data = nullptr;
   glm::ivec3 size{0};
@@ -45,6 +55,8 @@ struct ImageBinding {
   // texture may have been written (bound writable, cleared, uploaded), so that a runner may keep
   // what it derived from an image it only reads (mg_smooth's regular rows) until it changes.
   std::uint64_t version = 0;
+  // The texture's last Texture3D::changedOnlyIn (null: none, or not a texture of this device).
+  const ChangeNote* change = nullptr;
 };
 
 struct BufferBinding {

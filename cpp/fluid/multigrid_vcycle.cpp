@@ -213,8 +213,11 @@ void MultigridVCycle::buildMasks(const compute::Texture3D& fine_mask, const comp
   CellBox cells = changed;
   for (std::size_t l = 1; l < res_.size() && !isEmpty(cells); ++l) {
     cells = coarseCells(cells, res_[l]);
+    const CellBox faces = faceBox(cells, res_[l]);
     coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask, cells);
-    coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces, faceBox(cells, res_[l]));
+    coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces, faces);
+    coarse_[l - 1].mask.changedOnlyIn(cells.origin, cells.extent);
+    coarse_[l - 1].faces.changedOnlyIn(faces.origin, faces.extent);
     finer = &coarse_[l - 1].mask;
     finer_faces = &coarse_[l - 1].faces;
   }

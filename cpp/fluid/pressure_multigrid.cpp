@@ -90,6 +90,11 @@ SolveStats PressureMultigrid::solve(FluidFields& f, const FluidParams& params) {
   const std::size_t groups = rowCount(grid_.res);
   const float tolerance = params.pressure_tolerance;
   const bool closed = !params.open_top;
+  // The obstacle's word (obstacleChanged) passed on to the textures, for what a device derives
+  // from them (the CPU's regular rows).
+  f.nbmask.changedOnlyIn(stale_.origin, stale_.extent);
+  const CellBox faces = faceBox(stale_, grid_.res);
+  f.face_open.changedOnlyIn(faces.origin, faces.extent);
   vcycle_.buildMasks(f.nbmask, f.face_open, stale_);
   stale_ = CellBox{};
   startResidual(f, true, true);

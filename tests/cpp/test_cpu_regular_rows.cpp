@@ -90,6 +90,59 @@ TEST_F(RegularRowsFlags, EachRowsEndsAgainstAWallOnlyWhereTheirMaskAndLinkedFace
   }
 }
 
+// The flags kept across changes: where both textures' words (ImageBinding::change) cover the
+// change since the flags were derived, only the rows the words' texels touch are derived again
+// (a face texel also touches the row below and the one behind); else the whole grid is.
+TEST_F(RegularRowsFlags, AWordOnWhereTheTexturesChangedRederivesOnlyThoseRows) {
+  ThreadPool pool(2);
+  RegularRows rows;
+  const glm::ivec3 res(kX, kY, kZ);
+  ImageBinding m;
+  m.data = masks.data();
+  m.size = res;
+  m.format = ImageFormat::R8UI;
+  m.version = 1;
+  ImageBinding f;
+  f.data = faces.data();
+  f.size = res + 1;
+  f.plane = plane;
+  f.format = ImageFormat::RGBA32F;
+  f.version = 2;
+  auto get = [&](RegularRows& r) {
+    const std::uint8_t* out = r.flags(m, f, res, pool, cpuHasX86V3());
+    return std::vector<std::uint8_t>(out, out + kY * kZ);
+  };
+  const std::uint8_t all = kOpenInside | kWallLow | kWallHigh;
+  EXPECT_EQ(get(rows), std::vector<std::uint8_t>(kY * kZ, all));
+
+  // A cut y face at texel (3, 2, 1) (rows (1, 1) and (2, 1)), a closed inner cell in row (3, 3),
+  // each with its word; and a change outside both words (row (0, 0)), which they do not cover.
+  fy(3, 2, 1) = 0.5f;
+  mask(5, 3, 3) = static_cast<std::uint8_t>(kWallLowLinks);
+  mask(2, 0, 0) = 0;
+  const ChangeNote mask_word{1, 3, glm::ivec3(5, 3, 3), glm::ivec3(1)};
+  const ChangeNote face_word{2, 4, glm::ivec3(3, 2, 1), glm::ivec3(1)};
+  m.version = 3;
+  m.change = &mask_word;
+  f.version = 4;
+  f.change = &face_word;
+  std::vector<std::uint8_t> want(kY * kZ, all);
+  want[1 + kY * 1] = kWallLow | kWallHigh;
+  want[2 + kY * 1] = kWallLow | kWallHigh;
+  want[3 + kY * 3] = kWallLow | kWallHigh;
+  EXPECT_EQ(get(rows), want) << "the rows the words touch, and only those, derived again";
+
+  // A word from another version than the flags' (a clear, an upload or a write unsaid between):
+  // everything derived again, row (0, 0) too.
+  const ChangeNote stale_word{2, 5, glm::ivec3(5, 3, 3), glm::ivec3(1)};
+  m.version = 5;
+  m.change = &stale_word;
+  want[0] = kWallLow | kWallHigh;
+  EXPECT_EQ(get(rows), want);
+  RegularRows fresh;
+  EXPECT_EQ(get(fresh), want) << "the same flags as derived from nothing";
+}
+
 TEST(RegularRowsWallLinks, OnlyTheFlaggedEndTakesAConstant) {
   EXPECT_EQ(wallLinks(kWallLow | kWallHigh, 0, 9), kWallLowLinks);
   EXPECT_EQ(wallLinks(kWallLow | kWallHigh, 8, 9), kWallHighLinks);
