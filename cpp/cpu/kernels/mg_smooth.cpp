@@ -256,67 +256,68 @@ class SmoothRows final : public SmoothSweep {
         }
       }
     } else {
-      // x + the coarse level's x of the neighbour's parent: mg_prolong folded into the sweep. The
-      // parents' values are first spread to fine resolution along the row (d[1 + i] for cell i of
-      // row r, i = -1 .. res.x), so the main loop's loads are those of the row's own cells.
+      // x + the coarse level's x of the neighbour's parent: mg_prolong folded into the sweep. For
+      // the cells i = from + 2 j of this colour the parents of their neighbours are consecutive
+      // coarse cells, j on: (i - 1) / 2 and (i + 1) / 2 along the row, i / 2 in the rows beside
+      // (from 1 or 2; C's and GLSL's division, so cell -1's parent is 0, where a row starting at
+      // cell 0 takes that cell alone). So the loop loads them whole from the coarse rows.
       const float* cx = texels<float>(k.u_coarse_x);
       const int csy = coarse.x, csz = coarse.x * coarse.y;
-      const int rows[5] = {(y / 2) * csy + (z / 2) * csz, ((y - 1) / 2) * csy + (z / 2) * csz,
-                           ((y + 1) / 2) * csy + (z / 2) * csz, (y / 2) * csy + ((z - 1) / 2) * csz,
-                           (y / 2) * csy + ((z + 1) / 2) * csz};  // this row, y-1, y+1, z-1, z+1
-      // (Written in pairs, each parent twice: an element loop with i / 2 cost more than the sweep.)
-      thread_local std::vector<float> spread;
-      const int width = res.x + 3;  // cells -1 .. res.x, and one spare for the last pair
-      spread.resize(static_cast<std::size_t>(5 * width));
-      for (int r = 0; r < 5; ++r) {
-        float* __restrict d = spread.data() + r * width;  // d[1 + i]: the parent of cell i
-        const float* __restrict parents = cx + rows[r];
-        d[0] = parents[0];  // cell -1's, as (-1) / 2 = 0
-        for (int j = 0; j <= res.x / 2; ++j) {  // cells 2j and 2j + 1
-          d[1 + 2 * j] = parents[j];
-          d[2 + 2 * j] = parents[j];
-        }
-      }
-      const float* __restrict mid = spread.data() + 1;
-      const float* __restrict ylo = mid + width;
-      const float* __restrict yhi = mid + 2 * width;
-      const float* __restrict zlo = mid + 3 * width;
-      const float* __restrict zhi = mid + 4 * width;
+      const float* mid = cx + (y / 2) * csy + (z / 2) * csz;  // this row's parents
+      const float* ylo = cx + ((y - 1) / 2) * csy + (z / 2) * csz;
+      const float* yhi = cx + ((y + 1) / 2) * csy + (z / 2) * csz;
+      const float* zlo = cx + (y / 2) * csy + ((z - 1) / 2) * csz;
+      const float* zhi = cx + (y / 2) * csy + ((z + 1) / 2) * csz;
+      auto parent = [](const float* coarse_row, int i) { return coarse_row[i / 2]; };  // i >= -1
       auto general = [&](int i) {
         const int c = row + i, f = frow + i;
         return k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]), glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
-                               glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                               glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c]);
+                               glm::vec3(xr[c - 1] + parent(mid, i - 1), xr[c - sy] + parent(ylo, i),
+                                         xr[c - sz] + parent(zlo, i)),
+                               glm::vec3(xr[c + 1] + parent(mid, i + 1), xr[c + sy] + parent(yhi, i),
+                                         xr[c + sz] + parent(zhi, i)),
+                               b[c]);
       };
-      if (regular) {
-        const int n = count(inner0, res.x - 2);
+      // Cells from, from + 2, ... up to `to` of this colour (from 1 or 2), each by cell(j, i, c):
+      // the neighbours' parents as whole loads from j on.
+      auto run = [&](int from, int to, auto&& cell) {
+        const int n = count(from, to);
+        const float* __restrict pxl = mid + (from - 1) / 2;
+        const float* __restrict pxh = mid + (from + 1) / 2;
+        const float* __restrict pyl = ylo + from / 2;
+        const float* __restrict pyh = yhi + from / 2;
+        const float* __restrict pzl = zlo + from / 2;
+        const float* __restrict pzh = zhi + from / 2;
 #pragma omp simd
         for (int j = 0; j < n; ++j) {
-          const int i = inner0 + 2 * j, c = row + i;
-          xw[i] = k.smoothedValue(kAllLinks, open, open,
-                                  glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                                  glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c]);
+          const int i = from + 2 * j, c = row + i;
+          xw[i] = cell(i, c, glm::vec3(xr[c - 1] + pxl[j], xr[c - sy] + pyl[j], xr[c - sz] + pzl[j]),
+                       glm::vec3(xr[c + 1] + pxh[j], xr[c + sy] + pyh[j], xr[c + sz] + pzh[j]));
         }
+      };
+      if (regular) {
+        run(inner0, res.x - 2, [&](int, int c, const glm::vec3& lo, const glm::vec3& hi) {
+          return k.smoothedValue(kAllLinks, open, open, lo, hi, b[c]);
+        });
         for (int i : {0, res.x - 1}) {
           if (!isMine(i)) continue;
           const std::uint32_t links = wallLinks(shape, i, res.x);
           const int c = row + i;
           xw[i] = links != 0u ? k.smoothedValue(links, open, open,
-                                                glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                                                glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]), b[c])
+                                                glm::vec3(xr[c - 1] + parent(mid, i - 1), xr[c - sy] + parent(ylo, i),
+                                                          xr[c - sz] + parent(zlo, i)),
+                                                glm::vec3(xr[c + 1] + parent(mid, i + 1), xr[c + sy] + parent(yhi, i),
+                                                          xr[c + sz] + parent(zhi, i)),
+                                                b[c])
                               : general(i);
         }
       } else {
-        const int n = count(first, res.x - 1);
-#pragma omp simd
-        for (int j = 0; j < n; ++j) {
-          const int i = first + 2 * j, c = row + i, f = frow + i;
-          xw[i] = k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]),
-                                  glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
-                                  glm::vec3(xr[c - 1] + mid[i - 1], xr[c - sy] + ylo[i], xr[c - sz] + zlo[i]),
-                                  glm::vec3(xr[c + 1] + mid[i + 1], xr[c + sy] + yhi[i], xr[c + sz] + zhi[i]),
-                                  b[c]);
-        }
+        if (first == 0) xw[0] = general(0);
+        run(first == 0 ? 2 : 1, res.x - 1, [&](int i, int c, const glm::vec3& lo, const glm::vec3& hi) {
+          const int f = frow + i;
+          return k.smoothedValue(mask[c], glm::vec3(fx[f], fy_[f], fz_[f]), glm::vec3(fx[f + 1], fy_[f + fy], fz_[f + fz]),
+                                 lo, hi, b[c]);
+        });
       }
     }
   }
