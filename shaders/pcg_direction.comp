@@ -12,18 +12,19 @@ BUFFER_RO(Results, vec4, 1, results);
 UNIFORM(uint, u_slot_new);  // results[u_slot_new].x = r.z of this iteration
 UNIFORM(uint, u_slot_old);  // results[u_slot_old].x = r.z of the previous one
 
-// Cell c's new direction s = z + beta s, 0 in a solid cell. Branch-free (the mask selects), so
-// the CPU's row loop vectorizes it.
-float newDirection(ivec3 c) {
+// beta from the reduction results: 0 where the old r.z is not positive.
+float directionBeta() {
   float old_rz = results[u_slot_old].x;
-  float beta = old_rz <= 0.0f ? 0.0f : results[u_slot_new].x / old_rz;
-  float s = imageLoad(u_s, c).x;
-  float z = imageLoad(u_z, c).x;
-  return (imageLoad(u_nbmask, c).x & NB_SOLID) != 0u ? 0.0f : z + beta * s;
+  return old_rz <= 0.0f ? 0.0f : results[u_slot_new].x / old_rz;
 }
+
+// A cell's new direction z + beta s from its mask m, z and s: 0 in a solid cell. Branch-free (the
+// mask selects), so the CPU's row loop vectorizes it (with beta taken once a row).
+float newDirection(uint m, float z, float s, float beta) { return (m & NB_SOLID) != 0u ? 0.0f : z + beta * s; }
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!inGrid(c)) return;
-  imageStore(u_s, c, vec4(newDirection(c)));
+  float s = newDirection(imageLoad(u_nbmask, c).x, imageLoad(u_z, c).x, imageLoad(u_s, c).x, directionBeta());
+  imageStore(u_s, c, vec4(s));
 }
