@@ -3,6 +3,7 @@
 
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <utility>
@@ -73,7 +74,9 @@ void MultigridVCycle::coarsenMask(const glm::ivec3& fine_res, const compute::Tex
   coarsen_.dispatch(cells.extent);
 }
 
-void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const compute::Texture3D& fine_faces,
+float MultigridVCycle::openTopWeight(int level) { return 1.0f / (0.5f + std::ldexp(0.5f, -level)); }
+
+void MultigridVCycle::coarsenFaces(int coarse_level, const glm::ivec3& fine_res, const compute::Texture3D& fine_faces,
                                    const glm::ivec3& coarse_res, compute::Texture3D& coarse_faces, const CellBox& faces) {
   if (isEmpty(faces)) return;
   fine_faces.bindImage(1, compute::Access::Read);
@@ -81,6 +84,7 @@ void MultigridVCycle::coarsenFaces(const glm::ivec3& fine_res, const compute::Te
   coarsen_faces_.set("u_res", coarse_res);
   coarsen_faces_.set("u_fine_size", fine_res);
   coarsen_faces_.set("u_origin", faces.origin);
+  coarsen_faces_.set("u_top_scale", openTopWeight(coarse_level) / openTopWeight(coarse_level - 1));
   coarsen_faces_.dispatch(faces.extent);
 }
 
@@ -215,7 +219,7 @@ void MultigridVCycle::buildMasks(const compute::Texture3D& fine_mask, const comp
     cells = coarseCells(cells, res_[l]);
     const CellBox faces = faceBox(cells, res_[l]);
     coarsenMask(res_[l - 1], *finer, res_[l], coarse_[l - 1].mask, cells);
-    coarsenFaces(res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces, faces);
+    coarsenFaces(static_cast<int>(l), res_[l - 1], *finer_faces, res_[l], coarse_[l - 1].faces, faces);
     coarse_[l - 1].mask.changedOnlyIn(cells.origin, cells.extent);
     coarse_[l - 1].faces.changedOnlyIn(faces.origin, faces.extent);
     finer = &coarse_[l - 1].mask;

@@ -10,7 +10,8 @@
 // masks come from the fine one (mg_coarsen_mask.comp): a coarse cell is fluid if any child is,
 // linked across a side if a fluid child is, and sees the open top if a fluid child does; coarse
 // face fractions (cut cells) are the mean of the fine faces they are made of (mg_coarsen_faces.comp),
-// and every level's operator weights each link by its face's open fraction.
+// and every level's operator weights each link by its face's open fraction; the open top's
+// fraction is also weighted by openTopWeight, which puts its zero where the fine grid's is.
 // Transfer is piecewise constant (prolongation P) and its transpose (restriction P^T, times
 // kCoarseScale); smoothing is red-black Gauss-Seidel, red then black before the coarse
 // correction and black then red after it, and the coarsest level is solved by symmetric
@@ -38,11 +39,23 @@ class MultigridVCycle {
   // over the fine grid: on a grid that leaves the caches those passes go to memory and three
   // sweeps win (the seed grid's pressure on one thread 33.9 -> 28.7 ms, llvmpipe's 246 -> 199),
   // on a small one they do not (32^3 2.8 -> 3.2 ms). Three on one kind of level only, fine or
-  // coarse, kept 3 iterations on the seed grid. docs/BENCHMARKS.md, 2026-12-07.
+  // coarse, kept 3 iterations on the seed grid. docs/BENCHMARKS.md, 2026-12-07. (Those open-top
+  // figures are from before openTopWeight: with it 48^3 takes 2.0, and 32^3 2.9 with two sweeps,
+  // 2.3 with three, at the same cost: 2.02-2.18 against 2.07-2.26 ms on one thread.)
   static constexpr int kSmoothSweeps = 2;
   static constexpr int kSmoothSweepsLarge = 3;
   static constexpr long long kLargeGridCells = 65536;
   static int smoothSweeps(const glm::ivec3& fine_res);
+  // The open top's weight on `level`, relative to a link's: the fine grid's open top is a ghost
+  // cell at p = 0 above the top face, so its zero lies half a fine cell h above the face; a cell of
+  // level l (size 2^l h) has its centre 2^(l-1) h below the face, so its ghost term is
+  // 2^l h / (2^(l-1) h + h / 2) = 1 / (1/2 + 2^-(l+1)) times a link's (1 on the fine grid, 4/3, 1.6,
+  // 1.78, ... below). With the fine grid's weight of 1 on every level (the piecewise-constant
+  // Galerkin operator's) the coarse levels put the zero too close, and an open box converged
+  // slowly: CG iterations to 1e-3 at 48^3 3.0 -> 2.0, 32^3 3.3 -> 3.0, 64^3 3.2 -> 2.5 (a closed
+  // box has no open top). mg_coarsen_faces applies the ratio of a level's weight to the finer
+  // one's to the top faces it coarsens. docs/BENCHMARKS.md, 2026-12-07 (night).
+  static float openTopWeight(int level);
   static constexpr int kCoarsestSweeps = 12; // symmetric pairs of sweeps on the coarsest level
   // The coarse right-hand side is kCoarseScale * P^T r. The Galerkin operator P^T A P of
   // piecewise-constant P is 4 times the coarse 7-point stencil (four fine faces per coarse
@@ -75,11 +88,11 @@ class MultigridVCycle {
 
   // The stages, public for tests. `res` is the resolution of the level the textures have.
   // coarsenMask rebuilds the coarse cells of `cells`, coarsenFaces the coarse face texels of
-  // `faces` (of coarse_res + 1 per axis).
+  // `faces` (of coarse_res + 1 per axis) of level `coarse_level` (>= 1: its open top's weight).
   void coarsenMask(const glm::ivec3& fine_res, const compute::Texture3D& fine_mask, const glm::ivec3& coarse_res,
                    compute::Texture3D& coarse_mask, const CellBox& cells);
-  void coarsenFaces(const glm::ivec3& fine_res, const compute::Texture3D& fine_faces, const glm::ivec3& coarse_res,
-                    compute::Texture3D& coarse_faces, const CellBox& faces);
+  void coarsenFaces(int coarse_level, const glm::ivec3& fine_res, const compute::Texture3D& fine_faces,
+                    const glm::ivec3& coarse_res, compute::Texture3D& coarse_faces, const CellBox& faces);
   void smooth(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, compute::Texture3D& x,
               const compute::Texture3D& b, int colour, bool zero_guess);
   void residual(const glm::ivec3& res, const compute::Texture3D& mask, const compute::Texture3D& faces, const compute::Texture3D& x,
