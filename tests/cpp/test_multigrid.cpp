@@ -347,6 +347,18 @@ Solved solveOnce(PressureSolver& solver, FluidFields& f, const std::vector<std::
   return s;
 }
 
+// solveOnce by a new PressureMultigrid on new fields of `g`'s size, on the device.
+Solved solveMultigridOnce(const Cells& g, const std::vector<std::uint8_t>& mask, const std::vector<float>& rhs,
+                          const FluidParams& params) {
+  return Multigrid::onGl([&] {
+    Grid grid;
+    grid.res = g.n;
+    FluidFields f(grid);
+    PressureMultigrid mg(grid);
+    return solveOnce(mg, f, mask, rhs, params);
+  });
+}
+
 struct SolveCase {
   const char* name;
   glm::ivec3 res;
@@ -369,13 +381,7 @@ TEST_P(MultigridSolve, ReachesOneMillionthWithASolidBlock) {
   params.pressure_solver = PressureSolverKind::Multigrid;
   params.pressure_tolerance = 1e-6f;
   params.pressure_iterations = 60;
-  const Solved s = onGl([&] {
-    Grid grid;
-    grid.res = sc.res;
-    FluidFields f(grid);
-    PressureMultigrid mg(grid);
-    return solveOnce(mg, f, mask, rhs, params);
-  });
+  const Solved s = solveMultigridOnce(g, mask, rhs, params);
   const double cpu = relativeResidual(g, mask, s.pressure, rhs);
   EXPECT_LE(s.stats.relative_residual, 1e-6f);
   EXPECT_LE(cpu, 1.2e-6) << "recomputed in double";
@@ -449,13 +455,7 @@ TEST_F(Multigrid, AnOpenTopConvergesAboutAsFastAsAClosedBox) {
     FluidParams params;
     params.open_top = open_top;
     params.pressure_iterations = kCycles;
-    const Solved s = onGl([&] {
-      Grid grid;
-      grid.res = g.n;
-      FluidFields f(grid);
-      PressureMultigrid m(grid);
-      return solveOnce(m, f, mask, rhs, params);
-    });
+    const Solved s = solveMultigridOnce(g, mask, rhs, params);
     factor[open_top ? 1 : 0] = std::pow(relativeResidual(g, mask, s.pressure, rhs), 1.0 / kCycles);
   }
   std::printf("per CG iteration: closed %.4f, open top %.4f\n", factor[0], factor[1]);
