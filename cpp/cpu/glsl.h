@@ -31,7 +31,6 @@ namespace hf::cpu {
 
 enum class ImageFormat { R32F, RGBA32F, R8UI };
 
-// A bound image: the texels of a texture of the CPU backend, x fastest.
 // A texture's word on where its contents changed (compute::Texture3D::changedOnlyIn): from the
 // version `from` to the version `to` (ImageBinding::version) only texels in [origin, origin +
 // extent) were written. `from` is 0 (no version) where a clear or an upload came between.
@@ -42,6 +41,7 @@ struct ChangeNote {
   glm::ivec3 extent{0};
 };
 
+// A bound image: the texels of a texture of the CPU backend, x fastest.
 struct ImageBinding {
   void* data = nullptr;
   glm::ivec3 size{0};

@@ -89,12 +89,11 @@ class RegularRows {
     for (Entry& e : entries_) {
       if (e.mask != mask.data || e.faces != faces.data || e.res != res) continue;
       if (e.mask_version == mask.version && e.faces_version == faces.version) return e.flags.data();
-      RowBox rows{glm::ivec3(0), glm::ivec3(0)};  // y, z of the rows to derive again (x unused)
-      if (changedRows(mask, e.mask_version, 0, res, rows) && changedRows(faces, e.faces_version, 1, res, rows)) {
-        derive(e, mask, faces, res, rows, pool, x86_v3);
-      } else {
-        derive(e, mask, faces, res, RowBox{glm::ivec3(0), res}, pool, x86_v3);
+      Rows rows = Rows::none(res);
+      if (!changedRows(mask, e.mask_version, 0, res, rows) || !changedRows(faces, e.faces_version, 1, res, rows)) {
+        rows = Rows::all(res);
       }
+      derive(e, mask, faces, res, rows, pool, x86_v3);
       e.mask_version = mask.version;
       e.faces_version = faces.version;
       return e.flags.data();
@@ -102,16 +101,20 @@ class RegularRows {
     if (entries_.size() >= kMaxEntries) entries_.clear();
     Entry e{mask.data, mask.version, faces.data, faces.version, res, std::vector<std::uint8_t>()};
     e.flags.assign(static_cast<std::size_t>(res.y) * res.z, 0);
-    derive(e, mask, faces, res, RowBox{glm::ivec3(0), res}, pool, x86_v3);
+    derive(e, mask, faces, res, Rows::all(res), pool, x86_v3);
     entries_.push_back(std::move(e));
     return entries_.back().flags.data();
   }
 
  private:
   static constexpr std::size_t kMaxEntries = 16;
-  struct RowBox {
-    glm::ivec3 origin;
-    glm::ivec3 extent;
+  // The rows (y, z) in [lo, hi) of a grid (empty where lo is not below hi on both).
+  struct Rows {
+    glm::ivec2 lo;
+    glm::ivec2 hi;
+    static Rows all(const glm::ivec3& res) { return {glm::ivec2(0), glm::ivec2(res.y, res.z)}; }
+    static Rows none(const glm::ivec3& res) { return {glm::ivec2(res.y, res.z), glm::ivec2(0)}; }
+    bool empty() const { return glm::any(glm::greaterThanEqual(lo, hi)); }
   };
   struct Entry {
     const void* mask;
@@ -126,29 +129,23 @@ class RegularRows {
   // so, grows `rows` (y and z of the grid's rows) by the rows its changed texels touch: a cell's
   // row, and for a face texel (`halo` 1) also the row below and the one behind (its y and z
   // faces are those cells' upper faces).
-  static bool changedRows(const ImageBinding& image, std::uint64_t had, int halo, const glm::ivec3& res,
-                          RowBox& rows) {
+  static bool changedRows(const ImageBinding& image, std::uint64_t had, int halo, const glm::ivec3& res, Rows& rows) {
     if (image.version == had) return true;
     const ChangeNote* note = image.change;
     if (note == nullptr || note->from != had || note->to != image.version) return false;
     if (glm::any(glm::lessThanEqual(note->extent, glm::ivec3(0)))) return true;
-    const glm::ivec3 lo = glm::clamp(note->origin - halo, glm::ivec3(0), res);
-    const glm::ivec3 hi = glm::clamp(note->origin + note->extent, glm::ivec3(0), res);
-    if (hi.y <= lo.y || hi.z <= lo.z) return true;
-    if (rows.extent.y <= 0 || rows.extent.z <= 0) {
-      rows = RowBox{glm::ivec3(0, lo.y, lo.z), glm::ivec3(1, hi.y - lo.y, hi.z - lo.z)};
-    } else {
-      const glm::ivec3 first = glm::min(rows.origin, glm::ivec3(0, lo.y, lo.z));
-      const glm::ivec3 end = glm::max(rows.origin + rows.extent, glm::ivec3(1, hi.y, hi.z));
-      rows = RowBox{first, end - first};
-    }
+    const Rows all = Rows::all(res);
+    const Rows changed{glm::max(glm::ivec2(note->origin.y, note->origin.z) - halo, all.lo),
+                       glm::min(glm::ivec2(note->origin.y + note->extent.y, note->origin.z + note->extent.z), all.hi)};
+    if (changed.empty()) return true;
+    rows = {glm::min(rows.lo, changed.lo), glm::max(rows.hi, changed.hi)};
     return true;
   }
 
-  // The flags of the rows (y, z) in `rows` (its y and z; all of them where it is the grid).
+  // The flags of `rows`.
   static void derive(Entry& e, const ImageBinding& mask, const ImageBinding& faces, const glm::ivec3& res,
-                     const RowBox& rows, ThreadPool& pool, bool x86_v3) {
-    if (rows.extent.y <= 0 || rows.extent.z <= 0) return;
+                     const Rows& rows, ThreadPool& pool, bool x86_v3) {
+    if (rows.empty()) return;
     const std::uint8_t* m = static_cast<const std::uint8_t*>(mask.data);
     const float* fx = static_cast<const float*>(faces.data);
     const float* fy = fx + faces.plane;
@@ -156,9 +153,9 @@ class RegularRows {
     const int sy = res.x + 1, sz = (res.x + 1) * (res.y + 1);
     std::uint8_t* out = e.flags.data();
     forRows(
-        glm::ivec3(1, rows.extent.y, rows.extent.z), pool,
+        glm::ivec3(1, rows.hi - rows.lo), pool,
         [&](int ry, int rz) {
-          const int y = rows.origin.y + ry, z = rows.origin.z + rz;
+          const int y = rows.lo.x + ry, z = rows.lo.y + rz;
           runBest(x86_v3, [&] {
             const int row = y * res.x + z * res.x * res.y, frow = y * sy + z * sz;
             // Every cell tested, no early exit, so that the loops vectorize (most rows are open):

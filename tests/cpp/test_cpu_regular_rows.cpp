@@ -37,22 +37,36 @@ class RegularRowsFlags : public ::testing::Test {
   float& fz(int x, int y, int z) { return faces[2 * plane + static_cast<std::size_t>(face(x, y, z))]; }
   std::uint8_t& mask(int x, int y, int z) { return masks[static_cast<std::size_t>(cell(x, y, z))]; }
 
-  std::vector<std::uint8_t> flags(bool x86_v3) {
+  // The masks and the faces as bound images at a version.
+  ImageBinding maskImage(std::uint64_t at) {
     ImageBinding m;
     m.data = masks.data();
     m.size = glm::ivec3(kX, kY, kZ);
     m.format = ImageFormat::R8UI;
-    m.version = ++version;
+    m.version = at;
+    return m;
+  }
+  ImageBinding faceImage(std::uint64_t at) {
     ImageBinding f;
     f.data = faces.data();
     f.size = glm::ivec3(kX + 1, kY + 1, kZ + 1);
     f.plane = plane;
     f.format = ImageFormat::RGBA32F;
-    f.version = ++version;
+    f.version = at;
+    return f;
+  }
+
+  // The flags `rows` gives for the images m and f.
+  static std::vector<std::uint8_t> flagsOf(RegularRows& rows, const ImageBinding& m, const ImageBinding& f, bool x86_v3) {
     ThreadPool pool(2);
-    RegularRows rows;
     const std::uint8_t* out = rows.flags(m, f, glm::ivec3(kX, kY, kZ), pool, x86_v3 && cpuHasX86V3());
     return std::vector<std::uint8_t>(out, out + kY * kZ);
+  }
+
+  std::vector<std::uint8_t> flags(bool x86_v3) {
+    RegularRows rows;
+    const ImageBinding m = maskImage(++version);
+    return flagsOf(rows, m, faceImage(++version), x86_v3);
   }
 
   std::vector<std::uint8_t> masks;
@@ -94,24 +108,10 @@ TEST_F(RegularRowsFlags, EachRowsEndsAgainstAWallOnlyWhereTheirMaskAndLinkedFace
 // change since the flags were derived, only the rows the words' texels touch are derived again
 // (a face texel also touches the row below and the one behind); else the whole grid is.
 TEST_F(RegularRowsFlags, AWordOnWhereTheTexturesChangedRederivesOnlyThoseRows) {
-  ThreadPool pool(2);
   RegularRows rows;
-  const glm::ivec3 res(kX, kY, kZ);
-  ImageBinding m;
-  m.data = masks.data();
-  m.size = res;
-  m.format = ImageFormat::R8UI;
-  m.version = 1;
-  ImageBinding f;
-  f.data = faces.data();
-  f.size = res + 1;
-  f.plane = plane;
-  f.format = ImageFormat::RGBA32F;
-  f.version = 2;
-  auto get = [&](RegularRows& r) {
-    const std::uint8_t* out = r.flags(m, f, res, pool, cpuHasX86V3());
-    return std::vector<std::uint8_t>(out, out + kY * kZ);
-  };
+  ImageBinding m = maskImage(1);
+  ImageBinding f = faceImage(2);
+  auto get = [&](RegularRows& r) { return flagsOf(r, m, f, true); };
   const std::uint8_t all = kOpenInside | kWallLow | kWallHigh;
   EXPECT_EQ(get(rows), std::vector<std::uint8_t>(kY * kZ, all));
 

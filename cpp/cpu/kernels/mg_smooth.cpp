@@ -278,8 +278,8 @@ class SmoothRows final : public SmoothSweep {
                                          xr[c + sz] + parent(zhi, i)),
                                b[c]);
       };
-      // Cells from, from + 2, ... up to `to` of this colour (from 1 or 2), each by cell(j, i, c):
-      // the neighbours' parents as whole loads from j on.
+      // Cells i = from, from + 2, ... up to `to` of this colour (from 1 or 2), each cell's value by
+      // cell(i, c, lo, hi) from its neighbours' x plus their parents' (loaded whole, j on).
       auto run = [&](int from, int to, auto&& cell) {
         const int n = count(from, to);
         const float* __restrict pxl = mid + (from - 1) / 2;
